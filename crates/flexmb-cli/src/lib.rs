@@ -1,0 +1,1 @@
+//! flexmb command-line layer

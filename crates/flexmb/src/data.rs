@@ -1,0 +1,59 @@
+//! The scratch pad of a model: everything the stages compute from a state, allocated once.
+
+use crate::joint::EquationTerms;
+use crate::math::{Mat3, Vec3};
+use crate::model::Model;
+use crate::stage::{BodyState, MarkerState};
+
+/// Per-evaluation scratch data. Each field says which stage fills it.
+#[derive(Clone, Debug)]
+pub struct Data {
+    /// Rotation and angular velocity of each body (kinematics).
+    pub(crate) bodies: Vec<BodyState>,
+    /// Global kinematics of each marker (kinematics).
+    pub(crate) markers: Vec<MarkerState>,
+    /// Current value of each named measure (measures).
+    pub(crate) measures: Vec<f64>,
+    /// Last accepted relative angle of each joint, for continuing angles past ±π (kept by the analyses).
+    pub(crate) angle_reference: Vec<f64>,
+    /// Value and derivatives of each constraint row (constraints).
+    pub(crate) equations: Vec<EquationTerms>,
+    /// Generalized applied forces `Q`, length `nv` (forces).
+    pub(crate) applied: Vec<f64>,
+    /// Inertia forces `M v̇ + h(q, v)`, length `nv` (inertia).
+    pub(crate) inertia: Vec<f64>,
+    /// `Φ_qᵀ`-times-vector scratch, length `nv` (residual).
+    pub(crate) scratch_v: Vec<f64>,
+}
+
+impl Data {
+    /// Scratch data sized for `model`.
+    pub fn new(model: &Model) -> Self {
+        let nv = model.layout.nv;
+        Self {
+            bodies: vec![BodyState::default(); model.bodies.len()],
+            markers: vec![MarkerState::default(); model.markers.len()],
+            measures: vec![0.0; model.measures.len()],
+            angle_reference: vec![0.0; model.joints.len()],
+            equations: vec![EquationTerms::default(); model.layout.nc],
+            applied: vec![0.0; nv],
+            inertia: vec![0.0; nv],
+            scratch_v: vec![0.0; nv],
+        }
+    }
+
+    /// Global position of a marker origin after the last kinematics stage.
+    pub fn marker_position(&self, m: crate::model::MarkerId) -> Vec3 {
+        self.markers[m.0].position
+    }
+
+    /// Global axes of a marker (columns x, y, z) after the last kinematics stage.
+    pub fn marker_axes(&self, m: crate::model::MarkerId) -> Mat3 {
+        self.markers[m.0].axes
+    }
+
+    /// Current value of each measure after the last measures stage.
+    pub fn measure_values(&self) -> &[f64] {
+        &self.measures
+    }
+}

@@ -1,0 +1,168 @@
+//! An expression of time `t` and of named measures, parsed once by `exmex` and evaluated without
+//! allocation inside a time step.
+
+use exmex::prelude::*;
+
+use crate::model::MeasureId;
+
+/// Most variables one expression may name; their values are passed on the stack.
+pub const MAX_VARIABLES: usize = 16;
+
+/// What a variable of an expression stands for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Variable {
+    /// Simulation time `t` (s).
+    Time,
+    /// The current value of a named measure.
+    Measure(MeasureId),
+}
+
+/// Why an expression could not be used.
+#[derive(Clone, Debug, thiserror::Error, PartialEq)]
+pub enum ExpressionError {
+    #[error("cannot parse expression `{source_text}`: {message}")]
+    Parse { source_text: String, message: String },
+    #[error("expression `{source_text}` names `{name}`, which is neither `t` nor a defined measure{hint}")]
+    UnknownVariable { source_text: String, name: String, hint: String },
+    #[error("expression `{source_text}` names {count} variables; at most {MAX_VARIABLES} are allowed")]
+    TooManyVariables { source_text: String, count: usize },
+    #[error("expression `{source_text}` must depend on time only, but names `{name}`")]
+    NotTimeOnly { source_text: String, name: String },
+    #[error("cannot differentiate `{source_text}` with respect to t: {message}")]
+    NotDifferentiable { source_text: String, message: String },
+}
+
+/// A parsed expression with its variables bound to time and measures.
+#[derive(Clone, Debug)]
+pub struct Expression {
+    source: String,
+    flat: FlatEx<f64>,
+    variables: Vec<Variable>,
+}
+
+impl Expression {
+    /// Parses `source`; `resolve` maps every name other than `t` to a measure.
+    pub fn parse(
+        source: &str,
+        resolve: &dyn Fn(&str) -> Option<MeasureId>,
+    ) -> Result<Self, ExpressionError> {
+        let flat = exmex::parse::<f64>(source).map_err(|e| ExpressionError::Parse {
+            source_text: source.to_string(),
+            message: e.to_string(),
+        })?;
+        Self::bind(source, flat, resolve)
+    }
+
+    /// A constant expression.
+    pub fn constant(value: f64) -> Self {
+        let text = format!("{value:e}");
+        Self::parse(&text, &|_| None).expect("a number always parses")
+    }
+
+    fn bind(
+        source: &str,
+        flat: FlatEx<f64>,
+        resolve: &dyn Fn(&str) -> Option<MeasureId>,
+    ) -> Result<Self, ExpressionError> {
+        let names = flat.var_names();
+        if names.len() > MAX_VARIABLES {
+            return Err(ExpressionError::TooManyVariables {
+                source_text: source.to_string(),
+                count: names.len(),
+            });
+        }
+        let mut variables = Vec::with_capacity(names.len());
+        for name in names {
+            let v = if name == "t" {
+                Variable::Time
+            } else if let Some(id) = resolve(name) {
+                Variable::Measure(id)
+            } else {
+                let hint = if name == "e" {
+                    " (`e` is Euler's number here; name the measure differently)".to_string()
+                } else {
+                    String::new()
+                };
+                return Err(ExpressionError::UnknownVariable {
+                    source_text: source.to_string(),
+                    name: name.clone(),
+                    hint,
+                });
+            };
+            variables.push(v);
+        }
+        Ok(Self { source: source.to_string(), flat, variables })
+    }
+
+    /// The text the expression was parsed from.
+    pub fn source(&self) -> &str {
+        &self.source
+    }
+
+    /// The variables in the order `exmex` expects their values.
+    pub fn variables(&self) -> &[Variable] {
+        &self.variables
+    }
+
+    /// The measures this expression reads.
+    pub fn measures(&self) -> impl Iterator<Item = MeasureId> + '_ {
+        self.variables.iter().filter_map(|v| match v {
+            Variable::Measure(m) => Some(*m),
+            Variable::Time => None,
+        })
+    }
+
+    /// Evaluates at time `t` with the current measure values; NaN if evaluation fails.
+    #[inline]
+    pub fn eval(&self, t: f64, measures: &[f64]) -> f64 {
+        let mut values = [0.0; MAX_VARIABLES];
+        for (slot, v) in values.iter_mut().zip(&self.variables) {
+            *slot = match v {
+                Variable::Time => t,
+                Variable::Measure(m) => measures[m.0],
+            };
+        }
+        self.flat.eval(&values[..self.variables.len()]).unwrap_or(f64::NAN)
+    }
+
+    /// `d/dt` of an expression of time only (symbolic, by `exmex`).
+    pub(crate) fn time_derivative(&self) -> Result<Self, ExpressionError> {
+        match self.variables.as_slice() {
+            [] => Ok(Self::constant(0.0)),
+            [Variable::Time] => {
+                let d = self.flat.clone().partial(0).map_err(|e| ExpressionError::NotDifferentiable {
+                    source_text: self.source.clone(),
+                    message: e.to_string(),
+                })?;
+                let text = d.to_string();
+                Ok(Self { source: text, flat: d, variables: self.variables.clone() })
+            }
+            _ => Err(ExpressionError::NotTimeOnly {
+                source_text: self.source.clone(),
+                name: self.flat.var_names().iter().find(|n| *n != "t").cloned().unwrap_or_default(),
+            }),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn evaluates_time_and_measures_in_name_order() {
+        let resolve = |n: &str| match n {
+            "omega" => Some(MeasureId(1)),
+            "alpha" => Some(MeasureId(0)),
+            _ => None,
+        };
+        let e = Expression::parse("2*alpha + omega*t", &resolve).unwrap();
+        assert_eq!(e.eval(3.0, &[5.0, 7.0]), 2.0 * 5.0 + 7.0 * 3.0);
+    }
+
+    #[test]
+    fn unknown_name_is_reported() {
+        let err = Expression::parse("k*t", &|_| None).unwrap_err();
+        assert!(matches!(err, ExpressionError::UnknownVariable { ref name, .. } if name == "k"));
+    }
+}

@@ -1,0 +1,7 @@
+//! User functions written in the model file: expressions of time and of named measures.
+
+mod expression;
+mod time_function;
+
+pub use expression::{Expression, ExpressionError, Variable};
+pub use time_function::TimeFunction;

@@ -1,0 +1,32 @@
+//! # flexmb — dynamics of articulated structures
+//!
+//! Bodies located by a position `R` and Euler parameters `p`, joined by joints built from Haug's
+//! primitive constraints and loaded by force elements; the equations of motion in Lagrange-multiplier
+//! form are integrated by a variable-order, variable-step BDF with error control.
+//!
+//! The pipeline: a [`ModelBuilder`] makes an immutable [`Model`]; a [`Data`] holds all scratch
+//! state; the stages in [`stage`] evaluate kinematics, constraints, forces and inertia; the
+//! [`analysis`] module assembles the mechanism, finds consistent velocities and runs the dynamics with
+//! the integrators of [`integrate`].
+//!
+//! References: E. J. Haug, *Computer Aided Kinematics and Dynamics of Mechanical Systems* (1989);
+//! W. S. Yoo and E. J. Haug, *Dynamics of Articulated Structures* (1986); K. E. Brenan, S. L. Campbell,
+//! L. R. Petzold, *Numerical Solution of Initial-Value Problems in DAEs* (1996); L. F. Shampine and
+//! M. W. Reichelt, *The MATLAB ODE Suite* (1997); C. W. Gear, B. Leimkuhler, G. K. Gupta, *Automatic
+//! integration of Euler–Lagrange equations with constraints* (1985).
+
+pub mod analysis;
+pub mod body;
+mod data;
+pub mod force;
+pub mod function;
+pub mod integrate;
+pub mod joint;
+pub mod linalg;
+pub mod math;
+pub mod measure;
+pub mod model;
+pub mod stage;
+
+pub use data::Data;
+pub use model::{Model, ModelBuilder};

@@ -1,0 +1,5 @@
+//! Global (sparse) linear algebra on top of `faer`.
+
+mod sparse_lu;
+
+pub use sparse_lu::{SingularMatrix, SparseLu};

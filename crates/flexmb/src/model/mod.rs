@@ -1,0 +1,101 @@
+//! The immutable model: bodies, markers, joints, forces, measures and output requests, with the
+//! coordinate layout derived from them. Build one with [`ModelBuilder`].
+
+mod builder;
+mod error;
+mod ids;
+mod layout;
+mod output;
+
+pub use builder::ModelBuilder;
+pub use error::ModelError;
+pub use ids::{BodyId, BodyRef, ForceId, JointId, MarkerId, MeasureId};
+pub use layout::Layout;
+pub use output::OutputKind;
+
+use crate::body::{Marker, RigidBody};
+use crate::force::ForceElement;
+use crate::joint::Joint;
+use crate::math::Vec3;
+use crate::measure::Measure;
+
+/// A named output request.
+#[derive(Clone, Debug)]
+pub struct OutputRequest {
+    pub name: String,
+    pub kind: OutputKind,
+}
+
+/// A mechanism, ready to analyse. Immutable: all scratch state lives in [`Data`](crate::Data).
+#[derive(Clone, Debug)]
+pub struct Model {
+    pub(crate) name: String,
+    pub(crate) gravity: Vec3,
+    pub(crate) bodies: Vec<RigidBody>,
+    pub(crate) markers: Vec<Marker>,
+    pub(crate) joints: Vec<Joint>,
+    pub(crate) forces: Vec<ForceElement>,
+    pub(crate) measures: Vec<Measure>,
+    pub(crate) outputs: Vec<OutputRequest>,
+    pub(crate) layout: Layout,
+}
+
+impl Model {
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+    pub fn gravity(&self) -> Vec3 {
+        self.gravity
+    }
+    pub fn bodies(&self) -> &[RigidBody] {
+        &self.bodies
+    }
+    pub fn markers(&self) -> &[Marker] {
+        &self.markers
+    }
+    pub fn joints(&self) -> &[Joint] {
+        &self.joints
+    }
+    pub fn forces(&self) -> &[ForceElement] {
+        &self.forces
+    }
+    pub fn measures(&self) -> &[Measure] {
+        &self.measures
+    }
+    pub fn outputs(&self) -> &[OutputRequest] {
+        &self.outputs
+    }
+    pub fn layout(&self) -> &Layout {
+        &self.layout
+    }
+    pub fn body(&self, id: BodyId) -> &RigidBody {
+        &self.bodies[id.0]
+    }
+    pub fn marker(&self, id: MarkerId) -> &Marker {
+        &self.markers[id.0]
+    }
+    pub fn joint(&self, id: JointId) -> &Joint {
+        &self.joints[id.0]
+    }
+
+    /// Name of a body reference (`ground` for ground).
+    pub fn body_name(&self, b: BodyRef) -> &str {
+        match b {
+            BodyRef::Ground => "ground",
+            BodyRef::Body(id) => &self.bodies[id.0].name,
+        }
+    }
+
+    /// The bodies a joint connects (0, 1 or 2 moving bodies).
+    pub(crate) fn joint_bodies(&self, j: &Joint) -> [Option<BodyId>; 2] {
+        [self.markers[j.marker_i.0].body.body(), self.markers[j.marker_j.0].body.body()]
+    }
+
+    /// A human-readable description of constraint row `row`: joint name, kind and equation.
+    pub fn describe_constraint_row(&self, row: usize) -> String {
+        let (joint, eq) = self.layout.equations[row];
+        let j = &self.joints[joint.0];
+        let k = row - self.layout.joint_rows[joint.0].start;
+        format!("joint '{}' ({}), equation {}: {}", j.name, j.kind.keyword(), k + 1, eq.label())
+    }
+}

@@ -1,0 +1,100 @@
+//! Forces stage: generalized applied forces `Q = [F; N̄]` per body (gravity and force elements).
+//! Conventions are those of [`crate::force`]. Run after kinematics and measures.
+
+use crate::data::Data;
+use crate::force::{ForceFrame, ForceKind};
+use crate::joint::Equation;
+use crate::math::{Mat3, Vec3};
+use crate::model::{MarkerId, Model};
+use crate::stage::MarkerState;
+
+/// Fills `data.applied` with `Q(q, v, t)`.
+pub(crate) fn applied_forces(model: &Model, data: &mut Data, t: f64) {
+    let Data { bodies, markers, measures, angle_reference, applied, .. } = data;
+    applied.fill(0.0);
+    let g = model.gravity;
+    for (b, body) in model.bodies.iter().enumerate() {
+        let o = model.layout.v_offset[b];
+        let f = body.mass * g;
+        let n = body.first_moment().cross(&(bodies[b].rotation.transpose() * g));
+        for k in 0..3 {
+            applied[o + k] += f[k];
+            applied[o + 3 + k] += n[k];
+        }
+    }
+    for force in &model.forces {
+        match &force.kind {
+            ForceKind::TranslationalSpringDamper { marker_i, marker_j, stiffness, damping, free_length, actuator } => {
+                let (mi, mj) = (&markers[marker_i.0], &markers[marker_j.0]);
+                let d = mj.position - mi.position;
+                let l = d.norm();
+                if l == 0.0 {
+                    continue; // direction undefined; a coincident pair carries no force
+                }
+                let u = d / l;
+                let l_rate = u.dot(&(mj.velocity - mi.velocity));
+                let act = actuator.as_ref().map_or(0.0, |e| e.eval(t, measures));
+                let f = -stiffness * (l - free_length) - damping * l_rate + act;
+                add_at(model, applied, mj, &(f * u), &Vec3::zeros());
+                add_at(model, applied, mi, &(-f * u), &Vec3::zeros());
+            }
+            ForceKind::RotationalSpringDamper { joint, stiffness, damping, free_angle, actuator } => {
+                let jt = &model.joints[joint.0];
+                let (mi, mj) = (&markers[jt.marker_i.0], &markers[jt.marker_j.0]);
+                let terms = Equation::Angle.evaluate(mi, mj, [0.0; 3], angle_reference[joint.0]);
+                let theta = terms.phi;
+                let rate = terms.rate(mi, mj);
+                let act = actuator.as_ref().map_or(0.0, |e| e.eval(t, measures));
+                let torque = -stiffness * (theta - free_angle) - damping * rate + act;
+                let axis: Vec3 = mi.axes.column(2).into();
+                add_at(model, applied, mj, &Vec3::zeros(), &(torque * axis));
+                add_at(model, applied, mi, &Vec3::zeros(), &(-torque * axis));
+            }
+            ForceKind::AppliedForce { marker, components, frame } => {
+                let m = &markers[marker.0];
+                let f = in_global(model, bodies, *marker, m, *frame, components, t, measures);
+                add_at(model, applied, m, &f, &Vec3::zeros());
+            }
+            ForceKind::AppliedTorque { marker, components, frame } => {
+                let m = &markers[marker.0];
+                let tau = in_global(model, bodies, *marker, m, *frame, components, t, measures);
+                add_at(model, applied, m, &Vec3::zeros(), &tau);
+            }
+        }
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn in_global(
+    model: &Model,
+    bodies: &[crate::stage::BodyState],
+    id: MarkerId,
+    m: &MarkerState,
+    frame: ForceFrame,
+    components: &[crate::function::Expression; 3],
+    t: f64,
+    measures: &[f64],
+) -> Vec3 {
+    let local = Vec3::new(components[0].eval(t, measures), components[1].eval(t, measures), components[2].eval(t, measures));
+    let axes: Mat3 = match frame {
+        ForceFrame::Global => return local,
+        ForceFrame::Marker => m.axes,
+        ForceFrame::Body => match model.markers[id.0].body.body() {
+            Some(b) => bodies[b.0].rotation,
+            None => Mat3::identity(),
+        },
+    };
+    axes * local
+}
+
+/// Adds a global force at a marker origin and a global torque to the marker's body.
+#[inline]
+fn add_at(model: &Model, applied: &mut [f64], m: &MarkerState, f: &Vec3, tau: &Vec3) {
+    if let Some(b) = m.body {
+        let q = m.generalized_force(f, tau);
+        let o = model.layout.v_offset[b.0];
+        for k in 0..6 {
+            applied[o + k] += q[k];
+        }
+    }
+}
