@@ -1,0 +1,87 @@
+//! `[[body]]` → [`RigidBody`], each checked at once by the engine's own rules so that a problem is
+//! reported at the body's key.
+
+use flexmb::body::{InitialState, RigidBody};
+use flexmb::math::EulerParameters;
+use flexmb::model::{BodyId, ModelError};
+use flexmb::ModelBuilder;
+use toml::Spanned;
+
+use super::context::Context;
+use super::inertia::inertia;
+use super::names::NameTable;
+use super::orientation::orientation;
+use crate::model_file::error::ModelFileError;
+use crate::model_file::key_path::KeyPath;
+use crate::model_file::schema::BodySection;
+
+/// The name markers use for the inertial frame.
+pub(crate) const GROUND: &str = "ground";
+
+pub(crate) fn add_bodies(
+    ctx: &Context,
+    sections: &[Spanned<BodySection>],
+    builder: &mut ModelBuilder,
+    names: &mut NameTable<BodyId>,
+) -> Result<(), ModelFileError> {
+    for (index, section) in sections.iter().enumerate() {
+        let element = KeyPath::root().key("body").index(index);
+        let b = section.get_ref();
+        names.check_new(&b.name, &element, ctx.source)?;
+        if b.name.get_ref() == GROUND {
+            return Err(ctx.invalid(&b.name.span(), &element.key("name"), "`ground` is the inertial frame and cannot name a body"));
+        }
+        let body = rigid_body(ctx, b, &element)?;
+        check_with_engine(ctx, &body, b, &element)?;
+        let id = builder.add_body(body);
+        names.define(&b.name, &element, id);
+    }
+    Ok(())
+}
+
+fn rigid_body(ctx: &Context, b: &BodySection, element: &KeyPath) -> Result<RigidBody, ModelFileError> {
+    let mass = ctx.number(&b.mass, &element.key("mass"))?;
+    if !(mass > 0.0) {
+        return Err(ctx.invalid(&b.mass.span(), &element.key("mass"), format!("mass must be positive and finite, got {mass}")));
+    }
+    let orientation = match &b.orientation {
+        Some(o) => orientation(ctx, o, &element.key("orientation"))?,
+        None => EulerParameters::identity(),
+    };
+    Ok(RigidBody {
+        name: b.name.get_ref().clone(),
+        mass,
+        center_of_mass: ctx.vector_or_zero(&b.center_of_mass, &element.key("center_of_mass"))?,
+        inertia: inertia(ctx, &b.inertia, &element.key("inertia"))?,
+        initial: InitialState {
+            position: ctx.vector_or_zero(&b.position, &element.key("position"))?,
+            orientation,
+            velocity: ctx.optional_vector(&b.velocity, &element.key("velocity"))?,
+            angular_velocity: ctx.optional_vector(&b.angular_velocity, &element.key("angular_velocity"))?,
+        },
+    })
+}
+
+/// Runs the engine's body checks (mass, physical inertia, proper orientation, finite values) on this
+/// body alone.
+fn check_with_engine(ctx: &Context, body: &RigidBody, b: &BodySection, element: &KeyPath) -> Result<(), ModelFileError> {
+    let mut alone = ModelBuilder::new("body check");
+    alone.add_body(body.clone());
+    let Err(error) = alone.build() else { return Ok(()) };
+    let (span, key, message) = match &error {
+        ModelError::NonPositiveMass { mass, .. } => {
+            (b.mass.span(), element.key("mass"), format!("mass must be positive and finite, got {mass}"))
+        }
+        ModelError::BadInertia { problem, .. } => (b.inertia.span(), element.key("inertia"), format!("inertia {problem}")),
+        ModelError::BadFrame { problem, .. } => match &b.orientation {
+            Some(o) => (o.span(), element.key("orientation"), problem.clone()),
+            None => (section_span(b), element.clone(), problem.clone()),
+        },
+        other => (section_span(b), element.clone(), other.to_string()),
+    };
+    Err(ctx.invalid(&span, &key, message))
+}
+
+fn section_span(b: &BodySection) -> std::ops::Range<usize> {
+    b.name.span()
+}

@@ -1,0 +1,73 @@
+//! From the parsed file to a [`Model`](flexmb::Model): parameters first, then bodies, markers,
+//! joints, drivers, all measures, forces (whose expressions read measures) and outputs, each validated
+//! with the key and line it came from; last the engine's own validation.
+
+mod bodies;
+mod context;
+mod drivers;
+mod engine_errors;
+mod forces;
+mod inertia;
+mod joints;
+mod markers;
+mod measures;
+mod names;
+mod orientation;
+mod outputs;
+mod simulation;
+
+use flexmb::model::{BodyId, ForceId, JointId, MarkerId, MeasureId};
+use flexmb::ModelBuilder;
+
+use self::context::Context;
+use self::names::NameTable;
+use super::error::ModelFileError;
+use super::schema::ModelFile;
+use super::source::Source;
+use super::{parameters, LoadedModel};
+
+/// The names of every kind of element.
+pub(crate) struct Names {
+    pub bodies: NameTable<BodyId>,
+    pub markers: NameTable<MarkerId>,
+    /// Joints and drivers (a driver is a joint of the engine).
+    pub joints: NameTable<JointId>,
+    pub measures: NameTable<MeasureId>,
+    pub forces: NameTable<ForceId>,
+    pub outputs: NameTable<usize>,
+}
+
+impl Default for Names {
+    fn default() -> Self {
+        Self {
+            bodies: NameTable::new("body"),
+            markers: NameTable::new("marker"),
+            joints: NameTable::new("joint"),
+            measures: NameTable::new("measure"),
+            forces: NameTable::new("force"),
+            outputs: NameTable::new("output"),
+        }
+    }
+}
+
+/// Builds the model a parsed file describes; `default_name` is used when `[model]` has no name.
+pub(crate) fn build(file: &ModelFile, source: &Source, default_name: &str) -> Result<LoadedModel, ModelFileError> {
+    let parameters = parameters::evaluate(&file.parameters, source)?;
+    let mut ctx = Context::new(source, parameters);
+    let (name, gravity) = simulation::model_settings(&ctx, file.model.as_ref(), default_name)?;
+    let simulation = simulation::simulation_defaults(&ctx, file.simulation.as_ref())?;
+    let mut builder = ModelBuilder::new(name).gravity(gravity);
+    let mut names = Names::default();
+    bodies::add_bodies(&ctx, &file.body, &mut builder, &mut names.bodies)?;
+    markers::add_markers(&ctx, &file.marker, &names.bodies, &mut builder, &mut names.markers)?;
+    joints::add_joints(&ctx, &file.joint, &names.bodies, &names.markers, &mut builder, &mut names.joints)?;
+    drivers::add_drivers(&ctx, &file.driver, &mut builder, &mut names.joints)?;
+    measures::add_measures(&mut ctx, &file.measure, &names.joints, &names.markers, &mut builder, &mut names.measures)?;
+    let force_references = forces::ForceReferences { joints: &names.joints, markers: &names.markers };
+    forces::add_forces(&ctx, &file.force, &force_references, &mut builder, &mut names.forces)?;
+    let output_references =
+        outputs::OutputReferences { markers: &names.markers, joints: &names.joints, measures: &names.measures };
+    outputs::add_outputs(&ctx, &file.output, &output_references, &mut builder, &mut names.outputs)?;
+    let model = builder.build().map_err(|e| engine_errors::locate(&e, &names, source))?;
+    Ok(LoadedModel { model, simulation })
+}

@@ -1,0 +1,55 @@
+//! `[model]` and `[simulation]`: the model's name and gravity, and the defaults of a simulation run.
+
+use flexmb::math::Vec3;
+use toml::Spanned;
+
+use super::context::Context;
+use crate::model_file::error::ModelFileError;
+use crate::model_file::key_path::KeyPath;
+use crate::model_file::schema::{ModelSection, SimulationSection};
+use crate::model_file::SimulationDefaults;
+
+/// The model's name (default `default_name`, the file stem) and gravity (default zero).
+pub(crate) fn model_settings(
+    ctx: &Context,
+    section: Option<&Spanned<ModelSection>>,
+    default_name: &str,
+) -> Result<(String, Vec3), ModelFileError> {
+    let Some(section) = section else { return Ok((default_name.to_string(), Vec3::zeros())) };
+    let table = KeyPath::root().key("model");
+    let m = section.get_ref();
+    let name = match &m.name {
+        Some(name) if name.get_ref().trim().is_empty() => {
+            return Err(ctx.invalid(&name.span(), &table.key("name"), "the model name must not be empty"))
+        }
+        Some(name) => name.get_ref().clone(),
+        None => default_name.to_string(),
+    };
+    let gravity = ctx.vector_or_zero(&m.gravity, &table.key("gravity"))?;
+    Ok((name, gravity))
+}
+
+/// The defaults of `flexmb run`; each must be positive.
+pub(crate) fn simulation_defaults(
+    ctx: &Context,
+    section: Option<&Spanned<SimulationSection>>,
+) -> Result<SimulationDefaults, ModelFileError> {
+    let defaults = SimulationDefaults::default();
+    let Some(section) = section else { return Ok(defaults) };
+    let table = KeyPath::root().key("simulation");
+    let s = section.get_ref();
+    let positive = |value: &Option<crate::model_file::schema::Number>, name: &str, default: f64| {
+        let key = table.key(name);
+        let x = ctx.number_or(value, &key, default)?;
+        match value {
+            Some(v) if !(x > 0.0) => Err(ctx.invalid(&v.span(), &key, format!("{name} must be positive, got {x}"))),
+            _ => Ok(x),
+        }
+    };
+    Ok(SimulationDefaults {
+        t_end: positive(&s.t_end, "t_end", defaults.t_end)?,
+        output_step: positive(&s.output_step, "output_step", defaults.output_step)?,
+        rtol: positive(&s.rtol, "rtol", defaults.rtol)?,
+        atol: positive(&s.atol, "atol", defaults.atol)?,
+    })
+}

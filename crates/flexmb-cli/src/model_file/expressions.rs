@@ -1,0 +1,151 @@
+//! Expressions written in the model file: constants (of `[parameters]` only), functions of time and
+//! measures (actuators, force components), and functions of time alone (driver functions, distance
+//! lengths). Names are checked here, with "did you mean" hints, before `exmex` sees the text.
+
+use std::collections::BTreeMap;
+
+use flexmb::function::{Expression, ExpressionError, TimeFunction};
+use flexmb::model::MeasureId;
+
+use super::expression_text::{decimal, identifiers, rewrite, BUILTIN_NAMES};
+use super::suggest::did_you_mean;
+
+/// The names an expression may use besides `exmex`'s constants and functions.
+pub(crate) struct Scope<'a> {
+    /// Parameter values, substituted into the text.
+    pub parameters: &'a BTreeMap<String, f64>,
+    /// Measures the expression may read.
+    pub measures: &'a BTreeMap<String, MeasureId>,
+}
+
+/// What an expression may depend on.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Dependence {
+    Constant,
+    Time,
+    TimeAndMeasures,
+}
+
+impl Scope<'_> {
+    /// The value of an expression of parameters only.
+    pub(crate) fn constant(&self, text: &str) -> Result<f64, String> {
+        let expression = self.parse(text, Dependence::Constant)?;
+        let value = expression.eval(0.0, &[]);
+        if value.is_finite() {
+            Ok(value)
+        } else {
+            Err(format!("expression `{text}` evaluates to {value}, expected a finite number"))
+        }
+    }
+
+    /// An expression of `t` and measures.
+    pub(crate) fn expression(&self, text: &str) -> Result<Expression, String> {
+        self.parse(text, Dependence::TimeAndMeasures)
+    }
+
+    /// A function of `t` alone, differentiated twice.
+    pub(crate) fn time_function(&self, text: &str) -> Result<TimeFunction, String> {
+        let mut expression = self.parse(text, Dependence::Time)?;
+        if expression.variables().is_empty() {
+            // flexmb's `TimeFunction` cannot yet differentiate an expression without `t` (it builds the
+            // zero derivative with a literal that exmex does not read), so a constant is written as an
+            // expression of `t` whose derivatives are zero.
+            let value = expression.eval(0.0, &[]);
+            let as_function_of_time = format!("{} + 0*t", parenthesized(value));
+            expression = Expression::parse(&as_function_of_time, &|_| None).map_err(|e| describe(&e, text))?;
+        }
+        TimeFunction::new(expression).map_err(|e| describe(&e, text))
+    }
+
+    fn parse(&self, text: &str, dependence: Dependence) -> Result<Expression, String> {
+        if text.trim().is_empty() {
+            return Err("expression is empty".to_string());
+        }
+        self.check_names(text, dependence)?;
+        check_parentheses(text)?;
+        let ready = rewrite(text, &|name| self.parameters.get(name).copied());
+        let expression =
+            Expression::parse(&ready, &|name| self.measures.get(name).copied()).map_err(|e| describe(&e, text))?;
+        Ok(expression)
+    }
+
+    /// Every identifier must be a builtin, a parameter, or (where allowed) `t` or a measure.
+    fn check_names(&self, text: &str, dependence: Dependence) -> Result<(), String> {
+        for name in identifiers(text) {
+            let is_time = name == "t";
+            let is_measure = self.measures.contains_key(name);
+            if BUILTIN_NAMES.contains(&name) || self.parameters.contains_key(name) {
+                continue;
+            }
+            match dependence {
+                Dependence::TimeAndMeasures if is_time || is_measure => continue,
+                Dependence::Time if is_time => continue,
+                Dependence::Time if is_measure => {
+                    return Err(format!(
+                        "expression `{text}` reads measure `{name}`, but this function may depend on time `t` only"
+                    ))
+                }
+                Dependence::Constant if is_time => {
+                    return Err(format!("expression `{text}` depends on time `t`, but a constant is expected"))
+                }
+                _ => {}
+            }
+            let mut candidates: Vec<&str> = self.parameters.keys().map(String::as_str).collect();
+            let allowed = match dependence {
+                Dependence::Constant => "a parameter",
+                Dependence::Time => "`t` or a parameter",
+                Dependence::TimeAndMeasures => {
+                    candidates.extend(self.measures.keys().map(String::as_str));
+                    "`t`, a parameter or a measure"
+                }
+            };
+            candidates.extend(BUILTIN_NAMES);
+            let hint = did_you_mean(name, candidates);
+            return Err(format!("expression `{text}` names `{name}`, which is not {allowed}{hint}"));
+        }
+        Ok(())
+    }
+}
+
+/// Unbalanced parentheses get a clearer message than `exmex` gives.
+fn check_parentheses(text: &str) -> Result<(), String> {
+    let mut depth = 0i64;
+    for c in text.chars() {
+        match c {
+            '(' => depth += 1,
+            ')' => depth -= 1,
+            '{' | '}' => return Err(format!("expression `{text}` contains a brace; use parentheses")),
+            _ => {}
+        }
+        if depth < 0 {
+            return Err(format!("expression `{text}` has a `)` without a matching `(`"));
+        }
+    }
+    if depth > 0 {
+        return Err(format!("expression `{text}` has a `(` that is never closed"));
+    }
+    Ok(())
+}
+
+fn parenthesized(value: f64) -> String {
+    format!("({})", decimal(value))
+}
+
+/// An engine expression error, worded with the text the user wrote (not the rewritten one).
+fn describe(error: &ExpressionError, text: &str) -> String {
+    match error {
+        ExpressionError::Parse { message, .. } => format!("cannot parse expression `{text}`: {message}"),
+        ExpressionError::UnknownVariable { name, hint, .. } => {
+            format!("expression `{text}` names `{name}`, which is neither `t`, a parameter nor a measure{hint}")
+        }
+        ExpressionError::TooManyVariables { count, .. } => {
+            format!("expression `{text}` reads {count} different variables, more than the engine allows")
+        }
+        ExpressionError::NotTimeOnly { name, .. } => {
+            format!("expression `{text}` must depend on time `t` only, but names `{name}`")
+        }
+        ExpressionError::NotDifferentiable { message, .. } => {
+            format!("cannot differentiate `{text}` with respect to t: {message}")
+        }
+    }
+}

@@ -1,0 +1,80 @@
+//! Model files: a mechanism described in TOML (see `docs/model-file.md`), parsed with every value's
+//! position kept, validated with errors that name the file, key path and line, and built into a
+//! [`flexmb::Model`].
+
+mod build;
+mod error;
+mod expression_text;
+mod expressions;
+mod key_path;
+mod parameters;
+mod schema;
+mod source;
+mod suggest;
+mod toml_errors;
+mod value;
+
+use std::path::Path;
+
+use serde::Deserialize;
+use toml::de::DeTable;
+
+pub use error::{ErrorKind, ModelFileError};
+
+use schema::ModelFile;
+use source::Source;
+
+/// A model read from a file, with the file's defaults for simulation runs.
+#[derive(Clone, Debug)]
+pub struct LoadedModel {
+    pub model: flexmb::Model,
+    pub simulation: SimulationDefaults,
+}
+
+/// `[simulation]`: what `flexmb run` uses unless told otherwise.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SimulationDefaults {
+    /// End time (s). Default 1.
+    pub t_end: f64,
+    /// Interval between output times (s). Default 0.01.
+    pub output_step: f64,
+    /// Relative error tolerance of the integrator. Default 1e-6.
+    pub rtol: f64,
+    /// Absolute error tolerance of the integrator. Default 1e-6.
+    pub atol: f64,
+}
+
+impl Default for SimulationDefaults {
+    fn default() -> Self {
+        Self { t_end: 1.0, output_step: 0.01, rtol: 1e-6, atol: 1e-6 }
+    }
+}
+
+/// Reads and builds the model file at `path`.
+pub fn load_model(path: &Path) -> Result<LoadedModel, ModelFileError> {
+    let file = path.display().to_string();
+    let io_error = |message: String| ModelFileError {
+        kind: ErrorKind::Io,
+        file: file.clone(),
+        line: None,
+        key_path: String::new(),
+        message,
+    };
+    let bytes = std::fs::read(path).map_err(|e| io_error(format!("cannot read the model file: {e}")))?;
+    let text = String::from_utf8(bytes).map_err(|e| io_error(format!("the model file is not UTF-8 text: {e}")))?;
+    parse_model(&text, &file)
+}
+
+/// Builds a model from the text of a model file; `file_name` is used in error messages and its stem is
+/// the model's default name.
+pub fn parse_model(text: &str, file_name: &str) -> Result<LoadedModel, ModelFileError> {
+    let source = Source::new(file_name, text);
+    let (document, syntax_errors) = DeTable::parse_recoverable(text);
+    if let Some(error) = syntax_errors.first() {
+        return Err(toml_errors::syntax_error(&source, document.get_ref(), error));
+    }
+    let file = ModelFile::deserialize(toml::de::Deserializer::from(document.clone()))
+        .map_err(|e| toml_errors::schema_error(&source, document.get_ref(), &e))?;
+    let default_name = Path::new(file_name).file_stem().and_then(|s| s.to_str()).unwrap_or("model");
+    build::build(&file, &source, default_name)
+}
