@@ -1,1 +1,18 @@
-//! analyses
+//! Analyses of a model: redundancy check, assembly (position analysis), velocity analysis,
+//! accelerations and reaction forces, and the dynamic simulation.
+
+mod accelerations;
+mod assembly;
+mod outputs;
+mod redundancy;
+mod simulation;
+mod state;
+mod velocity;
+
+pub use accelerations::{AccelerationSolver, Accelerations};
+pub use assembly::{assemble, AssemblyError, AssemblyReport, AssemblySettings};
+pub use outputs::{output_columns, OutputColumn};
+pub use redundancy::{find_redundant_rows, RedundantConstraint};
+pub use simulation::{simulate, OutputFrame, SimulationError, SimulationFailure, SimulationReport, SimulationSettings};
+pub use state::State;
+pub use velocity::{velocity_analysis, VelocityReport};

@@ -1,1 +1,23 @@
-//! integrators
+//! Time integration of the equations of motion.
+//!
+//! The default and only method so far is a variable-order (1–5), variable-step BDF in the backward-
+//! difference form of Shampine and Reichelt (the MATLAB `ode15s` family, with `κ = 0`, i.e. true BDF as in
+//! DASSL) applied to the stabilized index-2 form of the equations (see [`crate::stage`] `residual`).
+//!
+//! Why this formulation: the Gear–Gupta–Leimkuhler form keeps both position and velocity constraints
+//! satisfied to Newton tolerance at every step (no drift, no projection step that the error control
+//! would not see), its multipliers `λ, μ` are index-2 variables that BDF handles reliably when they are
+//! left out of the error test, and unlike the index-3 form it needs no step-size dependent scaling and
+//! keeps the velocities accurate. The cost is `nc + nb` extra unknowns `μ`, which are zero at the
+//! solution.
+
+mod bdf;
+mod config;
+mod error;
+mod iteration_matrix;
+mod stats;
+
+pub use bdf::Bdf;
+pub use config::BdfConfig;
+pub use error::IntegrationError;
+pub use stats::Stats;

@@ -22,7 +22,7 @@
 
 mod equation;
 
-pub(crate) use equation::{Equation, EquationTerms};
+pub(crate) use equation::{relative_angle, Equation, EquationTerms};
 
 use crate::function::TimeFunction;
 use crate::model::MarkerId;

@@ -82,6 +82,14 @@ impl SparseLu {
         (range.clone(), &self.pattern.row_idx()[range])
     }
 
+    /// The values of column `c` (mutable) with their rows.
+    pub fn column_mut(&mut self, c: usize) -> (&mut [f64], &[usize]) {
+        let ptr = self.pattern.col_ptr();
+        let range = ptr[c]..ptr[c + 1];
+        self.factored = false;
+        (&mut self.values[range.clone()], &self.pattern.row_idx()[range])
+    }
+
     /// Position of entry `(r, c)` in [`values`](Self::values), if it is in the pattern.
     pub fn slot(&self, r: usize, c: usize) -> Option<usize> {
         let (range, rows) = self.column(c);

@@ -52,3 +52,14 @@ pub(crate) fn measure_value(model: &Model, data: &Data, kind: MeasureKind) -> f6
         MeasureKind::Speed(m) => mk(m).velocity.norm(),
     }
 }
+
+/// Sets each rotational joint's angle reference to its current angle (after the kinematics stage), so
+/// that angles continue past ±π from one accepted step to the next.
+pub(crate) fn update_angle_references(model: &Model, data: &mut Data) {
+    for (j, joint) in model.joints.iter().enumerate() {
+        if joint.kind.has_rotation_about_z() {
+            let (mi, mj) = (&data.markers[joint.marker_i.0], &data.markers[joint.marker_j.0]);
+            data.angle_reference[j] = crate::joint::relative_angle(mi, mj, data.angle_reference[j]).phi;
+        }
+    }
+}

@@ -17,5 +17,5 @@ pub(crate) use forces::applied_forces;
 pub(crate) use inertia::{body_mass_matrix, inertia_forces};
 pub use kinematics::{BodyState, MarkerState};
 pub(crate) use kinematics::kinematics;
-pub(crate) use measures::measures;
+pub(crate) use measures::{measure_value, measures, update_angle_references};
 pub(crate) use residual::{residual, YLayout};

@@ -46,7 +46,17 @@ impl YLayout {
 }
 
 /// Evaluates all stages at `(t, y, ẏ)` and writes `F` into `res`.
-pub(crate) fn residual(model: &Model, data: &mut Data, yl: &YLayout, t: f64, y: &[f64], yp: &[f64], res: &mut [f64]) {
+/// `active[k] == false` switches constraint row `k` off: its rows become `λ_k = 0`, `μ_k = 0`.
+pub(crate) fn residual(
+    model: &Model,
+    data: &mut Data,
+    yl: &YLayout,
+    active: &[bool],
+    t: f64,
+    y: &[f64],
+    yp: &[f64],
+    res: &mut [f64],
+) {
     let (q, v) = (&y[yl.q.clone()], &y[yl.v.clone()]);
     let (lambda, mu) = (&y[yl.lambda.clone()], &y[yl.mu.clone()]);
     let nc = model.layout.nc;
@@ -94,8 +104,13 @@ pub(crate) fn residual(model: &Model, data: &mut Data, yl: &YLayout, t: f64, y: 
         let (j, _) = model.layout.equations[row];
         let joint = &model.joints[j.0];
         let (mi, mj) = (&data.markers[joint.marker_i.0], &data.markers[joint.marker_j.0]);
-        res[yl.lambda.start + row] = terms.rate(mi, mj);
-        res[yl.mu.start + row] = terms.phi;
+        if active[row] {
+            res[yl.lambda.start + row] = terms.rate(mi, mj);
+            res[yl.mu.start + row] = terms.phi;
+        } else {
+            res[yl.lambda.start + row] = lambda[row];
+            res[yl.mu.start + row] = mu[row];
+        }
     }
     for b in 0..model.bodies.len() {
         let qo = model.layout.q_offset[b];

@@ -1,0 +1,187 @@
+//! Assembly (position analysis): Newton–Raphson on `Φ̂(q) = [Φ(q, t); pᵀp − 1] = 0` from the approximate
+//! configuration in the model file, each step the minimum-norm correction
+//! `Δq = −Φ̂_qᵀ (Φ̂_q Φ̂_qᵀ)⁻¹ Φ̂` with backtracking. Redundant rows are found first and switched off.
+
+use faer::prelude::*;
+
+use super::redundancy::{find_redundant_rows, RedundantConstraint};
+use super::State;
+use crate::data::Data;
+use crate::math::euler_parameters::g_matrix;
+use crate::math::Vec4;
+use crate::model::Model;
+use crate::stage::{constraint_equations, jacobian_entries, kinematics};
+
+/// Settings of the assembly.
+#[derive(Clone, Copy, Debug)]
+pub struct AssemblySettings {
+    /// Largest absolute constraint residual accepted (m for point equations, dimensionless for dot-1).
+    pub tolerance: f64,
+    pub max_iterations: usize,
+}
+
+impl Default for AssemblySettings {
+    fn default() -> Self {
+        Self { tolerance: 1e-10, max_iterations: 50 }
+    }
+}
+
+/// What the assembly did.
+#[derive(Clone, Debug)]
+pub struct AssemblyReport {
+    pub iterations: usize,
+    /// Largest residual before and after.
+    pub initial_residual: f64,
+    pub residual: f64,
+    pub redundant: Vec<RedundantConstraint>,
+    /// Degrees of freedom: velocity coordinates minus independent constraints.
+    pub degrees_of_freedom: usize,
+}
+
+/// Why the assembly failed.
+#[derive(Clone, Debug, thiserror::Error, PartialEq)]
+pub enum AssemblyError {
+    #[error(
+        "assembly did not converge in {iterations} iterations: largest residual {residual:.3e} in {worst}; \
+         check that the markers of that joint can be brought together from the given initial poses"
+    )]
+    NotConverged { iterations: usize, residual: f64, worst: String },
+    #[error("{what}: the constraint matrix is singular even after removing redundant rows")]
+    Singular { what: &'static str },
+}
+
+/// Assembles `state.q` at `state.t` in place; sets `state.active`.
+pub fn assemble(
+    model: &Model,
+    data: &mut Data,
+    state: &mut State,
+    settings: AssemblySettings,
+) -> Result<AssemblyReport, AssemblyError> {
+    let (mut redundant, mut rank) = find_redundant_rows(model, data, state.t, &state.q);
+    set_active(state, &redundant);
+    let initial_residual = residual_norm(model, data, state);
+    let mut iterations = newton(model, data, state, settings)?;
+    // The rank can differ at the assembled configuration; if so, assemble again with the new set.
+    let (again, rank2) = find_redundant_rows(model, data, state.t, &state.q);
+    if again != redundant {
+        redundant = again;
+        rank = rank2;
+        set_active(state, &redundant);
+        iterations += newton(model, data, state, settings)?;
+    }
+    let residual = residual_norm(model, data, state);
+    Ok(AssemblyReport {
+        iterations,
+        initial_residual,
+        residual,
+        redundant,
+        degrees_of_freedom: model.layout.nv - rank,
+    })
+}
+
+fn set_active(state: &mut State, redundant: &[RedundantConstraint]) {
+    state.active.fill(true);
+    for r in redundant {
+        state.active[r.row] = false;
+    }
+}
+
+/// Evaluates `Φ̂` (active rows, then one normalization row per body) at `state.q`.
+fn constraint_values(model: &Model, data: &mut Data, state: &State, out: &mut Vec<f64>) {
+    let zero_v = vec![0.0; model.layout.nv];
+    kinematics(model, data, &state.q, &zero_v);
+    constraint_equations(model, data, state.t);
+    out.clear();
+    out.extend(data.equations.iter().zip(&state.active).filter(|(_, a)| **a).map(|(e, _)| e.phi));
+    for b in 0..model.bodies.len() {
+        let qo = model.layout.q_offset[b];
+        out.push((3..7).map(|k| state.q[qo + k].powi(2)).sum::<f64>() - 1.0);
+    }
+}
+
+fn residual_norm(model: &Model, data: &mut Data, state: &State) -> f64 {
+    let mut phi = Vec::new();
+    constraint_values(model, data, state, &mut phi);
+    phi.iter().fold(0.0_f64, |m, x| m.max(x.abs()))
+}
+
+fn newton(model: &Model, data: &mut Data, state: &mut State, settings: AssemblySettings) -> Result<usize, AssemblyError> {
+    let l = &model.layout;
+    let active_rows: Vec<usize> = (0..l.nc).filter(|r| state.active[*r]).collect();
+    let m = active_rows.len() + model.bodies.len();
+    let mut phi = Vec::new();
+    for it in 0..=settings.max_iterations {
+        constraint_values(model, data, state, &mut phi);
+        let norm = phi.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
+        if norm <= settings.tolerance {
+            return Ok(it);
+        }
+        if it == settings.max_iterations {
+            break;
+        }
+        let gq = position_jacobian(model, data, state, &active_rows);
+        let a = &gq * gq.transpose();
+        let lu = a.partial_piv_lu();
+        let mut z = Mat::from_fn(m, 1, |i, _| phi[i]);
+        lu.solve_in_place(z.as_mut());
+        let dq = -(gq.transpose() * &z);
+        if !dq.col(0).iter().all(|x| x.is_finite()) {
+            return Err(AssemblyError::Singular { what: "assembly" });
+        }
+        // Backtracking on the largest residual.
+        let q0 = state.q.clone();
+        let mut alpha = 1.0;
+        loop {
+            for k in 0..l.nq {
+                state.q[k] = q0[k] + alpha * dq[(k, 0)];
+            }
+            if residual_norm(model, data, state) < norm || alpha < 1e-3 {
+                break;
+            }
+            alpha *= 0.5;
+        }
+    }
+    constraint_values(model, data, state, &mut phi);
+    let (worst_k, residual) =
+        phi.iter().enumerate().fold((0, 0.0_f64), |(bk, bv), (k, x)| if x.abs() > bv { (k, x.abs()) } else { (bk, bv) });
+    let worst = if worst_k < active_rows.len() {
+        model.describe_constraint_row(active_rows[worst_k])
+    } else {
+        format!("the normalization of body '{}'", model.bodies[worst_k - active_rows.len()].name)
+    };
+    Err(AssemblyError::NotConverged { iterations: settings.max_iterations, residual, worst })
+}
+
+/// Dense `Φ̂_q` in positions: `Φ_R = B_Ṙ`, `Φ_p = B_ω̄ 2G(p)`, `(pᵀp)_p = 2pᵀ` (after `constraint_values`).
+pub(crate) fn position_jacobian(model: &Model, data: &Data, state: &State, active_rows: &[usize]) -> Mat<f64> {
+    let l = &model.layout;
+    let m = active_rows.len() + model.bodies.len();
+    let mut row_of = vec![usize::MAX; l.nc];
+    for (k, r) in active_rows.iter().enumerate() {
+        row_of[*r] = k;
+    }
+    let mut b_dense = Mat::<f64>::zeros(active_rows.len(), l.nv);
+    jacobian_entries(model, data, |r, c, x| {
+        if row_of[r] != usize::MAX {
+            b_dense[(row_of[r], c)] += x;
+        }
+    });
+    let mut gq = Mat::<f64>::zeros(m, l.nq);
+    for b in 0..model.bodies.len() {
+        let (qo, vo) = (l.q_offset[b], l.v_offset[b]);
+        let p = Vec4::new(state.q[qo + 3], state.q[qo + 4], state.q[qo + 5], state.q[qo + 6]);
+        let g2 = 2.0 * g_matrix(&p);
+        for r in 0..active_rows.len() {
+            for k in 0..3 {
+                gq[(r, qo + k)] = b_dense[(r, vo + k)];
+            }
+            for c in 0..4 {
+                gq[(r, qo + 3 + c)] = (0..3).map(|k| b_dense[(r, vo + 3 + k)] * g2[(k, c)]).sum();
+            }
+        }
+        for c in 0..4 {
+            gq[(active_rows.len() + b, qo + 3 + c)] = 2.0 * p[c];
+        }
+    }
+    gq
+}

@@ -1,0 +1,99 @@
+//! Velocity analysis: consistent velocities `B v = ν` closest to the velocities given in the model.
+//! Minimizes `½ (v − v₀)ᵀ W (v − v₀)` with weight 10⁶ on the components the user gave and 1 on the rest,
+//! so given velocities are kept where the constraints allow and the others follow.
+
+use faer::prelude::*;
+
+use super::{AssemblyError, State};
+use crate::data::Data;
+use crate::model::Model;
+use crate::stage::{constraint_equations, jacobian_entries, kinematics};
+
+const GIVEN_WEIGHT: f64 = 1e6;
+
+/// What the velocity analysis changed.
+#[derive(Clone, Debug, Default)]
+pub struct VelocityReport {
+    /// Given velocities the constraints did not allow, with what they became.
+    pub adjusted: Vec<String>,
+    /// Largest `|B v − ν|` after the analysis.
+    pub residual: f64,
+}
+
+/// Makes `state.v` consistent with the velocity constraints at `state.q` (already assembled).
+pub fn velocity_analysis(model: &Model, data: &mut Data, state: &mut State) -> Result<VelocityReport, AssemblyError> {
+    let l = &model.layout;
+    let mut weight = vec![1.0; l.nv];
+    for (b, body) in model.bodies.iter().enumerate() {
+        let vo = l.v_offset[b];
+        if body.initial.velocity.is_some() {
+            weight[vo..vo + 3].fill(GIVEN_WEIGHT);
+        }
+        if body.initial.angular_velocity.is_some() {
+            weight[vo + 3..vo + 6].fill(GIVEN_WEIGHT);
+        }
+    }
+    let v0 = state.v.clone();
+    let rows: Vec<usize> = (0..l.nc).filter(|r| state.active[*r]).collect();
+    let mut row_of = vec![usize::MAX; l.nc];
+    rows.iter().enumerate().for_each(|(k, r)| row_of[*r] = k);
+    kinematics(model, data, &state.q, &state.v);
+    constraint_equations(model, data, state.t);
+    let mut b = Mat::<f64>::zeros(rows.len(), l.nv);
+    jacobian_entries(model, data, |r, c, x| {
+        if row_of[r] != usize::MAX {
+            b[(row_of[r], c)] += x;
+        }
+    });
+    // r = ν − B v₀ = −(B v₀ + Φ_t)
+    let mut z = Mat::from_fn(rows.len(), 1, |k, _| {
+        let (j, _) = l.equations[rows[k]];
+        let joint = &model.joints[j.0];
+        -data.equations[rows[k]].rate(&data.markers[joint.marker_i.0], &data.markers[joint.marker_j.0])
+    });
+    let bw = Mat::from_fn(rows.len(), l.nv, |r, c| b[(r, c)] / weight[c]);
+    let a = &bw * b.transpose();
+    a.partial_piv_lu().solve_in_place(z.as_mut());
+    let dv = bw.transpose() * &z;
+    for k in 0..l.nv {
+        state.v[k] += dv[(k, 0)];
+    }
+    if !state.v.iter().all(|x| x.is_finite()) {
+        state.v = v0;
+        return Err(AssemblyError::Singular { what: "velocity analysis" });
+    }
+    let mut report = VelocityReport::default();
+    for (bi, body) in model.bodies.iter().enumerate() {
+        let vo = l.v_offset[bi];
+        let changed = |range: std::ops::Range<usize>| {
+            range.clone().any(|k| (state.v[k] - v0[k]).abs() > 1e-6 * v0[k].abs().max(1.0))
+        };
+        if body.initial.velocity.is_some() && changed(vo..vo + 3) {
+            report.adjusted.push(format!(
+                "body '{}': the given velocity {:?} became {:?} to satisfy the joints",
+                body.name,
+                &v0[vo..vo + 3],
+                &state.v[vo..vo + 3]
+            ));
+        }
+        if body.initial.angular_velocity.is_some() && changed(vo + 3..vo + 6) {
+            report.adjusted.push(format!(
+                "body '{}': the given angular velocity (body axes) {:?} became {:?} to satisfy the joints",
+                body.name,
+                &v0[vo + 3..vo + 6],
+                &state.v[vo + 3..vo + 6]
+            ));
+        }
+    }
+    kinematics(model, data, &state.q, &state.v);
+    constraint_equations(model, data, state.t);
+    report.residual = rows
+        .iter()
+        .map(|r| {
+            let (j, _) = l.equations[*r];
+            let joint = &model.joints[j.0];
+            data.equations[*r].rate(&data.markers[joint.marker_i.0], &data.markers[joint.marker_j.0]).abs()
+        })
+        .fold(0.0, f64::max);
+    Ok(report)
+}

@@ -1,0 +1,527 @@
+//! Variable-order, variable-step BDF for the stabilized index-2 equations of motion.
+//!
+//! Quasi-constant step size in backward-difference form (Shampine and Reichelt, *The MATLAB ODE Suite*,
+//! 1997; Byrne and Hindmarsh 1975): the predictor is `y⁽⁰⁾ = Σ_{j≤k} ∇ʲyₙ`, the corrector solves
+//! `F(t, y⁽⁰⁾ + d, (ψ + d)/c) = 0` for the correction `d` by a simplified Newton iteration with a
+//! reused iteration matrix, `c = h/γ_k`, `ψ = Σ_{1≤j≤k} γ_j ∇ʲyₙ / γ_k`, `γ_k = Σ_{j≤k} 1/j`. The local
+//! error estimate is `d/(k+1)`, tested on positions and velocities only (not on the multipliers), in the
+//! RMS norm weighted by `atol + rtol |y|`. A step that fails the error test or whose Newton iteration does
+//! not converge is rejected and retried with a smaller step; nothing unconverged is ever accepted. Step
+//! size changes re-interpolate the difference array; the order moves by at most one after `k + 1` steps
+//! of equal size, to the order whose error estimate allows the largest next step.
+
+use crate::analysis::{Accelerations, State};
+use crate::data::Data;
+use crate::integrate::iteration_matrix::IterationMatrix;
+use crate::integrate::{BdfConfig, IntegrationError, Stats};
+use crate::math::euler_parameters::g_matrix;
+use crate::math::{Vec3, Vec4};
+use crate::model::Model;
+use crate::stage::{residual, update_angle_references, YLayout};
+
+const MAX_ORDER: usize = 5;
+const NEWTON_MAXITER: usize = 4;
+const MIN_FACTOR: f64 = 0.2;
+const MAX_FACTOR: f64 = 10.0;
+
+/// `γ_k = Σ_{j=1..k} 1/j`.
+fn gamma(k: usize) -> f64 {
+    (1..=k).map(|j| 1.0 / j as f64).sum()
+}
+
+/// Error constant of BDF order `k`: `1/(k + 1)`.
+fn error_const(k: usize) -> f64 {
+    1.0 / (k + 1) as f64
+}
+
+/// The BDF integrator with all its workspaces; one [`step`](Self::step) is one accepted step.
+pub struct Bdf<'m> {
+    model: &'m Model,
+    data: Data,
+    yl: YLayout,
+    active: Vec<bool>,
+    config: BdfConfig,
+    n: usize,
+    n_diff: usize,
+    t: f64,
+    t_old: f64,
+    h: f64,
+    order: usize,
+    n_equal_steps: usize,
+    /// Backward differences `∇ʲy`, rows `j = 0..MAX_ORDER+2`, each of length `n`.
+    d: Vec<f64>,
+    jac: IterationMatrix,
+    factored_c: Option<f64>,
+    jac_current: bool,
+    newton_tol: f64,
+    y_pred: Vec<f64>,
+    psi: Vec<f64>,
+    y_new: Vec<f64>,
+    corr: Vec<f64>,
+    rhs: Vec<f64>,
+    res: Vec<f64>,
+    yp: Vec<f64>,
+    scale: Vec<f64>,
+    change_tmp: Vec<f64>,
+    pub stats: Stats,
+}
+
+impl<'m> Bdf<'m> {
+    /// Starts from a consistent state (assembled, velocity-analysed) and its accelerations.
+    pub fn new(
+        model: &'m Model,
+        state: &State,
+        accelerations: &Accelerations,
+        config: BdfConfig,
+    ) -> Result<Self, IntegrationError> {
+        let yl = YLayout::new(model);
+        let n = yl.len();
+        let n_diff = yl.n_differential();
+        let mut y0 = vec![0.0; n];
+        let mut yp0 = vec![0.0; n];
+        y0[yl.q.clone()].copy_from_slice(&state.q);
+        y0[yl.v.clone()].copy_from_slice(&state.v);
+        y0[yl.lambda.clone()].copy_from_slice(&accelerations.lambda);
+        yp0[yl.v.clone()].copy_from_slice(&accelerations.vdot);
+        for b in 0..model.bodies.len() {
+            let (qo, vo) = (model.layout.q_offset[b], model.layout.v_offset[b]);
+            yp0[qo..qo + 3].copy_from_slice(&state.v[vo..vo + 3]);
+            let p = Vec4::from_column_slice(&state.q[qo + 3..qo + 7]);
+            let w = Vec3::from_column_slice(&state.v[vo + 3..vo + 6]);
+            let p_rate = 0.5 * g_matrix(&p).transpose() * w;
+            yp0[qo + 3..qo + 7].copy_from_slice(p_rate.as_slice());
+        }
+        if !y0.iter().chain(&yp0).all(|x| x.is_finite()) {
+            return Err(IntegrationError::InitialConditions {
+                t: state.t,
+                reason: "initial positions, velocities or accelerations are not finite".into(),
+            });
+        }
+        let max_order = config.max_order.clamp(1, MAX_ORDER);
+        let config = BdfConfig { max_order, ..config };
+        let h0 = config.h_init.unwrap_or_else(|| initial_step(&config, &y0[..n_diff], &yp0[..n_diff])).min(config.h_max);
+        let mut d = vec![0.0; (MAX_ORDER + 3) * n];
+        d[..n].copy_from_slice(&y0);
+        for k in 0..n {
+            d[n + k] = h0 * yp0[k];
+        }
+        let mut data = Data::new(model);
+        let references = state_angle_references(model, &mut data, state);
+        data.angle_reference.copy_from_slice(&references);
+        let jac = IterationMatrix::new(model, &yl);
+        let newton_tol = (10.0 * f64::EPSILON / config.rtol).max(config.rtol.sqrt().min(0.03));
+        let mut bdf = Self {
+            model,
+            yl,
+            active: state.active.clone(),
+            config,
+            n,
+            n_diff,
+            t: state.t,
+            t_old: state.t,
+            h: h0,
+            order: 1,
+            n_equal_steps: 0,
+            d,
+            jac,
+            factored_c: None,
+            jac_current: false,
+            newton_tol,
+            y_pred: vec![0.0; n],
+            psi: vec![0.0; n],
+            y_new: vec![0.0; n],
+            corr: vec![0.0; n],
+            rhs: vec![0.0; n],
+            res: vec![0.0; n],
+            yp: yp0,
+            scale: vec![0.0; n],
+            change_tmp: vec![0.0; (MAX_ORDER + 1) * n],
+            stats: Stats::default(),
+            data,
+        };
+        let yp0 = bdf.yp.clone();
+        bdf.evaluate_jacobian_at(state.t, &y0, &yp0);
+        Ok(bdf)
+    }
+
+    /// Current time.
+    pub fn t(&self) -> f64 {
+        self.t
+    }
+    /// Time at the start of the last accepted step.
+    pub fn t_old(&self) -> f64 {
+        self.t_old
+    }
+    /// Current `y = [q, v, λ, μ]`.
+    pub fn y(&self) -> &[f64] {
+        &self.d[..self.n]
+    }
+    /// Current order.
+    pub fn order(&self) -> usize {
+        self.order
+    }
+    /// Step size planned for the next step.
+    pub fn step_size(&self) -> f64 {
+        self.h
+    }
+    /// The constraint rows in force.
+    pub fn active(&self) -> &[bool] {
+        &self.active
+    }
+    /// Scratch data (for evaluating outputs between steps).
+    pub fn data_mut(&mut self) -> &mut Data {
+        &mut self.data
+    }
+    /// Residual evaluations one Jacobian costs.
+    pub fn evaluations_per_jacobian(&self) -> usize {
+        self.jac.evaluations_per_jacobian()
+    }
+
+    /// `y(t)` for `t` in `[t_old, t]` from the interpolating polynomial of the last step.
+    pub fn interpolate(&self, t_eval: f64, out: &mut [f64]) {
+        let n = self.n;
+        out.copy_from_slice(&self.d[..n]);
+        let mut p = 1.0;
+        for j in 0..self.order {
+            let x = (t_eval - (self.t - j as f64 * self.h)) / (self.h * (j + 1) as f64);
+            p *= x;
+            let row = &self.d[(j + 1) * n..(j + 2) * n];
+            for k in 0..n {
+                out[k] += row[k] * p;
+            }
+        }
+    }
+
+    fn evaluate_jacobian_at(&mut self, t: f64, y: &[f64], yp: &[f64]) {
+        let evals = self.jac.evaluate(self.model, &mut self.data, &self.yl, &self.active, t, y, yp);
+        self.stats.jacobian_evaluations += 1;
+        self.stats.residual_evaluations += evals;
+        self.factored_c = None;
+    }
+
+    /// Rescales the differences for a step size change by `factor` at the current order.
+    fn change_differences(&mut self, order: usize, factor: f64) {
+        let r = compute_r(order, factor);
+        let u = compute_r(order, 1.0);
+        let mut ru = [[0.0; MAX_ORDER + 1]; MAX_ORDER + 1];
+        for i in 0..=order {
+            for j in 0..=order {
+                ru[i][j] = (0..=order).map(|k| r[i][k] * u[k][j]).sum();
+            }
+        }
+        let n = self.n;
+        // new D[j] = Σ_i RU[i][j] · D[i]
+        self.change_tmp[..(order + 1) * n].fill(0.0);
+        for j in 0..=order {
+            for i in 0..=order {
+                let w = ru[i][j];
+                if w == 0.0 {
+                    continue;
+                }
+                for k in 0..n {
+                    self.change_tmp[j * n + k] += w * self.d[i * n + k];
+                }
+            }
+        }
+        self.d[..(order + 1) * n].copy_from_slice(&self.change_tmp[..(order + 1) * n]);
+    }
+
+    /// Takes one accepted step, not passing `t_stop`.
+    pub fn step(&mut self, t_stop: f64) -> Result<(), IntegrationError> {
+        if self.stats.steps >= self.config.max_steps {
+            return Err(IntegrationError::TooManySteps { t: self.t, max_steps: self.config.max_steps });
+        }
+        let n = self.n;
+        let t = self.t;
+        let min_step = 10.0 * (t.abs() * f64::EPSILON).max(f64::MIN_POSITIVE);
+        if self.h > self.config.h_max {
+            self.change_differences(self.order, self.config.h_max / self.h);
+            self.h = self.config.h_max;
+            self.factored_c = None;
+        } else if self.h < min_step {
+            self.change_differences(self.order, min_step / self.h);
+            self.h = min_step;
+            self.factored_c = None;
+        }
+        let mut reason = String::new();
+        let (t_new, safety) = loop {
+            let mut h = self.h;
+            if h < min_step {
+                return Err(IntegrationError::StepSizeTooSmall { t, h, reason });
+            }
+            let mut t_new = t + h;
+            if t_new >= t_stop - 4.0 * f64::EPSILON * t_stop.abs() {
+                t_new = t_stop;
+                self.change_differences(self.order, (t_new - t) / h);
+                h = t_new - t;
+                self.h = h;
+                self.factored_c = None;
+            }
+            let order = self.order;
+            let alpha = gamma(order);
+            for k in 0..n {
+                let mut yp = 0.0;
+                let mut psi = 0.0;
+                for j in 0..=order {
+                    let dj = self.d[j * n + k];
+                    yp += dj;
+                    if j > 0 {
+                        psi += dj * gamma(j);
+                    }
+                }
+                self.y_pred[k] = yp;
+                self.psi[k] = psi / alpha;
+            }
+            for k in 0..self.n_diff {
+                self.scale[k] = self.config.atol + self.config.rtol * self.y_pred[k].abs();
+            }
+            let c = h / alpha;
+            if self.factored_c != Some(c) {
+                if self.jac.factor(c).is_err() {
+                    self.stats.factorizations += 1;
+                    if !self.jac_current {
+                        self.refresh_jacobian(t_new, c);
+                        continue;
+                    }
+                    reason = format!("the iteration matrix is singular; {}", self.worst_equation(t_new, c));
+                    self.reduce_step(0.5);
+                    continue;
+                }
+                self.stats.factorizations += 1;
+                self.factored_c = Some(c);
+            }
+            let (converged, iterations) = self.newton(t_new, c);
+            if !converged {
+                self.stats.newton_failures += 1;
+                if !self.jac_current {
+                    self.refresh_jacobian(t_new, c);
+                    continue;
+                }
+                reason = format!("the Newton iteration does not converge; {}", self.worst_equation(t_new, c));
+                self.reduce_step(0.5);
+                continue;
+            }
+            let safety = 0.9 * (2 * NEWTON_MAXITER + 1) as f64 / (2 * NEWTON_MAXITER + iterations) as f64;
+            for k in 0..self.n_diff {
+                self.scale[k] = self.config.atol + self.config.rtol * self.y_new[k].abs();
+            }
+            let error_norm = self.rms_norm(&self.corr, error_const(order));
+            if error_norm > 1.0 {
+                self.stats.error_test_failures += 1;
+                let factor = MIN_FACTOR.max(safety * error_norm.powf(-1.0 / (order + 1) as f64));
+                reason = format!("the local error test fails (weighted error {error_norm:.2e})");
+                self.reduce_step(factor);
+                continue;
+            }
+            break (t_new, safety);
+        };
+        self.accept(t_new);
+
+        // Order and step-size selection after k + 1 steps of equal size.
+        if self.n_equal_steps < self.order + 1 {
+            return Ok(());
+        }
+        let order = self.order;
+        let error_m = if order > 1 {
+            self.rms_norm(&self.d[order * n..(order + 1) * n], error_const(order - 1))
+        } else {
+            f64::INFINITY
+        };
+        let error_p = if order < self.config.max_order {
+            self.rms_norm(&self.d[(order + 2) * n..(order + 3) * n], error_const(order + 1))
+        } else {
+            f64::INFINITY
+        };
+        let error = self.rms_norm(&self.corr, error_const(order));
+        let factor_of = |e: f64, k: usize| if e.is_finite() { e.max(1e-300).powf(-1.0 / k as f64) } else { 0.0 };
+        let factors = [factor_of(error_m, order), factor_of(error, order + 1), factor_of(error_p, order + 2)];
+        let (best, best_factor) =
+            factors.iter().enumerate().fold((1, factors[1]), |acc, (i, f)| if *f > acc.1 { (i, *f) } else { acc });
+        self.order = order + best - 1;
+        let factor = MAX_FACTOR.min(safety * best_factor);
+        self.h *= factor;
+        let new_order = self.order;
+        self.change_differences(new_order, factor);
+        self.n_equal_steps = 0;
+        self.factored_c = None;
+        Ok(())
+    }
+
+    fn reduce_step(&mut self, factor: f64) {
+        self.h *= factor;
+        self.change_differences(self.order, factor);
+        self.factored_c = None;
+    }
+
+    fn refresh_jacobian(&mut self, t_new: f64, c: f64) {
+        for k in 0..self.n {
+            self.yp[k] = self.psi[k] / c;
+        }
+        let (y, yp) = (std::mem::take(&mut self.y_pred), std::mem::take(&mut self.yp));
+        self.evaluate_jacobian_at(t_new, &y, &yp);
+        self.y_pred = y;
+        self.yp = yp;
+        self.jac_current = true;
+    }
+
+    /// Simplified Newton iteration on the corrector; returns (converged, iterations).
+    fn newton(&mut self, t_new: f64, c: f64) -> (bool, usize) {
+        self.corr.fill(0.0);
+        self.y_new.copy_from_slice(&self.y_pred);
+        let mut dy_norm_old: Option<f64> = None;
+        for k in 0..NEWTON_MAXITER {
+            for i in 0..self.n {
+                self.yp[i] = (self.psi[i] + self.corr[i]) / c;
+            }
+            residual(self.model, &mut self.data, &self.yl, &self.active, t_new, &self.y_new, &self.yp, &mut self.res);
+            self.stats.residual_evaluations += 1;
+            if !self.res.iter().all(|x| x.is_finite()) {
+                return (false, k + 1);
+            }
+            for i in 0..self.n {
+                self.rhs[i] = if i < self.n_diff { -c * self.res[i] } else { -self.res[i] };
+            }
+            if self.jac.solve_in_place(&mut self.rhs).is_err() {
+                return (false, k + 1);
+            }
+            self.stats.newton_iterations += 1;
+            let dy_norm = self.rms_norm(&self.rhs, 1.0);
+            let rate = dy_norm_old.map(|old| dy_norm / old);
+            if let Some(rate) = rate {
+                if rate >= 1.0
+                    || rate.powi((NEWTON_MAXITER - k) as i32) / (1.0 - rate) * dy_norm > self.newton_tol
+                {
+                    return (false, k + 1);
+                }
+            }
+            for i in 0..self.n {
+                self.y_new[i] += self.rhs[i];
+                self.corr[i] += self.rhs[i];
+            }
+            if dy_norm == 0.0 || rate.is_some_and(|r| r / (1.0 - r) * dy_norm < self.newton_tol) {
+                return (true, k + 1);
+            }
+            dy_norm_old = Some(dy_norm);
+        }
+        (false, NEWTON_MAXITER)
+    }
+
+    /// Weighted RMS norm of `factor · x` over the differential components.
+    fn rms_norm(&self, x: &[f64], factor: f64) -> f64 {
+        let sum: f64 = (0..self.n_diff).map(|k| (factor * x[k] / self.scale[k]).powi(2)).sum();
+        (sum / self.n_diff.max(1) as f64).sqrt()
+    }
+
+    /// Accepts `y_new` at `t_new`: renormalizes Euler parameters, updates the differences and counters.
+    fn accept(&mut self, t_new: f64) {
+        let n = self.n;
+        for b in 0..self.model.bodies.len() {
+            let qo = self.yl.q.start + self.model.layout.q_offset[b];
+            let norm = (3..7).map(|k| self.y_new[qo + k].powi(2)).sum::<f64>().sqrt();
+            for k in 3..7 {
+                let normalized = self.y_new[qo + k] / norm;
+                self.corr[qo + k] += normalized - self.y_new[qo + k];
+                self.y_new[qo + k] = normalized;
+            }
+        }
+        let h = t_new - self.t;
+        self.t_old = self.t;
+        self.t = t_new;
+        self.stats.steps += 1;
+        self.stats.sum_h_squared += h * h;
+        self.stats.order_counts[self.order] += 1;
+        self.jac_current = false;
+        self.n_equal_steps += 1;
+        let order = self.order;
+        for k in 0..n {
+            self.d[(order + 2) * n + k] = self.corr[k] - self.d[(order + 1) * n + k];
+            self.d[(order + 1) * n + k] = self.corr[k];
+        }
+        for i in (0..=order).rev() {
+            for k in 0..n {
+                self.d[i * n + k] += self.d[(i + 1) * n + k];
+            }
+        }
+        update_angle_references(self.model, &mut self.data);
+    }
+
+    /// The equation with the largest residual at the predictor, named for a person.
+    fn worst_equation(&mut self, t_new: f64, c: f64) -> String {
+        for k in 0..self.n {
+            self.yp[k] = self.psi[k] / c;
+        }
+        residual(self.model, &mut self.data, &self.yl, &self.active, t_new, &self.y_pred, &self.yp, &mut self.res);
+        let (row, value) = self
+            .res
+            .iter()
+            .enumerate()
+            .map(|(i, r)| (i, if i < self.n_diff { (c * r).abs() } else { r.abs() }))
+            .fold((0, 0.0), |acc, x| if x.1 > acc.1 { x } else { acc });
+        format!("largest residual {value:.3e} in {}", describe_y_row(self.model, &self.yl, row))
+    }
+}
+
+/// Names row `row` of the residual.
+fn describe_y_row(model: &Model, yl: &YLayout, row: usize) -> String {
+    let l = &model.layout;
+    let body_of = |offsets: &[usize], local: usize, width: usize| {
+        offsets.iter().position(|o| local >= *o && local < o + width).unwrap_or(0)
+    };
+    if yl.q.contains(&row) {
+        let b = body_of(&l.q_offset, row - yl.q.start, 7);
+        format!("the kinematic equations of body '{}'", model.bodies[b].name)
+    } else if yl.v.contains(&row) {
+        let b = body_of(&l.v_offset, row - yl.v.start, 6);
+        format!("the equations of motion of body '{}'", model.bodies[b].name)
+    } else if yl.lambda.contains(&row) {
+        format!("the velocity constraint of {}", model.describe_constraint_row(row - yl.lambda.start))
+    } else if row - yl.mu.start < l.nc {
+        format!("the position constraint of {}", model.describe_constraint_row(row - yl.mu.start))
+    } else {
+        format!("the Euler-parameter normalization of body '{}'", model.bodies[row - yl.mu.start - l.nc].name)
+    }
+}
+
+/// The matrix `R` of Shampine and Reichelt for changing the step by `factor` at order `order`.
+fn compute_r(order: usize, factor: f64) -> [[f64; MAX_ORDER + 1]; MAX_ORDER + 1] {
+    let mut m = [[0.0; MAX_ORDER + 1]; MAX_ORDER + 1];
+    for j in 0..=order {
+        m[0][j] = 1.0;
+    }
+    for i in 1..=order {
+        for j in 1..=order {
+            m[i][j] = (i as f64 - 1.0 - factor * j as f64) / i as f64;
+        }
+    }
+    // cumulative product down the columns
+    for i in 1..=order {
+        for j in 0..=order {
+            m[i][j] *= m[i - 1][j];
+        }
+    }
+    m
+}
+
+/// First step from the size of the state and its derivative (Hairer, Nørsett and Wanner, II.4).
+fn initial_step(config: &BdfConfig, y0: &[f64], yp0: &[f64]) -> f64 {
+    let norm = |x: &[f64]| {
+        let s: f64 = x
+            .iter()
+            .zip(y0)
+            .map(|(xi, yi)| (xi / (config.atol + config.rtol * yi.abs())).powi(2))
+            .sum();
+        (s / x.len().max(1) as f64).sqrt()
+    };
+    let d0 = norm(y0);
+    let d1 = norm(yp0);
+    let h = if d0 < 1e-5 || d1 < 1e-5 { 1e-6 } else { 0.01 * d0 / d1 };
+    h.min(1e-2)
+}
+
+/// Angles of all rotational joints at the state, continued from zero.
+fn state_angle_references(model: &Model, data: &mut Data, state: &State) -> Vec<f64> {
+    crate::stage::kinematics(model, data, &state.q, &state.v);
+    data.angle_reference.fill(0.0);
+    update_angle_references(model, data);
+    data.angle_reference.clone()
+}

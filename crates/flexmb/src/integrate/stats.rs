@@ -1,0 +1,36 @@
+//! Solver statistics, the same record for every method.
+
+/// Counters of one integration.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Stats {
+    /// Accepted steps.
+    pub steps: usize,
+    /// Steps rejected by the local error test.
+    pub error_test_failures: usize,
+    /// Step attempts abandoned because the Newton iteration did not converge.
+    pub newton_failures: usize,
+    pub newton_iterations: usize,
+    pub residual_evaluations: usize,
+    pub jacobian_evaluations: usize,
+    pub factorizations: usize,
+    /// Accepted steps taken at each order (index = order).
+    pub order_counts: [usize; 6],
+    /// Sum of squared accepted step sizes (for the RMS step).
+    pub sum_h_squared: f64,
+}
+
+impl Stats {
+    /// Rejected steps of any cause.
+    pub fn rejected_steps(&self) -> usize {
+        self.error_test_failures + self.newton_failures
+    }
+
+    /// Root-mean-square accepted step size (s), the seed's "RMS integration stepsize".
+    pub fn rms_step(&self) -> f64 {
+        if self.steps == 0 {
+            0.0
+        } else {
+            (self.sum_h_squared / self.steps as f64).sqrt()
+        }
+    }
+}
