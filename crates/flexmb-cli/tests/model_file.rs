@@ -169,3 +169,191 @@ fn unreadable_file_names_the_file() {
     assert_eq!(e.kind, ErrorKind::Io);
     assert!(e.to_string().starts_with("models/does-not-exist.toml: cannot read"), "{e}");
 }
+
+#[test]
+fn inertia_of_the_wrong_shape_names_the_forms() {
+    let text = BODY.replace("inertia = [0.1, 0.1, 0.02]", "inertia = [0.1, 0.1]");
+    assert_error(&text, 5, "body[0].inertia", &["principal moments [Ixx, Iyy, Izz]", "3x3 matrix"]);
+}
+
+#[test]
+fn duplicate_names_point_at_the_first_definition() {
+    let text = BODY.replace("name = \"base\"", "name = \"pin\"");
+    assert_error(&text, 12, "marker[1].name", &["marker name `pin` is already used by marker[0] on line 8"]);
+}
+
+#[test]
+fn a_joint_with_both_markers_on_one_body() {
+    let text = format!("{BODY}\n[[marker]]\nname = \"pin2\"\nbody = \"link\"\n\n[[joint]]\nname = \"j\"\ntype = \"spherical\"\ni = \"pin\"\nj = \"pin2\"\n");
+    // lines 14-17: the third marker; blank 18, [[joint]] 19, name 20, type 21, i 22, j 23
+    assert_error(&text, 23, "joint[0].j", &["both on body `link`"]);
+}
+
+#[test]
+fn parameters_are_substituted_and_checked() {
+    let text = format!("[parameters]\nm = \"2*half\"\nhalf = 0.5\n{BODY}").replace("mass = 2.0", "mass = \"m\"");
+    let loaded = parse_model(&text, "p.toml").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(loaded.model.bodies()[0].mass, 1.0);
+
+    let cyclic = "[parameters]\na = \"b + 1\"\nb = \"2*a\"\n";
+    assert_error(cyclic, 2, "parameters.a", &["cycle: a -> b -> a"]);
+
+    let timed = "[parameters]\nk = \"3*t\"\n";
+    assert_error(timed, 2, "parameters.k", &["depends on time `t`"]);
+
+    let reserved = "[parameters]\nsin = 2\n";
+    assert_error(reserved, 2, "parameters.sin", &["cannot name a parameter"]);
+}
+
+#[test]
+fn exponent_literals_work_in_expressions() {
+    let text = format!("[parameters]\nk = \"1.5e3\"\n{BODY}").replace("mass = 2.0", "mass = \"2e-3*k\"");
+    let loaded = parse_model(&text, "p.toml").unwrap_or_else(|e| panic!("{e}"));
+    assert!((loaded.model.bodies()[0].mass - 3.0).abs() < 1e-12);
+}
+
+#[test]
+fn measure_names_must_suit_expressions() {
+    let text = format!("{BODY}{DRIVEN}").replace("name = \"hinge_rate\"", "name = \"max_rate\"");
+    assert_error(&text, 22, "measure[0].name", &["cannot begin with `max`"]);
+    let text = format!("{BODY}{DRIVEN}").replace("name = \"hinge_rate\"", "name = \"e\"");
+    assert_error(&text, 22, "measure[0].name", &["constant or function"]);
+}
+
+#[test]
+fn a_measure_needs_a_suitable_joint() {
+    let text = format!("{BODY}{DRIVEN}").replace("type = \"joint_rate\"", "type = \"joint_velocity\"");
+    assert_error(&text, 24, "measure[0].joint", &["needs a translational", "`hinge` is revolute"]);
+}
+
+#[test]
+fn a_key_that_does_not_apply_to_the_type() {
+    let text = format!("{BODY}{DRIVEN}").replace("joint = \"hinge\"\n", "joint = \"hinge\"\nmarker = \"pin\"\n");
+    assert_error(&text, 25, "measure[0].marker", &["does not apply to a joint_rate measure", "`joint`"]);
+}
+
+#[test]
+fn a_key_the_type_requires() {
+    let text = format!("{BODY}{DRIVEN}\n[[force]]\nname = \"push\"\ntype = \"force\"\nmarker = \"pin\"\n");
+    // blank 25, [[force]] 26
+    assert_error(&text, 26, "force[0].components", &["missing required key `components` for a force force"]);
+}
+
+#[test]
+fn drivers_follow_their_joint() {
+    let driver = "\n[[driver]]\nname = \"motion\"\njoint = \"hinge\"\nfunction = \"0.5*t^2\"\n";
+    let text = format!("{BODY}{DRIVEN}{driver}");
+    let loaded = parse_model(&text, "d.toml").unwrap_or_else(|e| panic!("{e}"));
+    let joint = loaded.model.joints().iter().find(|j| j.name == "motion").expect("driver joint");
+    assert_eq!(joint.kind.keyword(), "angle driver");
+
+    let constant = format!("{BODY}{DRIVEN}{}", driver.replace("\"0.5*t^2\"", "0.25"));
+    parse_model(&constant, "d.toml").unwrap_or_else(|e| panic!("{e}"));
+
+    let wrong = format!("{BODY}{DRIVEN}{}", driver.replace("function", "type = \"displacement\"\nfunction"));
+    // blank 25, [[driver]] 26, name 27, joint 28, type 29
+    assert_error(&wrong, 29, "driver[0].type", &["needs a translational or cylindrical joint"]);
+
+    let reads_measure = format!("{BODY}{DRIVEN}{}", driver.replace("0.5*t^2", "hinge_rate*t"));
+    assert_error(&reads_measure, 29, "driver[0].function", &["may depend on time `t` only"]);
+}
+
+#[test]
+fn orientation_forms_agree() {
+    let with = |orientation: &str| {
+        let text = BODY.replace("inertia = [0.1, 0.1, 0.02]", &format!("inertia = [0.1, 0.1, 0.02]\norientation = {orientation}"));
+        let loaded = parse_model(&text, "o.toml").unwrap_or_else(|e| panic!("{e}"));
+        loaded.model.bodies()[0].initial.orientation.rotation_matrix()
+    };
+    let by_angle = with("{ axis = [0, 0, 1], angle = 0.5 }");
+    let by_degrees = with("{ axis = [0, 0, 2], angle_deg = 28.64788975654116 }");
+    let (c, s) = (0.5f64.cos(), 0.5f64.sin());
+    let by_matrix = with(&format!("{{ matrix = [[{c}, {}, 0], [{s}, {c}, 0], [0, 0, 1]] }}", -s));
+    let by_parameters = with(&format!("{{ euler_parameters = [{}, 0, 0, {}] }}", 0.25f64.cos(), 0.25f64.sin()));
+    for other in [by_degrees, by_matrix, by_parameters] {
+        assert!((other - by_angle).abs().max() < 1e-12, "{other} vs {by_angle}");
+    }
+    let text = BODY.replace("inertia = [0.1, 0.1, 0.02]", "inertia = [0.1, 0.1, 0.02]\norientation = { matrix = [[1, 0, 0], [0, 1, 0], [0, 0, -1]] }");
+    assert_error(&text, 6, "body[0].orientation.matrix", &["not a proper rotation"]);
+}
+
+#[test]
+fn marker_z_axis_sets_the_marker_frame() {
+    let text = BODY.replace("name = \"pin\"\nbody = \"link\"", "name = \"pin\"\nbody = \"link\"\nz_axis = [1, 0, 0]\nx_axis = [0, 1, 1]");
+    let loaded = parse_model(&text, "m.toml").unwrap_or_else(|e| panic!("{e}"));
+    let axes = loaded.model.markers()[0].axes;
+    let expected_x = nalgebra::Vector3::new(0.0, 1.0, 1.0).normalize();
+    assert!((axes.column(2) - nalgebra::Vector3::x()).norm() < 1e-12);
+    assert!((axes.column(0) - expected_x).norm() < 1e-12);
+    assert!((axes.determinant() - 1.0).abs() < 1e-12);
+}
+
+#[test]
+fn outputs_get_default_names_and_must_be_unique() {
+    let outputs = "\n[[output]]\ntype = \"marker_position\"\nmarker = \"pin\"\n\n[[output]]\ntype = \"energy\"\n";
+    let loaded = parse_model(&format!("{BODY}{outputs}"), "o.toml").unwrap_or_else(|e| panic!("{e}"));
+    let names: Vec<&str> = loaded.model.outputs().iter().map(|o| o.name.as_str()).collect();
+    assert_eq!(names, ["pin.position", "energy"]);
+    let twice = format!("{BODY}{outputs}{}", "\n[[output]]\ntype = \"energy\"\n");
+    // blank 14, output 15-17, blank 18, output 19-20, blank 21, [[output]] 22, type 23
+    assert_error(&twice, 23, "output[2].name", &["already used by output[1] on line 20", "give this output its own `name`"]);
+}
+
+#[test]
+fn simulation_defaults_come_from_the_file() {
+    let text = format!("[simulation]\nt_end = 2\noutput_step = \"1/200\"\n{BODY}");
+    let loaded = parse_model(&text, "s.toml").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(loaded.simulation.t_end, 2.0);
+    assert_eq!(loaded.simulation.output_step, 0.005);
+    assert_eq!(loaded.simulation.rtol, 1e-6);
+    assert_error("[simulation]\nrtol = 0\n", 2, "simulation.rtol", &["must be positive"]);
+}
+
+#[test]
+fn a_wrong_value_type_is_located() {
+    let text = BODY.replace("name = \"link\"", "name = 3");
+    assert_error(&text, 3, "body[0].name", &["invalid type: integer `3`, expected a string"]);
+    let text = BODY.replace("mass = 2.0", "mass = true");
+    assert_error(&text, 4, "body[0].mass", &["expected a number or an expression string"]);
+}
+
+#[test]
+fn unknown_top_level_table() {
+    assert_error("[modle]\nname = \"x\"\n", 1, "modle", &["unknown key `modle`", "did you mean `model`?", "`body`"]);
+}
+
+/// Random edits of a shipped model never panic (a small, deterministic fuzz).
+#[test]
+fn garbled_models_give_errors_not_panics() {
+    let text = std::fs::read_to_string(models_dir().join("motor_friction.toml")).expect("model");
+    let pieces = ["", "=", "[", "]", "\"", "x", "-1", "(", ")", "e", "1e", "{", "}", "\n", "[[body]]", "nan", "inf", "max_", "t*", ",", "π", "ü", "0", "#"];
+    let mut state = 0x2545_f491_4f6c_dd1d_u64;
+    let mut next = |n: usize| {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state % n as u64) as usize
+    };
+    for _ in 0..400 {
+        let mut garbled = text.clone();
+        for _ in 0..1 + next(3) {
+            let mut at = next(garbled.len());
+            while !garbled.is_char_boundary(at) {
+                at -= 1;
+            }
+            let cut = (at + next(4)).min(garbled.len());
+            let cut = (at..=cut).rev().find(|c| garbled.is_char_boundary(*c)).unwrap_or(at);
+            garbled.replace_range(at..cut, pieces[next(pieces.len())]);
+        }
+        let outcome = std::panic::catch_unwind(|| parse_model(&garbled, "fuzz.toml").map(|_| ()));
+        match outcome {
+            Ok(Ok(())) => {}
+            Ok(Err(e)) => {
+                let shown = e.to_string();
+                assert!(shown.starts_with("fuzz.toml:"), "{shown}");
+                assert!(e.line.is_some_and(|l| l >= 1 && l <= garbled.lines().count() + 1), "{shown}");
+            }
+            Err(_) => panic!("parse_model panicked on:\n{garbled}"),
+        }
+    }
+}

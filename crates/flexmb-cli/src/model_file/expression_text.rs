@@ -10,6 +10,13 @@ pub(crate) const BUILTIN_NAMES: &[&str] = &[
     "cbrt", "ln", "log2", "log10", "log", "atan2", "min", "max",
 ];
 
+/// The functions among [`BUILTIN_NAMES`]: names that may stand right before `(`.
+pub(crate) const FUNCTION_NAMES: &[&str] = &[
+    "abs", "signum", "sin", "cos", "tan", "asin", "acos", "atan", "sinh", "cosh", "tanh", "asinh", "acosh",
+    "atanh", "floor", "round", "ceil", "trunc", "fract", "exp", "sqrt", "cbrt", "ln", "log2", "log10", "log",
+    "atan2", "min", "max",
+];
+
 /// Two-argument functions `exmex` recognises at the start of any name, so no measure name may begin
 /// with them (`max_torque` would read as `max` followed by `_torque`).
 pub(crate) const BINARY_FUNCTION_NAMES: &[&str] = &["atan2", "min", "max"];

@@ -2,12 +2,12 @@
 //! measures (actuators, force components), and functions of time alone (driver functions, distance
 //! lengths). Names are checked here, with "did you mean" hints, before `exmex` sees the text.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 use flexmb::function::{Expression, ExpressionError, TimeFunction};
 use flexmb::model::MeasureId;
 
-use super::expression_text::{decimal, identifiers, rewrite, BUILTIN_NAMES};
+use super::expression_text::{decimal, identifiers, rewrite, tokenize, Token, BUILTIN_NAMES, FUNCTION_NAMES};
 use super::suggest::did_you_mean;
 
 /// The names an expression may use besides `exmex`'s constants and functions.
@@ -16,6 +16,8 @@ pub(crate) struct Scope<'a> {
     pub parameters: &'a BTreeMap<String, f64>,
     /// Measures the expression may read.
     pub measures: &'a BTreeMap<String, MeasureId>,
+    /// Every measure the file declares, built or not: for messages about functions of time alone.
+    pub declared_measures: &'a BTreeSet<String>,
 }
 
 /// What an expression may depend on.
@@ -63,6 +65,7 @@ impl Scope<'_> {
         }
         self.check_names(text, dependence)?;
         check_parentheses(text)?;
+        check_operators(text)?;
         let ready = rewrite(text, &|name| self.parameters.get(name).copied());
         let expression =
             Expression::parse(&ready, &|name| self.measures.get(name).copied()).map_err(|e| describe(&e, text))?;
@@ -73,7 +76,7 @@ impl Scope<'_> {
     fn check_names(&self, text: &str, dependence: Dependence) -> Result<(), String> {
         for name in identifiers(text) {
             let is_time = name == "t";
-            let is_measure = self.measures.contains_key(name);
+            let is_measure = self.measures.contains_key(name) || self.declared_measures.contains(name);
             if BUILTIN_NAMES.contains(&name) || self.parameters.contains_key(name) {
                 continue;
             }
@@ -125,6 +128,35 @@ fn check_parentheses(text: &str) -> Result<(), String> {
         return Err(format!("expression `{text}` has a `(` that is never closed"));
     }
     Ok(())
+}
+
+/// Two operands side by side (`2 PI`, `L t`, `(a)(b)`) get a clearer message than `exmex` gives.
+fn check_operators(text: &str) -> Result<(), String> {
+    let tokens: Vec<Token> = tokenize(text).into_iter().filter(|t| !matches!(t, Token::Other(c) if c.is_whitespace())).collect();
+    for pair in tokens.windows(2) {
+        let ends_operand = match &pair[0] {
+            Token::Identifier(name) => !FUNCTION_NAMES.contains(name),
+            Token::Number { .. } => true,
+            Token::Other(c) => *c == ')',
+        };
+        let starts_operand = matches!(pair[1], Token::Identifier(_) | Token::Number { .. } | Token::Other('('));
+        if ends_operand && starts_operand {
+            return Err(format!(
+                "expression `{text}` has no operator between `{}` and `{}`",
+                token_text(&pair[0]),
+                token_text(&pair[1])
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn token_text(token: &Token) -> String {
+    match token {
+        Token::Identifier(name) => name.to_string(),
+        Token::Number { text, .. } => text.to_string(),
+        Token::Other(c) => c.to_string(),
+    }
 }
 
 fn parenthesized(value: f64) -> String {

@@ -27,6 +27,11 @@ impl KeyPath {
         Self(format!("{}[{index}]", self.0))
     }
 
+    /// A path already rendered as text.
+    pub(crate) fn from_rendered(text: &str) -> Self {
+        Self(text.to_string())
+    }
+
     pub(crate) fn as_str(&self) -> &str {
         &self.0
     }

@@ -1,7 +1,7 @@
 //! `[parameters]`: named constants substituted into every expression and number of the file. A
 //! parameter is a number or an expression of other parameters; they are evaluated in dependency order.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 use super::error::ModelFileError;
 use super::expression_text::{identifiers, is_plain_identifier, BUILTIN_NAMES};
@@ -81,8 +81,8 @@ impl Evaluation<'_> {
                     }
                 }
                 self.in_progress.pop();
-                let no_measures = BTreeMap::new();
-                let scope = Scope { parameters: &self.values, measures: &no_measures };
+                let (no_measures, no_names) = (BTreeMap::new(), BTreeSet::new());
+                let scope = Scope { parameters: &self.values, measures: &no_measures, declared_measures: &no_names };
                 scope.constant(text).map_err(|message| self.source.invalid(&number.span(), &path, message))?
             }
         };

@@ -15,7 +15,13 @@ use super::suggest::did_you_mean;
 pub(crate) fn syntax_error(source: &Source, document: &DeTable, error: &toml::de::Error) -> ModelFileError {
     let span = error.span().unwrap_or(source.text().len()..source.text().len());
     let key = key_path_at(document, span.start);
-    source.error(ErrorKind::Syntax, &span, &key, format!("TOML syntax error: {}", error.message()))
+    let mut message = format!("TOML syntax error: {}", error.message());
+    if error.message() == "duplicate key" {
+        if let Some(duplicate) = source.text().get(span.clone()) {
+            message = format!("TOML syntax error: duplicate key `{duplicate}`: each key may appear once per table");
+        }
+    }
+    source.error(ErrorKind::Syntax, &span, &key, message)
 }
 
 /// An unknown or missing key, or a value of the wrong type.
@@ -34,6 +40,7 @@ pub(crate) fn schema_error(source: &Source, document: &DeTable, error: &toml::de
             format!("allowed keys: {}", list.join(", "))
         };
         let hint = did_you_mean(unknown, allowed.iter().copied());
+        let key = without_trailing_indices(key);
         return source.error(ErrorKind::Schema, &span, &key, format!("unknown key `{unknown}`{hint}; {allowed_text}"));
     }
     if let Some(rest) = message.strip_prefix("missing field ") {
@@ -41,6 +48,17 @@ pub(crate) fn schema_error(source: &Source, document: &DeTable, error: &toml::de
         return source.error(ErrorKind::Schema, &span, &key.key(missing), format!("missing required key `{missing}`"));
     }
     source.error(ErrorKind::Schema, &span, &key, in_file_terms(message))
+}
+
+/// `bodies[0]` → `bodies`: an unknown array-of-tables key is named without the element index.
+fn without_trailing_indices(key: KeyPath) -> KeyPath {
+    let text = key.as_str();
+    let trimmed = text.trim_end_matches(|c: char| c.is_ascii_digit() || c == '[' || c == ']');
+    if trimmed.len() == text.len() {
+        key
+    } else {
+        KeyPath::from_rendered(trimmed)
+    }
 }
 
 /// The texts between pairs of backticks.

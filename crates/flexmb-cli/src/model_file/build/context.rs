@@ -1,7 +1,7 @@
 //! What every element builder needs: the source for locating errors, the parameter values, the measures
 //! defined so far, and conversions of numbers, vectors and expressions with their key paths.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::ops::Range;
 
 use flexmb::function::{Expression, TimeFunction};
@@ -22,11 +22,17 @@ pub(crate) struct Context<'a> {
     pub parameters: BTreeMap<String, f64>,
     /// Measures by name, filled before any expression that may read them is parsed.
     pub measures: BTreeMap<String, MeasureId>,
+    /// The names of all measures in the file, known from the start.
+    pub declared_measures: BTreeSet<String>,
 }
 
 impl<'a> Context<'a> {
-    pub(crate) fn new(source: &'a Source<'a>, parameters: BTreeMap<String, f64>) -> Self {
-        Self { source, parameters, measures: BTreeMap::new() }
+    pub(crate) fn new(
+        source: &'a Source<'a>,
+        parameters: BTreeMap<String, f64>,
+        declared_measures: BTreeSet<String>,
+    ) -> Self {
+        Self { source, parameters, measures: BTreeMap::new(), declared_measures }
     }
 
     pub(crate) fn invalid(&self, span: &Range<usize>, key: &KeyPath, message: impl Into<String>) -> ModelFileError {
@@ -34,7 +40,7 @@ impl<'a> Context<'a> {
     }
 
     fn scope(&self) -> Scope<'_> {
-        Scope { parameters: &self.parameters, measures: &self.measures }
+        Scope { parameters: &self.parameters, measures: &self.measures, declared_measures: &self.declared_measures }
     }
 
     /// A finite constant: a number, or an expression of parameters.

@@ -53,7 +53,8 @@ impl Default for Names {
 /// Builds the model a parsed file describes; `default_name` is used when `[model]` has no name.
 pub(crate) fn build(file: &ModelFile, source: &Source, default_name: &str) -> Result<LoadedModel, ModelFileError> {
     let parameters = parameters::evaluate(&file.parameters, source)?;
-    let mut ctx = Context::new(source, parameters);
+    let declared_measures = file.measure.iter().map(|m| m.get_ref().name.get_ref().clone()).collect();
+    let mut ctx = Context::new(source, parameters, declared_measures);
     let (name, gravity) = simulation::model_settings(&ctx, file.model.as_ref(), default_name)?;
     let simulation = simulation::simulation_defaults(&ctx, file.simulation.as_ref())?;
     let mut builder = ModelBuilder::new(name).gravity(gravity);
