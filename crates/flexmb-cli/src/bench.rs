@@ -1,0 +1,122 @@
+//! `flexmb bench`: performance cases, reported as cost per step and per simulated second.
+//!
+//! Cases: the shipped slider-crank for 10 s, and a spatial chain of 20 bodies on spherical joints
+//! falling under gravity for 5 s. Each case runs `repeat` times; the fastest run is reported (the others
+//! measure the machine's noise, not the code).
+
+use std::time::Instant;
+
+use flexmb::analysis::{simulate, AssemblySettings, SimulationReport, SimulationSettings};
+use flexmb::body::{InitialState, Marker, RigidBody};
+use flexmb::integrate::BdfConfig;
+use flexmb::joint::{Joint, JointKind};
+use flexmb::math::{EulerParameters, Mat3, Vec3};
+use flexmb::model::{BodyRef, ModelBuilder};
+use flexmb::Model;
+
+use crate::model_file::parse_model;
+
+/// A benchmark case.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum BenchCase {
+    /// models/slider_crank.toml for 10 s.
+    SliderCrank,
+    /// 20 links on spherical joints falling under gravity for 5 s.
+    Chain20,
+}
+
+const SLIDER_CRANK: &str = include_str!("../../../models/slider_crank.toml");
+
+/// A chain of `n` slender links (0.1 m, 0.1 kg) on spherical joints, horizontal along x at rest, first
+/// link on a spherical joint to ground; gravity −z.
+pub fn spherical_chain(n: usize) -> Model {
+    let (l, m) = (0.1, 0.1);
+    let i_axial = 1e-6;
+    let i_transverse = m * l * l / 12.0;
+    let mut b = ModelBuilder::new(format!("chain of {n} links")).gravity(Vec3::new(0.0, 0.0, -9.81));
+    let mut previous = b.add_marker(Marker { name: "anchor".into(), body: BodyRef::Ground, origin: Vec3::zeros(), axes: Mat3::identity() });
+    for k in 0..n {
+        let body = b.add_body(RigidBody {
+            name: format!("link{k}"),
+            mass: m,
+            center_of_mass: Vec3::new(l / 2.0, 0.0, 0.0),
+            inertia: Mat3::from_diagonal(&Vec3::new(i_axial, i_transverse, i_transverse)),
+            initial: InitialState {
+                position: Vec3::new(k as f64 * l, 0.0, 0.0),
+                orientation: EulerParameters::identity(),
+                velocity: None,
+                angular_velocity: None,
+            },
+        });
+        let start = b.add_marker(Marker { name: format!("link{k}_start"), body: BodyRef::Body(body), origin: Vec3::zeros(), axes: Mat3::identity() });
+        b.add_joint(Joint { name: format!("ball{k}"), kind: JointKind::Spherical, marker_i: previous, marker_j: start });
+        previous = b.add_marker(Marker {
+            name: format!("link{k}_end"),
+            body: BodyRef::Body(body),
+            origin: Vec3::new(l, 0.0, 0.0),
+            axes: Mat3::identity(),
+        });
+    }
+    b.build().expect("the chain model is valid")
+}
+
+struct CaseResult {
+    report: SimulationReport,
+    wall: f64,
+    t_end: f64,
+}
+
+fn run_case(model: &Model, t_end: f64, repeat: usize) -> Result<CaseResult, String> {
+    let settings = SimulationSettings {
+        t_end,
+        output_step: 0.01,
+        integrator: BdfConfig::default(),
+        assembly: AssemblySettings::default(),
+    };
+    let mut best: Option<CaseResult> = None;
+    for _ in 0..repeat {
+        let start = Instant::now();
+        let report = simulate(model, &settings, &mut |_| {}).map_err(|e| e.to_string())?;
+        let wall = start.elapsed().as_secs_f64();
+        if best.as_ref().is_none_or(|b| wall < b.wall) {
+            best = Some(CaseResult { report, wall, t_end });
+        }
+    }
+    best.ok_or_else(|| "no run".to_string())
+}
+
+/// Runs the chosen cases (all when `None`) and prints a table.
+pub fn run_benchmarks(case: Option<BenchCase>, repeat: usize) -> Result<(), String> {
+    let cases: Vec<BenchCase> = match case {
+        Some(c) => vec![c],
+        None => vec![BenchCase::SliderCrank, BenchCase::Chain20],
+    };
+    println!(
+        "{:<14} {:>6} {:>7} {:>9} {:>10} {:>11} {:>12} {:>13}",
+        "case", "t_end", "steps", "rms h", "wall [s]", "us/step", "res.ev/step", "wall/sim [-]"
+    );
+    for c in cases {
+        let (name, model, t_end) = match c {
+            BenchCase::SliderCrank => {
+                let loaded = parse_model(SLIDER_CRANK, "models/slider_crank.toml").map_err(|e| e.to_string())?;
+                ("slider-crank", loaded.model, 10.0)
+            }
+            BenchCase::Chain20 => ("chain-20", spherical_chain(20), 5.0),
+        };
+        let r = run_case(&model, t_end, repeat)?;
+        let s = &r.report.stats;
+        println!(
+            "{:<14} {:>6.1} {:>7} {:>9.3e} {:>10.4} {:>11.1} {:>12.1} {:>13.4}",
+            name,
+            r.t_end,
+            s.steps,
+            s.rms_step(),
+            r.wall,
+            r.wall / s.steps as f64 * 1e6,
+            s.residual_evaluations as f64 / s.steps as f64,
+            r.wall / r.t_end,
+        );
+    }
+    println!("(best of {repeat} runs each; wall time includes assembly and the 0.01 s output frames)");
+    Ok(())
+}

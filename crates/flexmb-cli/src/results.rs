@@ -1,0 +1,160 @@
+//! Result files: a CSV of the output columns written row by row as the run proceeds (so a run that fails
+//! keeps everything computed so far), and a JSON summary with the solver statistics.
+
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+use flexmb::analysis::{OutputColumn, SimulationReport};
+use serde_json::{json, Value};
+
+/// Streams output frames into a CSV file with a header `t,<column>,…`.
+pub struct CsvWriter {
+    path: PathBuf,
+    out: BufWriter<File>,
+    rows: usize,
+}
+
+impl CsvWriter {
+    pub fn create(path: &Path, columns: &[OutputColumn]) -> std::io::Result<Self> {
+        let mut out = BufWriter::new(File::create(path)?);
+        write!(out, "t")?;
+        for c in columns {
+            write!(out, ",{}", c.name)?;
+        }
+        writeln!(out)?;
+        Ok(Self { path: path.to_path_buf(), out, rows: 0 })
+    }
+
+    /// Appends one row and flushes it to the file.
+    pub fn write_row(&mut self, t: f64, values: &[f64]) -> std::io::Result<()> {
+        write!(self.out, "{t:.10e}")?;
+        for v in values {
+            write!(self.out, ",{v:.10e}")?;
+        }
+        writeln!(self.out)?;
+        self.rows += 1;
+        self.out.flush()
+    }
+
+    pub fn rows(&self) -> usize {
+        self.rows
+    }
+
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+}
+
+/// What a run was asked to do, for the summary.
+pub struct RunRequest<'a> {
+    pub model_file: &'a str,
+    pub model_name: &'a str,
+    pub t_end: f64,
+    pub output_step: f64,
+    pub rtol: f64,
+    pub atol: f64,
+    pub integrator: &'a str,
+}
+
+/// The JSON summary of a run (completed or failed).
+pub fn summary_json(
+    request: &RunRequest,
+    report: &SimulationReport,
+    columns: &[OutputColumn],
+    csv: &Path,
+    error: Option<&str>,
+) -> Value {
+    let s = &report.stats;
+    let orders: serde_json::Map<String, Value> = s
+        .order_counts
+        .iter()
+        .enumerate()
+        .filter(|(_, n)| **n > 0)
+        .map(|(k, n)| (k.to_string(), json!(n)))
+        .collect();
+    let assembly = report.assembly.as_ref().map(|a| {
+        json!({
+            "iterations": a.iterations,
+            "initial_residual": a.initial_residual,
+            "residual": a.residual,
+            "degrees_of_freedom": a.degrees_of_freedom,
+            "redundant_constraints": a.redundant.iter().map(|r| r.description.clone()).collect::<Vec<_>>(),
+        })
+    });
+    let velocity = report.velocity.as_ref().map(|v| json!({ "residual": v.residual, "adjusted": v.adjusted }));
+    json!({
+        "model": request.model_name,
+        "model_file": request.model_file,
+        "status": if error.is_some() { "failed" } else { "completed" },
+        "error": error,
+        "settings": {
+            "t_end": request.t_end,
+            "output_step": request.output_step,
+            "rtol": request.rtol,
+            "atol": request.atol,
+            "integrator": request.integrator,
+        },
+        "t_reached": report.t_reached,
+        "assembly": assembly,
+        "velocity_analysis": velocity,
+        "statistics": {
+            "steps": s.steps,
+            "rejected_steps": s.rejected_steps(),
+            "error_test_failures": s.error_test_failures,
+            "newton_failures": s.newton_failures,
+            "newton_iterations": s.newton_iterations,
+            "residual_evaluations": s.residual_evaluations,
+            "jacobian_evaluations": s.jacobian_evaluations,
+            "matrix_factorizations": s.factorizations,
+            "steps_per_order": orders,
+            "rms_step_size": s.rms_step(),
+            "wall_time_s": report.wall_time,
+        },
+        "constraints": {
+            "max_position_residual": report.max_position_residual,
+            "max_velocity_residual": report.max_velocity_residual,
+            "max_euler_parameter_norm_error": report.max_normalization_error,
+        },
+        "energy": {
+            "initial": report.energy_initial,
+            "final": report.energy_final,
+            "change": report.energy_final - report.energy_initial,
+        },
+        "output": {
+            "csv": csv.display().to_string(),
+            "rows": report.output_frames,
+            "columns": columns.iter().map(|c| json!({ "name": c.name, "unit": c.unit })).collect::<Vec<_>>(),
+        },
+    })
+}
+
+/// Human-readable end-of-run summary.
+pub fn summary_text(report: &SimulationReport) -> String {
+    let s = &report.stats;
+    let orders: Vec<String> =
+        s.order_counts.iter().enumerate().filter(|(_, n)| **n > 0).map(|(k, n)| format!("{k}:{n}")).collect();
+    format!(
+        "  time reached        {:.6} s\n  steps               {} ({} rejected: {} error test, {} Newton)\n  \
+         steps per order     {}\n  RMS step size       {:.4e} s\n  Newton iterations   {}\n  \
+         Jacobians / factorizations  {} / {}\n  wall time           {:.3} s\n  \
+         max constraint residual  position {:.2e}, velocity {:.2e}\n  \
+         energy              initial {:.6e} J, final {:.6e} J, change {:.3e} J",
+        report.t_reached,
+        s.steps,
+        s.rejected_steps(),
+        s.error_test_failures,
+        s.newton_failures,
+        orders.join(" "),
+        s.rms_step(),
+        s.newton_iterations,
+        s.jacobian_evaluations,
+        s.factorizations,
+        report.wall_time,
+        report.max_position_residual,
+        report.max_velocity_residual,
+        report.energy_initial,
+        report.energy_final,
+        report.energy_final - report.energy_initial,
+    )
+}

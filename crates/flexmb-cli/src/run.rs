@@ -1,0 +1,123 @@
+//! `flexmb run`: simulate a model file and write its results.
+
+use std::path::{Path, PathBuf};
+
+use flexmb::analysis::{output_columns, simulate, AssemblySettings, SimulationSettings};
+use flexmb::integrate::BdfConfig;
+use indicatif::{ProgressBar, ProgressStyle};
+
+use crate::check::{check_model, describe};
+use crate::model_file::load_model;
+use crate::results::{summary_json, summary_text, CsvWriter, RunRequest};
+
+/// Command-line overrides of the model file's `[simulation]` defaults.
+#[derive(Clone, Debug, Default)]
+pub struct RunOptions {
+    pub t_end: Option<f64>,
+    pub output_step: Option<f64>,
+    pub rtol: Option<f64>,
+    pub atol: Option<f64>,
+    pub out_dir: PathBuf,
+    pub quiet: bool,
+}
+
+/// Where a run's files went.
+pub struct RunFiles {
+    pub csv: PathBuf,
+    pub summary: PathBuf,
+}
+
+/// A failed command, with the message to print.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct CliError(pub String);
+
+fn positive(name: &str, x: f64) -> Result<f64, CliError> {
+    if x > 0.0 && x.is_finite() {
+        Ok(x)
+    } else {
+        Err(CliError(format!("{name} must be a positive number, got {x}")))
+    }
+}
+
+/// Runs the model at `path`; prints the check and the end-of-run summary unless quiet.
+pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError> {
+    let loaded = load_model(path).map_err(|e| CliError(e.to_string()))?;
+    let model = &loaded.model;
+    let d = loaded.simulation;
+    let t_end = positive("--t-end", options.t_end.unwrap_or(d.t_end))?;
+    let output_step = positive("--output-step", options.output_step.unwrap_or(d.output_step))?;
+    let rtol = positive("--rtol", options.rtol.unwrap_or(d.rtol))?;
+    let atol = positive("--atol", options.atol.unwrap_or(d.atol))?;
+
+    let check = check_model(model).map_err(|e| CliError(format!("{}: {e}", path.display())))?;
+    if !options.quiet {
+        print!("{}", describe(model, &check));
+    }
+
+    std::fs::create_dir_all(&options.out_dir)
+        .map_err(|e| CliError(format!("cannot create output directory {}: {e}", options.out_dir.display())))?;
+    let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("model");
+    let csv_path = options.out_dir.join(format!("{stem}.csv"));
+    let summary_path = options.out_dir.join(format!("{stem}.json"));
+    let columns = output_columns(model);
+    let mut csv = CsvWriter::create(&csv_path, &columns)
+        .map_err(|e| CliError(format!("cannot write {}: {e}", csv_path.display())))?;
+
+    let settings = SimulationSettings {
+        t_end,
+        output_step,
+        integrator: BdfConfig { rtol, atol, ..Default::default() },
+        assembly: AssemblySettings::default(),
+    };
+    let bar = if options.quiet { ProgressBar::hidden() } else { ProgressBar::new(1000) };
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} t = {msg} s  [{elapsed_precise}]").unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let mut write_error: Option<std::io::Error> = None;
+    let result = simulate(model, &settings, &mut |frame| {
+        if write_error.is_none() {
+            if let Err(e) = csv.write_row(frame.t, frame.values) {
+                write_error = Some(e);
+            }
+        }
+        bar.set_position((frame.t / t_end * 1000.0) as u64);
+        bar.set_message(format!("{:.4}", frame.t));
+    });
+    bar.finish_and_clear();
+    if let Some(e) = write_error {
+        return Err(CliError(format!("cannot write {}: {e}", csv_path.display())));
+    }
+    let file_name = path.display().to_string();
+    let request = RunRequest {
+        model_file: &file_name,
+        model_name: model.name(),
+        t_end,
+        output_step,
+        rtol,
+        atol,
+        integrator: "bdf",
+    };
+    let (report, error) = match &result {
+        Ok(r) => (r.clone(), None),
+        Err(e) => ((*e.report).clone(), Some(e.to_string())),
+    };
+    let summary = summary_json(&request, &report, &columns, &csv_path, error.as_deref());
+    let text = serde_json::to_string_pretty(&summary).map_err(|e| CliError(e.to_string()))?;
+    std::fs::write(&summary_path, text + "\n")
+        .map_err(|e| CliError(format!("cannot write {}: {e}", summary_path.display())))?;
+    if !options.quiet {
+        println!("{}", if error.is_some() { "run stopped early:" } else { "run completed:" });
+        println!("{}", summary_text(&report));
+        println!("results: {} ({} rows), {}", csv_path.display(), csv.rows(), summary_path.display());
+    }
+    match error {
+        None => Ok(RunFiles { csv: csv_path, summary: summary_path }),
+        Some(e) => Err(CliError(format!(
+            "{}: simulation failed: {e}\nthe {} output rows computed before the failure are in {}",
+            path.display(),
+            csv.rows(),
+            csv_path.display()
+        ))),
+    }
+}
