@@ -21,6 +21,8 @@
 //! | displacement driver | 1 | `z_iᵀ (r_j − r_i) = f(t)` |
 
 mod equation;
+#[cfg(test)]
+mod tests;
 
 pub(crate) use equation::{relative_angle, Equation, EquationTerms};
 
