@@ -1,0 +1,137 @@
+//! Helpers shared by the physics tests: rigid bodies with offset centres of mass and full inertia
+//! tensors, markers with a chosen z axis, and a simulation run collected into named columns.
+#![allow(dead_code)]
+
+use flexmb::analysis::{output_columns, simulate, SimulationError, SimulationReport, SimulationSettings};
+use flexmb::body::{InitialState, Marker, RigidBody};
+use flexmb::integrate::BdfConfig;
+use flexmb::joint::{Joint, JointKind};
+use flexmb::math::{EulerParameters, Mat3, Vec3};
+use flexmb::model::{BodyRef, JointId, MarkerId, Model, ModelBuilder};
+
+/// A rigid body with its frame at `position`, turned by `orientation`; `velocity`/`omega` (global) given
+/// when `Some`.
+#[allow(clippy::too_many_arguments)]
+pub fn rigid(
+    name: &str,
+    mass: f64,
+    center_of_mass: Vec3,
+    inertia: Mat3,
+    position: Vec3,
+    orientation: EulerParameters,
+    velocity: Option<Vec3>,
+    omega: Option<Vec3>,
+) -> RigidBody {
+    RigidBody {
+        name: name.into(),
+        mass,
+        center_of_mass,
+        inertia,
+        initial: InitialState { position, orientation, velocity, angular_velocity: omega },
+    }
+}
+
+/// A marker with the given axes (columns x, y, z in the body frame).
+pub fn marker_with_axes(b: &mut ModelBuilder, name: &str, body: BodyRef, origin: Vec3, axes: Mat3) -> MarkerId {
+    b.add_marker(Marker { name: name.into(), body, origin, axes })
+}
+
+/// A marker with its axes parallel to the body frame.
+pub fn marker(b: &mut ModelBuilder, name: &str, body: BodyRef, origin: Vec3) -> MarkerId {
+    marker_with_axes(b, name, body, origin, Mat3::identity())
+}
+
+/// A proper frame whose z axis is along `z` (x chosen perpendicular to it).
+pub fn frame_with_z(z: Vec3) -> Mat3 {
+    let z = z.normalize();
+    let helper = if z.x.abs() < 0.9 { Vec3::x() } else { Vec3::y() };
+    let x = (helper - z * z.dot(&helper)).normalize();
+    let y = z.cross(&x);
+    Mat3::from_columns(&[x, y, z])
+}
+
+pub fn joint(b: &mut ModelBuilder, name: &str, kind: JointKind, i: MarkerId, j: MarkerId) -> JointId {
+    b.add_joint(Joint { name: name.into(), kind, marker_i: i, marker_j: j })
+}
+
+/// Settings with `rtol = atol = tol`.
+pub fn settings(t_end: f64, output_step: f64, tol: f64) -> SimulationSettings {
+    SimulationSettings {
+        t_end,
+        output_step,
+        integrator: BdfConfig { rtol: tol, atol: tol, ..Default::default() },
+        assembly: Default::default(),
+    }
+}
+
+/// The frames of one simulation, by column name.
+pub struct Run {
+    pub t: Vec<f64>,
+    pub columns: Vec<String>,
+    pub rows: Vec<Vec<f64>>,
+    pub report: SimulationReport,
+}
+
+impl Run {
+    /// The time series of column `name` (panics with the list of columns if there is none).
+    pub fn col(&self, name: &str) -> Vec<f64> {
+        let k = self
+            .columns
+            .iter()
+            .position(|c| c == name)
+            .unwrap_or_else(|| panic!("no column '{name}'; columns are {:?}", self.columns));
+        self.rows.iter().map(|r| r[k]).collect()
+    }
+
+    /// The three columns `name.x`, `name.y`, `name.z` as vectors.
+    pub fn vec3(&self, name: &str) -> Vec<Vec3> {
+        let (x, y, z) = (self.col(&format!("{name}.x")), self.col(&format!("{name}.y")), self.col(&format!("{name}.z")));
+        (0..x.len()).map(|k| Vec3::new(x[k], y[k], z[k])).collect()
+    }
+}
+
+/// Runs a simulation and collects every output frame; the error keeps the frames received before it.
+pub fn try_run(model: &Model, settings: &SimulationSettings) -> Result<Run, (SimulationError, Run)> {
+    let columns: Vec<String> = output_columns(model).into_iter().map(|c| c.name).collect();
+    let mut t = Vec::new();
+    let mut rows = Vec::new();
+    let result = simulate(model, settings, &mut |f| {
+        t.push(f.t);
+        rows.push(f.values.to_vec());
+    });
+    match result {
+        Ok(report) => Ok(Run { t, columns, rows, report }),
+        Err(e) => {
+            let report = (*e.report).clone();
+            Err((e, Run { t, columns, rows, report }))
+        }
+    }
+}
+
+/// Runs a simulation that must succeed.
+pub fn run(model: &Model, settings: &SimulationSettings) -> Run {
+    try_run(model, settings).unwrap_or_else(|(e, _)| panic!("simulation of '{}' failed: {e}", model.name()))
+}
+
+/// Largest absolute value of `f(k)` over the frames.
+pub fn max_over(n: usize, f: impl Fn(usize) -> f64) -> f64 {
+    (0..n).map(f).fold(0.0, f64::max)
+}
+
+/// Angle unwrapped to be continuous.
+pub fn unwrap_angles(a: &[f64]) -> Vec<f64> {
+    let mut out = Vec::with_capacity(a.len());
+    let mut offset = 0.0;
+    for k in 0..a.len() {
+        if k > 0 {
+            let d = a[k] - a[k - 1];
+            if d > std::f64::consts::PI {
+                offset -= std::f64::consts::TAU;
+            } else if d < -std::f64::consts::PI {
+                offset += std::f64::consts::TAU;
+            }
+        }
+        out.push(a[k] + offset);
+    }
+    out
+}
