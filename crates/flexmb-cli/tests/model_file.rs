@@ -357,3 +357,13 @@ fn garbled_models_give_errors_not_panics() {
         }
     }
 }
+
+#[test]
+fn deeply_nested_input_is_refused_not_overflowed() {
+    let deep = format!("mass = \"{}2{}\"", "(".repeat(5000), ")".repeat(5000));
+    let text = BODY.replace("mass = 2.0", &deep);
+    assert_error(&text, 4, "body[0].mass", &["nests parentheses more than 100 deep"]);
+    let deep_toml = format!("[model]\ngravity = {}1{}\n", "[".repeat(5000), "]".repeat(5000));
+    let (e, _) = error_of(&deep_toml);
+    assert_eq!(e.line, Some(2));
+}

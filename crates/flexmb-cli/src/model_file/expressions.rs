@@ -110,6 +110,9 @@ impl Scope<'_> {
     }
 }
 
+/// Deepest nesting of parentheses accepted (the parser recurses on each level).
+const MAX_NESTING: i64 = 100;
+
 /// Unbalanced parentheses get a clearer message than `exmex` gives.
 fn check_parentheses(text: &str) -> Result<(), String> {
     let mut depth = 0i64;
@@ -122,6 +125,9 @@ fn check_parentheses(text: &str) -> Result<(), String> {
         }
         if depth < 0 {
             return Err(format!("expression `{text}` has a `)` without a matching `(`"));
+        }
+        if depth > MAX_NESTING {
+            return Err(format!("expression `{text}` nests parentheses more than {MAX_NESTING} deep"));
         }
     }
     if depth > 0 {
