@@ -8,6 +8,8 @@ mod redundancy;
 mod simulation;
 mod state;
 mod velocity;
+#[cfg(test)]
+pub(crate) mod test_models;
 
 pub use accelerations::{AccelerationSolver, Accelerations};
 pub use assembly::{assemble, AssemblyError, AssemblyReport, AssemblySettings};

@@ -36,7 +36,9 @@ pub enum ExpressionError {
 #[derive(Clone, Debug)]
 pub struct Expression {
     source: String,
-    flat: FlatEx<f64>,
+    /// `None` for a constant made by [`Expression::constant`].
+    flat: Option<FlatEx<f64>>,
+    constant: f64,
     variables: Vec<Variable>,
 }
 
@@ -55,8 +57,7 @@ impl Expression {
 
     /// A constant expression.
     pub fn constant(value: f64) -> Self {
-        let text = format!("{value:e}");
-        Self::parse(&text, &|_| None).expect("a number always parses")
+        Self { source: format!("{value:?}"), flat: None, constant: value, variables: Vec::new() }
     }
 
     fn bind(
@@ -91,7 +92,7 @@ impl Expression {
             };
             variables.push(v);
         }
-        Ok(Self { source: source.to_string(), flat, variables })
+        Ok(Self { source: source.to_string(), flat: Some(flat), constant: 0.0, variables })
     }
 
     /// The text the expression was parsed from.
@@ -115,6 +116,9 @@ impl Expression {
     /// Evaluates at time `t` with the current measure values; NaN if evaluation fails.
     #[inline]
     pub fn eval(&self, t: f64, measures: &[f64]) -> f64 {
+        let Some(flat) = &self.flat else {
+            return self.constant;
+        };
         let mut values = [0.0; MAX_VARIABLES];
         for (slot, v) in values.iter_mut().zip(&self.variables) {
             *slot = match v {
@@ -122,24 +126,27 @@ impl Expression {
                 Variable::Measure(m) => measures[m.0],
             };
         }
-        self.flat.eval(&values[..self.variables.len()]).unwrap_or(f64::NAN)
+        flat.eval(&values[..self.variables.len()]).unwrap_or(f64::NAN)
     }
 
     /// `d/dt` of an expression of time only (symbolic, by `exmex`).
     pub(crate) fn time_derivative(&self) -> Result<Self, ExpressionError> {
+        let Some(flat) = &self.flat else {
+            return Ok(Self::constant(0.0));
+        };
         match self.variables.as_slice() {
             [] => Ok(Self::constant(0.0)),
             [Variable::Time] => {
-                let d = self.flat.clone().partial(0).map_err(|e| ExpressionError::NotDifferentiable {
+                let d = flat.clone().partial(0).map_err(|e| ExpressionError::NotDifferentiable {
                     source_text: self.source.clone(),
                     message: e.to_string(),
                 })?;
                 let text = d.to_string();
-                Ok(Self { source: text, flat: d, variables: self.variables.clone() })
+                Ok(Self { source: text, flat: Some(d), constant: 0.0, variables: self.variables.clone() })
             }
             _ => Err(ExpressionError::NotTimeOnly {
                 source_text: self.source.clone(),
-                name: self.flat.var_names().iter().find(|n| *n != "t").cloned().unwrap_or_default(),
+                name: flat.var_names().iter().find(|n| *n != "t").cloned().unwrap_or_default(),
             }),
         }
     }

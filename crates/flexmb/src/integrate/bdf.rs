@@ -23,6 +23,9 @@ const MAX_ORDER: usize = 5;
 const NEWTON_MAXITER: usize = 4;
 const MIN_FACTOR: f64 = 0.2;
 const MAX_FACTOR: f64 = 10.0;
+/// Range of `c/c_f` in which the factors made for `c_f` are reused.
+const REUSE_MIN: f64 = 0.6;
+const REUSE_MAX: f64 = 1.0 / 0.6;
 
 /// `γ_k = Σ_{j=1..k} 1/j`.
 fn gamma(k: usize) -> f64 {
@@ -276,7 +279,9 @@ impl<'m> Bdf<'m> {
                 self.scale[k] = self.config.atol + self.config.rtol * self.y_pred[k].abs();
             }
             let c = h / alpha;
-            if self.factored_c != Some(c) {
+            // Reuse the factors of a nearby c (DASSL): the increments are then scaled by 2/(1 + c_f/c).
+            let reusable = self.factored_c.is_some_and(|cf| (REUSE_MIN..=REUSE_MAX).contains(&(c / cf)));
+            if !reusable {
                 if self.jac.factor(c).is_err() {
                     self.stats.factorizations += 1;
                     if !self.jac_current {
@@ -290,7 +295,8 @@ impl<'m> Bdf<'m> {
                 self.stats.factorizations += 1;
                 self.factored_c = Some(c);
             }
-            let (converged, iterations) = self.newton(t_new, c);
+            let c_factored = self.factored_c.unwrap_or(c);
+            let (converged, iterations) = self.newton(t_new, c, c_factored);
             if !converged {
                 self.stats.newton_failures += 1;
                 if !self.jac_current {
@@ -365,7 +371,10 @@ impl<'m> Bdf<'m> {
     }
 
     /// Simplified Newton iteration on the corrector; returns (converged, iterations).
-    fn newton(&mut self, t_new: f64, c: f64) -> (bool, usize) {
+    /// `c_f` is the `c` the factors were made for; rows are scaled by it and the increments by
+    /// `2/(1 + c_f/c)`, which makes the iteration exact for the `F_ẏ` part when `c_f ≠ c`.
+    fn newton(&mut self, t_new: f64, c: f64, c_f: f64) -> (bool, usize) {
+        let increment_scale = 2.0 / (1.0 + c_f / c);
         self.corr.fill(0.0);
         self.y_new.copy_from_slice(&self.y_pred);
         let mut dy_norm_old: Option<f64> = None;
@@ -379,10 +388,13 @@ impl<'m> Bdf<'m> {
                 return (false, k + 1);
             }
             for i in 0..self.n {
-                self.rhs[i] = if i < self.n_diff { -c * self.res[i] } else { -self.res[i] };
+                self.rhs[i] = if i < self.n_diff { -c_f * self.res[i] } else { -self.res[i] };
             }
             if self.jac.solve_in_place(&mut self.rhs).is_err() {
                 return (false, k + 1);
+            }
+            if increment_scale != 1.0 {
+                self.rhs.iter_mut().for_each(|x| *x *= increment_scale);
             }
             self.stats.newton_iterations += 1;
             let dy_norm = self.rms_norm(&self.rhs, 1.0);
