@@ -120,7 +120,12 @@ fn non_physical_inertia() {
 #[test]
 fn unknown_joint_type() {
     let text = format!("{BODY}\n[[joint]]\nname = \"j\"\ntype = \"revolut\"\ni = \"base\"\nj = \"pin\"\n");
-    assert_error(&text, 17, "joint[0].type", &["unknown joint type `revolut`", "did you mean `revolute`?", "`point-on-line`"]);
+    assert_error(
+        &text,
+        17,
+        "joint[0].type",
+        &["unknown joint type `revolut`", "did you mean `revolute`?", "`point-on-line`"],
+    );
 }
 
 /// Lines 14-24 after [`BODY`]: line 14 is empty, `[[joint]]` 15, `[[measure]]` 21.
@@ -261,7 +266,8 @@ fn drivers_follow_their_joint() {
 #[test]
 fn orientation_forms_agree() {
     let with = |orientation: &str| {
-        let text = BODY.replace("inertia = [0.1, 0.1, 0.02]", &format!("inertia = [0.1, 0.1, 0.02]\norientation = {orientation}"));
+        let text = BODY
+            .replace("inertia = [0.1, 0.1, 0.02]", &format!("inertia = [0.1, 0.1, 0.02]\norientation = {orientation}"));
         let loaded = parse_model(&text, "o.toml").unwrap_or_else(|e| panic!("{e}"));
         loaded.model.bodies()[0].initial.orientation.rotation_matrix()
     };
@@ -273,13 +279,19 @@ fn orientation_forms_agree() {
     for other in [by_degrees, by_matrix, by_parameters] {
         assert!((other - by_angle).abs().max() < 1e-12, "{other} vs {by_angle}");
     }
-    let text = BODY.replace("inertia = [0.1, 0.1, 0.02]", "inertia = [0.1, 0.1, 0.02]\norientation = { matrix = [[1, 0, 0], [0, 1, 0], [0, 0, -1]] }");
+    let text = BODY.replace(
+        "inertia = [0.1, 0.1, 0.02]",
+        "inertia = [0.1, 0.1, 0.02]\norientation = { matrix = [[1, 0, 0], [0, 1, 0], [0, 0, -1]] }",
+    );
     assert_error(&text, 6, "body[0].orientation.matrix", &["not a proper rotation"]);
 }
 
 #[test]
 fn marker_z_axis_sets_the_marker_frame() {
-    let text = BODY.replace("name = \"pin\"\nbody = \"link\"", "name = \"pin\"\nbody = \"link\"\nz_axis = [1, 0, 0]\nx_axis = [0, 1, 1]");
+    let text = BODY.replace(
+        "name = \"pin\"\nbody = \"link\"",
+        "name = \"pin\"\nbody = \"link\"\nz_axis = [1, 0, 0]\nx_axis = [0, 1, 1]",
+    );
     let loaded = parse_model(&text, "m.toml").unwrap_or_else(|e| panic!("{e}"));
     let axes = loaded.model.markers()[0].axes;
     let expected_x = nalgebra::Vector3::new(0.0, 1.0, 1.0).normalize();
@@ -296,7 +308,12 @@ fn outputs_get_default_names_and_must_be_unique() {
     assert_eq!(names, ["pin.position", "energy"]);
     let twice = format!("{BODY}{outputs}{}", "\n[[output]]\ntype = \"energy\"\n");
     // blank 14, output 15-17, blank 18, output 19-20, blank 21, [[output]] 22, type 23
-    assert_error(&twice, 23, "output[2].name", &["already used by output[1] on line 20", "give this output its own `name`"]);
+    assert_error(
+        &twice,
+        23,
+        "output[2].name",
+        &["already used by output[1] on line 20", "give this output its own `name`"],
+    );
 }
 
 #[test]
@@ -326,7 +343,10 @@ fn unknown_top_level_table() {
 #[test]
 fn garbled_models_give_errors_not_panics() {
     let text = std::fs::read_to_string(models_dir().join("motor_friction.toml")).expect("model");
-    let pieces = ["", "=", "[", "]", "\"", "x", "-1", "(", ")", "e", "1e", "{", "}", "\n", "[[body]]", "nan", "inf", "max_", "t*", ",", "π", "ü", "0", "#"];
+    let pieces = [
+        "", "=", "[", "]", "\"", "x", "-1", "(", ")", "e", "1e", "{", "}", "\n", "[[body]]", "nan", "inf", "max_",
+        "t*", ",", "π", "ü", "0", "#",
+    ];
     let mut state = 0x2545_f491_4f6c_dd1d_u64;
     let mut next = |n: usize| {
         state ^= state << 13;

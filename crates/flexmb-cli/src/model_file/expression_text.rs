@@ -5,16 +5,16 @@
 
 /// Names `exmex` gives a meaning: constants and functions. They cannot name a parameter or measure.
 pub(crate) const BUILTIN_NAMES: &[&str] = &[
-    "PI", "π", "E", "e", "TAU", "τ", "abs", "signum", "sin", "cos", "tan", "asin", "acos", "atan", "sinh",
-    "cosh", "tanh", "asinh", "acosh", "atanh", "floor", "round", "ceil", "trunc", "fract", "exp", "sqrt",
-    "cbrt", "ln", "log2", "log10", "log", "atan2", "min", "max",
+    "PI", "π", "E", "e", "TAU", "τ", "abs", "signum", "sin", "cos", "tan", "asin", "acos", "atan", "sinh", "cosh",
+    "tanh", "asinh", "acosh", "atanh", "floor", "round", "ceil", "trunc", "fract", "exp", "sqrt", "cbrt", "ln", "log2",
+    "log10", "log", "atan2", "min", "max",
 ];
 
 /// The functions among [`BUILTIN_NAMES`]: names that may stand right before `(`.
 pub(crate) const FUNCTION_NAMES: &[&str] = &[
-    "abs", "signum", "sin", "cos", "tan", "asin", "acos", "atan", "sinh", "cosh", "tanh", "asinh", "acosh",
-    "atanh", "floor", "round", "ceil", "trunc", "fract", "exp", "sqrt", "cbrt", "ln", "log2", "log10", "log",
-    "atan2", "min", "max",
+    "abs", "signum", "sin", "cos", "tan", "asin", "acos", "atan", "sinh", "cosh", "tanh", "asinh", "acosh", "atanh",
+    "floor", "round", "ceil", "trunc", "fract", "exp", "sqrt", "cbrt", "ln", "log2", "log10", "log", "atan2", "min",
+    "max",
 ];
 
 /// Two-argument functions `exmex` recognises at the start of any name, so no measure name may begin
@@ -25,7 +25,10 @@ pub(crate) const BINARY_FUNCTION_NAMES: &[&str] = &["atan2", "min", "max"];
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) enum Token<'a> {
     Identifier(&'a str),
-    Number { text: &'a str, value: f64 },
+    Number {
+        text: &'a str,
+        value: f64,
+    },
     /// Anything else: operators, parentheses, commas, spaces.
     Other(char),
 }
@@ -156,10 +159,7 @@ mod tests {
 
     #[test]
     fn e_after_a_number_without_digits_is_not_an_exponent() {
-        assert_eq!(
-            tokenize("2e"),
-            vec![Token::Number { text: "2", value: 2.0 }, Token::Identifier("e")]
-        );
+        assert_eq!(tokenize("2e"), vec![Token::Number { text: "2", value: 2.0 }, Token::Identifier("e")]);
         assert_eq!(identifiers("T_stall*(1 - w/w0) + sin(PI*t)"), ["T_stall", "w", "w0", "sin", "PI", "t"]);
     }
 

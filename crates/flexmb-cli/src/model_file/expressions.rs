@@ -7,7 +7,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use flexmb::function::{Expression, ExpressionError, TimeFunction};
 use flexmb::model::MeasureId;
 
-use super::expression_text::{decimal, identifiers, rewrite, tokenize, Token, BUILTIN_NAMES, FUNCTION_NAMES};
+use super::expression_text::{identifiers, rewrite, tokenize, Token, BUILTIN_NAMES, FUNCTION_NAMES};
 use super::suggest::did_you_mean;
 
 /// The names an expression may use besides `exmex`'s constants and functions.
@@ -47,15 +47,7 @@ impl Scope<'_> {
 
     /// A function of `t` alone, differentiated twice.
     pub(crate) fn time_function(&self, text: &str) -> Result<TimeFunction, String> {
-        let mut expression = self.parse(text, Dependence::Time)?;
-        if expression.variables().is_empty() {
-            // flexmb's `TimeFunction` cannot yet differentiate an expression without `t` (it builds the
-            // zero derivative with a literal that exmex does not read), so a constant is written as an
-            // expression of `t` whose derivatives are zero.
-            let value = expression.eval(0.0, &[]);
-            let as_function_of_time = format!("{} + 0*t", parenthesized(value));
-            expression = Expression::parse(&as_function_of_time, &|_| None).map_err(|e| describe(&e, text))?;
-        }
+        let expression = self.parse(text, Dependence::Time)?;
         TimeFunction::new(expression).map_err(|e| describe(&e, text))
     }
 
@@ -138,7 +130,8 @@ fn check_parentheses(text: &str) -> Result<(), String> {
 
 /// Two operands side by side (`2 PI`, `L t`, `(a)(b)`) get a clearer message than `exmex` gives.
 fn check_operators(text: &str) -> Result<(), String> {
-    let tokens: Vec<Token> = tokenize(text).into_iter().filter(|t| !matches!(t, Token::Other(c) if c.is_whitespace())).collect();
+    let tokens: Vec<Token> =
+        tokenize(text).into_iter().filter(|t| !matches!(t, Token::Other(c) if c.is_whitespace())).collect();
     for pair in tokens.windows(2) {
         let ends_operand = match &pair[0] {
             Token::Identifier(name) => !FUNCTION_NAMES.contains(name),
@@ -163,10 +156,6 @@ fn token_text(token: &Token) -> String {
         Token::Number { text, .. } => text.to_string(),
         Token::Other(c) => c.to_string(),
     }
-}
-
-fn parenthesized(value: f64) -> String {
-    format!("({})", decimal(value))
 }
 
 /// An engine expression error, worded with the text the user wrote (not the rewritten one).

@@ -71,7 +71,11 @@ impl Evaluation<'_> {
         let value = match number.get_ref() {
             NumberOrExpression::Number(value) if value.is_finite() => *value,
             NumberOrExpression::Number(value) => {
-                return Err(self.source.invalid(&number.span(), &path, format!("expected a finite number, got {value}")))
+                return Err(self.source.invalid(
+                    &number.span(),
+                    &path,
+                    format!("expected a finite number, got {value}"),
+                ))
             }
             NumberOrExpression::Expression(text) => {
                 self.in_progress.push(name.to_string());

@@ -206,21 +206,13 @@ impl ForceSection {
 impl OutputSection {
     /// The optional element keys present, for rejecting those an output type does not use.
     pub(crate) fn optional_keys(&self) -> [(&'static str, Option<Range<usize>>); 3] {
-        [
-            ("marker", span_of(&self.marker)),
-            ("joint", span_of(&self.joint)),
-            ("measure", span_of(&self.measure)),
-        ]
+        [("marker", span_of(&self.marker)), ("joint", span_of(&self.joint)), ("measure", span_of(&self.measure))]
     }
 }
 
 impl JointSection {
     /// The optional keys present, for rejecting those a joint type does not use.
     pub(crate) fn optional_keys(&self) -> [(&'static str, Option<Range<usize>>); 3] {
-        [
-            ("length", span_of(&self.length)),
-            ("axis_i", span_of(&self.axis_i)),
-            ("axis_j", span_of(&self.axis_j)),
-        ]
+        [("length", span_of(&self.length)), ("axis_i", span_of(&self.axis_i)), ("axis_j", span_of(&self.axis_j))]
     }
 }

@@ -88,9 +88,8 @@ pub(crate) fn key_path_at(document: &DeTable, offset: usize) -> KeyPath {
         .iter()
         .filter(|e| contains(&e.key_span, offset) || contains(&e.value_span, offset))
         .max_by_key(|e| e.depth);
-    let preceding = || {
-        entries.iter().filter(|e| e.key_span.start <= offset).max_by_key(|e| (e.key_span.start, e.depth))
-    };
+    let preceding =
+        || entries.iter().filter(|e| e.key_span.start <= offset).max_by_key(|e| (e.key_span.start, e.depth));
     containing.or_else(preceding).map(|e| e.path.clone()).unwrap_or_default()
 }
 
@@ -159,8 +158,17 @@ mod tests {
 
     #[test]
     fn rewords_serde_types() {
-        assert_eq!(in_file_terms("invalid type: string \"x\", expected f64"), "invalid type: string \"x\", expected a number");
-        assert_eq!(in_file_terms("invalid type: integer `3`, expected struct BodySection"), "invalid type: integer `3`, expected a table");
-        assert_eq!(in_file_terms("invalid type: integer `3`, expected a sequence"), "invalid type: integer `3`, expected an array");
+        assert_eq!(
+            in_file_terms("invalid type: string \"x\", expected f64"),
+            "invalid type: string \"x\", expected a number"
+        );
+        assert_eq!(
+            in_file_terms("invalid type: integer `3`, expected struct BodySection"),
+            "invalid type: integer `3`, expected a table"
+        );
+        assert_eq!(
+            in_file_terms("invalid type: integer `3`, expected a sequence"),
+            "invalid type: integer `3`, expected an array"
+        );
     }
 }

@@ -29,7 +29,11 @@ pub(crate) fn add_bodies(
         let b = section.get_ref();
         names.check_new(&b.name, &element, ctx.source)?;
         if b.name.get_ref() == GROUND {
-            return Err(ctx.invalid(&b.name.span(), &element.key("name"), "`ground` is the inertial frame and cannot name a body"));
+            return Err(ctx.invalid(
+                &b.name.span(),
+                &element.key("name"),
+                "`ground` is the inertial frame and cannot name a body",
+            ));
         }
         let body = rigid_body(ctx, b, &element)?;
         check_with_engine(ctx, &body, b, &element)?;
@@ -41,8 +45,12 @@ pub(crate) fn add_bodies(
 
 fn rigid_body(ctx: &Context, b: &BodySection, element: &KeyPath) -> Result<RigidBody, ModelFileError> {
     let mass = ctx.number(&b.mass, &element.key("mass"))?;
-    if !(mass > 0.0) {
-        return Err(ctx.invalid(&b.mass.span(), &element.key("mass"), format!("mass must be positive and finite, got {mass}")));
+    if mass <= 0.0 {
+        return Err(ctx.invalid(
+            &b.mass.span(),
+            &element.key("mass"),
+            format!("mass must be positive and finite, got {mass}"),
+        ));
     }
     let orientation = match &b.orientation {
         Some(o) => orientation(ctx, o, &element.key("orientation"))?,
@@ -64,7 +72,12 @@ fn rigid_body(ctx: &Context, b: &BodySection, element: &KeyPath) -> Result<Rigid
 
 /// Runs the engine's body checks (mass, physical inertia, proper orientation, finite values) on this
 /// body alone.
-fn check_with_engine(ctx: &Context, body: &RigidBody, b: &BodySection, element: &KeyPath) -> Result<(), ModelFileError> {
+fn check_with_engine(
+    ctx: &Context,
+    body: &RigidBody,
+    b: &BodySection,
+    element: &KeyPath,
+) -> Result<(), ModelFileError> {
     let mut alone = ModelBuilder::new("body check");
     alone.add_body(body.clone());
     let Err(error) = alone.build() else { return Ok(()) };
@@ -72,16 +85,14 @@ fn check_with_engine(ctx: &Context, body: &RigidBody, b: &BodySection, element: 
         ModelError::NonPositiveMass { mass, .. } => {
             (b.mass.span(), element.key("mass"), format!("mass must be positive and finite, got {mass}"))
         }
-        ModelError::BadInertia { problem, .. } => (b.inertia.span(), element.key("inertia"), format!("inertia {problem}")),
+        ModelError::BadInertia { problem, .. } => {
+            (b.inertia.span(), element.key("inertia"), format!("inertia {problem}"))
+        }
         ModelError::BadFrame { problem, .. } => match &b.orientation {
             Some(o) => (o.span(), element.key("orientation"), problem.clone()),
-            None => (section_span(b), element.clone(), problem.clone()),
+            None => (b.name.span(), element.clone(), problem.clone()),
         },
-        other => (section_span(b), element.clone(), other.to_string()),
+        other => (b.name.span(), element.clone(), other.to_string()),
     };
     Err(ctx.invalid(&span, &key, message))
-}
-
-fn section_span(b: &BodySection) -> std::ops::Range<usize> {
-    b.name.span()
 }

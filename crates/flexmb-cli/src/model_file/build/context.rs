@@ -9,12 +9,13 @@ use flexmb::math::Vec3;
 use flexmb::model::MeasureId;
 use toml::Spanned;
 
-use crate::model_file::error::ModelFileError;
+use crate::model_file::error::{ErrorKind, ModelFileError};
 use crate::model_file::expression_text::decimal;
 use crate::model_file::expressions::Scope;
 use crate::model_file::key_path::KeyPath;
 use crate::model_file::schema::{Number, Vector};
 use crate::model_file::source::Source;
+use crate::model_file::suggest::did_you_mean;
 use crate::model_file::value::NumberOrExpression;
 
 pub(crate) struct Context<'a> {
@@ -47,7 +48,9 @@ impl<'a> Context<'a> {
     pub(crate) fn number(&self, value: &Number, key: &KeyPath) -> Result<f64, ModelFileError> {
         match value.get_ref() {
             NumberOrExpression::Number(x) if x.is_finite() => Ok(*x),
-            NumberOrExpression::Number(x) => Err(self.invalid(&value.span(), key, format!("expected a finite number, got {x}"))),
+            NumberOrExpression::Number(x) => {
+                Err(self.invalid(&value.span(), key, format!("expected a finite number, got {x}")))
+            }
             NumberOrExpression::Expression(text) => {
                 self.scope().constant(text).map_err(|message| self.invalid(&value.span(), key, message))
             }
@@ -107,7 +110,11 @@ impl<'a> Context<'a> {
     }
 
     /// An optional 3-vector, `None` if absent.
-    pub(crate) fn optional_vector(&self, value: &Option<Vector>, key: &KeyPath) -> Result<Option<Vec3>, ModelFileError> {
+    pub(crate) fn optional_vector(
+        &self,
+        value: &Option<Vector>,
+        key: &KeyPath,
+    ) -> Result<Option<Vec3>, ModelFileError> {
         value.as_ref().map(|v| self.vector(v, key)).transpose()
     }
 
@@ -124,14 +131,21 @@ impl<'a> Context<'a> {
     }
 
     /// A constant function of time.
-    pub(crate) fn constant_time_function(&self, value: f64, span: &Range<usize>, key: &KeyPath) -> Result<TimeFunction, ModelFileError> {
+    pub(crate) fn constant_time_function(
+        &self,
+        value: f64,
+        span: &Range<usize>,
+        key: &KeyPath,
+    ) -> Result<TimeFunction, ModelFileError> {
         self.scope().time_function(&format!("({})", decimal(value))).map_err(|message| self.invalid(span, key, message))
     }
 
     fn expression_text(&self, value: &Number, key: &KeyPath) -> Result<String, ModelFileError> {
         match value.get_ref() {
             NumberOrExpression::Number(x) if x.is_finite() => Ok(format!("({})", decimal(*x))),
-            NumberOrExpression::Number(x) => Err(self.invalid(&value.span(), key, format!("expected a finite number, got {x}"))),
+            NumberOrExpression::Number(x) => {
+                Err(self.invalid(&value.span(), key, format!("expected a finite number, got {x}")))
+            }
             NumberOrExpression::Expression(text) => Ok(text.clone()),
         }
     }
@@ -149,9 +163,13 @@ impl<'a> Context<'a> {
             return Ok(*choice);
         }
         let words: Vec<&str> = choices.iter().map(|(word, _)| *word).collect();
-        let hint = crate::model_file::suggest::did_you_mean(text, words.iter().copied());
+        let hint = did_you_mean(text, words.iter().copied());
         let list: Vec<String> = words.iter().map(|w| format!("`{w}`")).collect();
-        Err(self.invalid(&value.span(), key, format!("unknown {what} `{text}`{hint}; expected one of {}", list.join(", "))))
+        Err(self.invalid(
+            &value.span(),
+            key,
+            format!("unknown {what} `{text}`{hint}; expected one of {}", list.join(", ")),
+        ))
     }
 
     /// Rejects keys present in an element that its type does not use.
@@ -192,7 +210,7 @@ impl<'a> Context<'a> {
     ) -> Result<&'v T, ModelFileError> {
         value.as_ref().ok_or_else(|| {
             self.source.error(
-                crate::model_file::error::ErrorKind::Schema,
+                ErrorKind::Schema,
                 element_span,
                 &element.key(name),
                 format!("missing required key `{name}` for {description}"),

@@ -52,12 +52,21 @@ pub(crate) fn add_drivers(
 }
 
 /// The driver type given, or the one the joint allows; it must suit the joint.
-fn driver_type(ctx: &Context, d: &DriverSection, joint: &Joint, element: &KeyPath) -> Result<DriverType, ModelFileError> {
+fn driver_type(
+    ctx: &Context,
+    d: &DriverSection,
+    joint: &Joint,
+    element: &KeyPath,
+) -> Result<DriverType, ModelFileError> {
     let joint_key = element.key("joint");
     let joint_kind = joint.kind.keyword();
     let drivable = "a driver acts on a revolute (angle), translational (displacement) or cylindrical (either) joint";
     if matches!(joint.kind, JointKind::AngleDriver { .. } | JointKind::DisplacementDriver { .. }) {
-        return Err(ctx.invalid(&d.joint.span(), &joint_key, format!("`{}` is itself a driver; {drivable}", joint.name)));
+        return Err(ctx.invalid(
+            &d.joint.span(),
+            &joint_key,
+            format!("`{}` is itself a driver; {drivable}", joint.name),
+        ));
     }
     let given = d
         .kind
@@ -75,7 +84,10 @@ fn driver_type(ctx: &Context, d: &DriverSection, joint: &Joint, element: &KeyPat
         Some((DriverType::Displacement, span)) if !slides => Err(ctx.invalid(
             &span,
             &element.key("type"),
-            format!("a displacement driver needs a translational or cylindrical joint, but `{}` is {joint_kind}", joint.name),
+            format!(
+                "a displacement driver needs a translational or cylindrical joint, but `{}` is {joint_kind}",
+                joint.name
+            ),
         )),
         Some((t, _)) => Ok(t),
         None if rotates && slides => Err(ctx.invalid(

@@ -29,14 +29,19 @@ pub(crate) fn inertia(ctx: &Context, value: &Spanned<InertiaInput>, key: &KeyPat
             m
         }
         InertiaInput::Components(c) => {
-            let product = |x: &Option<NumberOrExpression>, name: &str| {
-                x.as_ref().map_or(Ok(0.0), |x| number(x, &key.key(name)))
-            };
+            let product =
+                |x: &Option<NumberOrExpression>, name: &str| x.as_ref().map_or(Ok(0.0), |x| number(x, &key.key(name)));
             let (xy, xz, yz) = (product(&c.xy, "xy")?, product(&c.xz, "xz")?, product(&c.yz, "yz")?);
             Mat3::new(
-                number(&c.xx, &key.key("xx"))?, xy, xz,
-                xy, number(&c.yy, &key.key("yy"))?, yz,
-                xz, yz, number(&c.zz, &key.key("zz"))?,
+                number(&c.xx, &key.key("xx"))?,
+                xy,
+                xz,
+                xy,
+                number(&c.yy, &key.key("yy"))?,
+                yz,
+                xz,
+                yz,
+                number(&c.zz, &key.key("zz"))?,
             )
         }
     })

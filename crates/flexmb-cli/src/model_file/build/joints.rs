@@ -135,7 +135,7 @@ fn joint_kind(
             let length = match &j.length {
                 Some(length) if matches!(length.get_ref(), NumberOrExpression::Number(_)) => {
                     let l = ctx.number(length, &key)?;
-                    if !(l > 0.0) {
+                    if l <= 0.0 {
                         return Err(ctx.invalid(&length.span(), &key, format!("length must be positive, got {l}")));
                     }
                     ctx.constant_time_function(l, &length.span(), &key)?
@@ -143,7 +143,7 @@ fn joint_kind(
                 Some(length) => ctx.time_function(length, &key)?,
                 None => {
                     let l = builder.initial_distance(marker_i, marker_j);
-                    if !(l > 0.0) {
+                    if l <= 0.0 {
                         return Err(ctx.invalid(
                             element_span,
                             &key,

@@ -11,7 +11,7 @@ use super::names::NameTable;
 use crate::model_file::error::ModelFileError;
 use crate::model_file::expression_text::{is_plain_identifier, BINARY_FUNCTION_NAMES, BUILTIN_NAMES};
 use crate::model_file::key_path::KeyPath;
-use crate::model_file::schema::MeasureSection;
+use crate::model_file::schema::{MeasureSection, Name};
 
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum MeasureType {
@@ -92,7 +92,10 @@ fn measure_kind(
     let measure_type = ctx.keyword(&m.kind, &element.key("type"), "measure type", MEASURE_TYPES)?;
     let description = format!("a {} measure", m.kind.get_ref());
     let used: &[&str] = match measure_type {
-        MeasureType::JointAngle | MeasureType::JointRate | MeasureType::JointDisplacement | MeasureType::JointVelocity => &["joint"],
+        MeasureType::JointAngle
+        | MeasureType::JointRate
+        | MeasureType::JointDisplacement
+        | MeasureType::JointVelocity => &["joint"],
         MeasureType::Distance | MeasureType::DistanceRate => &["i", "j"],
         MeasureType::Position | MeasureType::Velocity => &["marker", "component"],
         MeasureType::Speed => &["marker"],
@@ -106,7 +109,10 @@ fn measure_kind(
             MeasureType::JointAngle | MeasureType::JointRate => {
                 (kind.has_rotation_about_z(), "a revolute, cylindrical or angle-driven joint (a rotation about z_i)")
             }
-            _ => (kind.has_translation_along_z(), "a translational, cylindrical or displacement-driven joint (a translation along z_i)"),
+            _ => (
+                kind.has_translation_along_z(),
+                "a translational, cylindrical or displacement-driven joint (a translation along z_i)",
+            ),
         };
         if fits {
             Ok(id)
@@ -118,7 +124,7 @@ fn measure_kind(
             ))
         }
     };
-    let marker = |key: &str, value: &Option<crate::model_file::schema::Name>| -> Result<MarkerId, ModelFileError> {
+    let marker = |key: &str, value: &Option<Name>| -> Result<MarkerId, ModelFileError> {
         let name = ctx.required(value, element, element_span, key, &description)?;
         markers.resolve(name, &element.key(key), ctx.source)
     };

@@ -60,8 +60,7 @@ impl<Id: Copy> NameTable<Id> {
 
     /// Records a new name (checked with [`check_new`](Self::check_new)).
     pub(crate) fn define(&mut self, name: &Name, element: &KeyPath, id: Id) {
-        self.entries
-            .insert(name.get_ref().clone(), Definition { id, element: element.clone(), span: name.span() });
+        self.entries.insert(name.get_ref().clone(), Definition { id, element: element.clone(), span: name.span() });
     }
 
     /// The element a reference names.

@@ -27,10 +27,18 @@ pub(crate) fn orientation(
     match forms.iter().filter(|f| **f).count() {
         0 => return Err(ctx.invalid(&section.span(), key, format!("orientation is not given; {expected}"))),
         1 => {}
-        _ => return Err(ctx.invalid(&section.span(), key, format!("orientation is given in more than one form; {expected}"))),
+        _ => {
+            return Err(ctx.invalid(
+                &section.span(),
+                key,
+                format!("orientation is given in more than one form; {expected}"),
+            ))
+        }
     }
     if o.axis.is_none() {
-        for (name, span) in [("angle", o.angle.as_ref().map(Spanned::span)), ("angle_deg", o.angle_deg.as_ref().map(Spanned::span))] {
+        for (name, span) in
+            [("angle", o.angle.as_ref().map(Spanned::span)), ("angle_deg", o.angle_deg.as_ref().map(Spanned::span))]
+        {
             if let Some(span) = span {
                 return Err(ctx.invalid(&span, &key.key(name), format!("`{name}` goes with `axis` only")));
             }
@@ -62,7 +70,11 @@ fn axis_angle(
         (Some(rad), None) => ctx.number(rad, &key.key("angle"))?,
         (None, Some(deg)) => ctx.number(deg, &key.key("angle_deg"))?.to_radians(),
         (Some(_), Some(deg)) => {
-            return Err(ctx.invalid(&deg.span(), &key.key("angle_deg"), "give either `angle` (rad) or `angle_deg`, not both"))
+            return Err(ctx.invalid(
+                &deg.span(),
+                &key.key("angle_deg"),
+                "give either `angle` (rad) or `angle_deg`, not both",
+            ))
         }
         (None, None) => {
             return Err(ctx.invalid(&section.span(), &key.key("angle"), "an `axis` needs `angle` (rad) or `angle_deg`"))
@@ -94,7 +106,7 @@ pub(crate) fn matrix3(ctx: &Context, rows: &Spanned<Vec<Vector>>, key: &KeyPath)
 fn rotation_matrix(ctx: &Context, rows: &Spanned<Vec<Vector>>, key: &KeyPath) -> Result<Mat3, ModelFileError> {
     let a = matrix3(ctx, rows, key)?;
     let defect = (a.transpose() * a - Mat3::identity()).abs().max().max((a.determinant() - 1.0).abs());
-    if !(defect < ROTATION_TOLERANCE) {
+    if defect >= ROTATION_TOLERANCE || defect.is_nan() {
         return Err(ctx.invalid(
             &rows.span(),
             key,
@@ -110,7 +122,7 @@ fn rotation_matrix(ctx: &Context, rows: &Spanned<Vec<Vector>>, key: &KeyPath) ->
 fn euler_parameters(ctx: &Context, value: &Vector, key: &KeyPath) -> Result<EulerParameters, ModelFileError> {
     let [e0, e1, e2, e3] = ctx.numbers::<4>(value, key, "Euler parameters [e0, e1, e2, e3]")?;
     let p = Vec4::new(e0, e1, e2, e3);
-    if !((p.norm() - 1.0).abs() <= EULER_PARAMETER_NORM_TOLERANCE) {
+    if (p.norm() - 1.0).abs() > EULER_PARAMETER_NORM_TOLERANCE {
         return Err(ctx.invalid(
             &value.span(),
             key,
@@ -138,7 +150,11 @@ pub(crate) fn axes_from_z(
             let x = ctx.vector(x_axis, &element.key("x_axis"))?;
             let along_z = x - z * z.dot(&x);
             if along_z.norm() <= 1e-9 * x.norm().max(f64::MIN_POSITIVE) {
-                return Err(ctx.invalid(&x_axis.span(), &element.key("x_axis"), "`x_axis` must not be parallel to `z_axis`"));
+                return Err(ctx.invalid(
+                    &x_axis.span(),
+                    &element.key("x_axis"),
+                    "`x_axis` must not be parallel to `z_axis`",
+                ));
             }
             x
         }

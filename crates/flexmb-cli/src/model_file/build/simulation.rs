@@ -6,7 +6,7 @@ use toml::Spanned;
 use super::context::Context;
 use crate::model_file::error::ModelFileError;
 use crate::model_file::key_path::KeyPath;
-use crate::model_file::schema::{ModelSection, SimulationSection};
+use crate::model_file::schema::{ModelSection, Number, SimulationSection};
 use crate::model_file::SimulationDefaults;
 
 /// The model's name (default `default_name`, the file stem) and gravity (default zero).
@@ -38,11 +38,11 @@ pub(crate) fn simulation_defaults(
     let Some(section) = section else { return Ok(defaults) };
     let table = KeyPath::root().key("simulation");
     let s = section.get_ref();
-    let positive = |value: &Option<crate::model_file::schema::Number>, name: &str, default: f64| {
+    let positive = |value: &Option<Number>, name: &str, default: f64| {
         let key = table.key(name);
         let x = ctx.number_or(value, &key, default)?;
         match value {
-            Some(v) if !(x > 0.0) => Err(ctx.invalid(&v.span(), &key, format!("{name} must be positive, got {x}"))),
+            Some(v) if x <= 0.0 => Err(ctx.invalid(&v.span(), &key, format!("{name} must be positive, got {x}"))),
             _ => Ok(x),
         }
     };
