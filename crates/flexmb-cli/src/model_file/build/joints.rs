@@ -69,8 +69,9 @@ pub(crate) fn add_joints(
     Ok(())
 }
 
-/// A joint (or driver) must connect markers on two different bodies (or a body and ground).
-pub(crate) fn check_two_bodies(
+/// A joint must connect markers on two different bodies (or a body and ground). Drivers reuse the
+/// markers of the joint they drive, so this covers them too.
+fn check_two_bodies(
     ctx: &Context,
     builder: &ModelBuilder,
     bodies: &NameTable<BodyId>,
