@@ -457,19 +457,41 @@ impl<'m> Bdf<'m> {
         update_angle_references(self.model, &mut self.data);
     }
 
-    /// The equation with the largest residual at the predictor, named for a person.
+    /// What went wrong at the predictor, named for a person: the largest residual of the equations of
+    /// motion and of the constraints, and any constraints that have become dependent (a lock or a
+    /// singular position). Only called when a step fails, so it may allocate.
     fn worst_equation(&mut self, t_new: f64, c: f64) -> String {
         for k in 0..self.n {
             self.yp[k] = self.psi[k] / c;
         }
         residual(self.model, &mut self.data, &self.yl, &self.active, t_new, &self.y_pred, &self.yp, &mut self.res);
-        let (row, value) = self
-            .res
-            .iter()
-            .enumerate()
-            .map(|(i, r)| (i, if i < self.n_diff { (c * r).abs() } else { r.abs() }))
-            .fold((0, 0.0), |acc, x| if x.1 > acc.1 { x } else { acc });
-        format!("largest residual {value:.3e} in {}", describe_y_row(self.model, &self.yl, row))
+        let worst = |rows: std::ops::Range<usize>, scale: f64| {
+            rows.map(|i| (i, (scale * self.res[i]).abs())).fold((usize::MAX, 0.0), |a, x| if x.1 > a.1 { x } else { a })
+        };
+        let (row_d, value_d) = worst(0..self.n_diff, c);
+        let (row_c, value_c) = worst(self.yl.lambda.start..self.n, 1.0);
+        let mut text = String::new();
+        if row_d != usize::MAX {
+            text += &format!("largest residual {value_d:.3e} in {}", describe_y_row(self.model, &self.yl, row_d));
+        }
+        if row_c != usize::MAX {
+            text += &format!(
+                "; largest constraint residual {value_c:.3e} in {}",
+                describe_y_row(self.model, &self.yl, row_c)
+            );
+        }
+        let q = self.y_pred[self.yl.q.clone()].to_vec();
+        let (dependent, _) = crate::analysis::find_redundant_rows(self.model, &mut self.data, t_new, &q);
+        let newly: Vec<String> =
+            dependent.iter().filter(|r| self.active[r.row]).map(|r| r.description.clone()).collect();
+        if !newly.is_empty() {
+            text += &format!(
+                "; the constraints have become dependent here (the mechanism locks or reaches a singular \
+                 position): {}",
+                newly.join("; ")
+            );
+        }
+        text
     }
 }
 

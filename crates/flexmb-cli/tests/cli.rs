@@ -1,0 +1,252 @@
+//! The `flexmb` program as a new user runs it: shipped models, result files, and errors.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn flexmb(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_flexmb")).args(args).current_dir(workspace()).output().expect("flexmb runs")
+}
+
+fn workspace() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("flexmb-cli-test-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+#[test]
+fn run_writes_csv_and_summary_for_a_shipped_model() {
+    let out = scratch("run");
+    let o = flexmb(&["run", "models/pendulum.toml", "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "stdout:\n{}\nstderr:\n{}", text(&o.stdout), text(&o.stderr));
+    let stdout = text(&o.stdout);
+    assert!(stdout.contains("degrees of freedom: 1"), "{stdout}");
+    assert!(stdout.contains("run completed"), "{stdout}");
+    let csv = std::fs::read_to_string(out.join("pendulum.csv")).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    assert_eq!(header[0], "t");
+    let rows: Vec<Vec<f64>> = lines.map(|l| l.split(',').map(|x| x.parse().unwrap()).collect()).collect();
+    // t_end = 5 s, output_step = 0.01 s: 501 rows from 0 to 5 inclusive, evenly spaced.
+    assert_eq!(rows.len(), 501);
+    for (k, r) in rows.iter().enumerate() {
+        assert!((r[0] - 0.01 * k as f64).abs() < 1e-12, "row {k}: t = {}", r[0]);
+        assert_eq!(r.len(), header.len());
+    }
+    let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("pendulum.json")).unwrap()).unwrap();
+    assert_eq!(summary["status"], "completed");
+    assert_eq!(summary["t_reached"].as_f64().unwrap(), 5.0);
+    let stats = &summary["statistics"];
+    for key in ["steps", "rejected_steps", "newton_iterations", "matrix_factorizations", "jacobian_evaluations"] {
+        assert!(stats[key].as_u64().is_some(), "statistics.{key} missing: {stats}");
+    }
+    assert!(stats["steps"].as_u64().unwrap() > 10);
+    assert!(stats["rms_step_size"].as_f64().unwrap() > 0.0);
+    assert!(summary["constraints"]["max_position_residual"].as_f64().unwrap() < 1e-6);
+    assert!(summary["constraints"]["max_euler_parameter_norm_error"].as_f64().unwrap() < 1e-14);
+}
+
+#[test]
+fn command_line_overrides_the_model_settings() {
+    let out = scratch("override");
+    let o = flexmb(&["run", "models/slider_crank.toml", "--t-end", "0.5", "--output-step", "0.1", "--rtol", "1e-8", "--atol", "1e-8", "--quiet", "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(o.stdout.is_empty(), "--quiet prints nothing: {}", text(&o.stdout));
+    let csv = std::fs::read_to_string(out.join("slider_crank.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + 6, "header and t = 0, 0.1, …, 0.5");
+    let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("slider_crank.json")).unwrap()).unwrap();
+    assert_eq!(summary["settings"]["rtol"].as_f64().unwrap(), 1e-8);
+}
+
+#[test]
+fn check_reports_degrees_of_freedom_and_redundant_constraints() {
+    let o = flexmb(&["check", "models/slider_crank.toml"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let s = text(&o.stdout);
+    assert!(s.contains("degrees of freedom: 0") && s.contains("redundant constraints: none"), "{s}");
+
+    // A planar four-bar of four revolutes is redundant in 3D: named, removed, still runs.
+    let dir = scratch("redundant");
+    let model = dir.join("four_revolutes.toml");
+    std::fs::write(&model, FOUR_REVOLUTES).unwrap();
+    let o = flexmb(&["check", model.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let s = text(&o.stdout);
+    assert!(s.contains("degrees of freedom: 1"), "{s}");
+    assert!(s.contains("redundant constraints: 3"), "{s}");
+    assert!(s.contains("joint 'd' (revolute)"), "the last joint of the loop is named: {s}");
+}
+
+#[test]
+fn bad_input_names_file_line_and_key() {
+    let dir = scratch("bad");
+    let model = dir.join("bad_mass.toml");
+    std::fs::write(&model, "[[body]]\nname = \"b\"\nmass = -1.0\ninertia = [1, 1, 1]\n").unwrap();
+    let o = flexmb(&["run", model.to_str().unwrap(), "--out", dir.to_str().unwrap()]);
+    assert!(!o.status.success());
+    let e = text(&o.stderr);
+    assert!(e.contains("bad_mass.toml:3") && e.contains("body[0].mass"), "{e}");
+    assert!(!e.contains("panicked"), "{e}");
+
+    let o = flexmb(&["run", "no/such/model.toml"]);
+    assert!(!o.status.success());
+    assert!(text(&o.stderr).contains("no/such/model.toml"), "{}", text(&o.stderr));
+
+    let o = flexmb(&["run", "models/pendulum.toml", "--t-end=-1"]);
+    assert!(!o.status.success());
+    assert!(text(&o.stderr).contains("--t-end"), "{}", text(&o.stderr));
+}
+
+#[test]
+fn a_run_that_fails_midway_says_when_and_why_and_keeps_its_results() {
+    let dir = scratch("lock");
+    let model = dir.join("lock.toml");
+    std::fs::write(&model, LOCKING).unwrap();
+    let out = dir.join("out");
+    let o = flexmb(&["run", model.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert!(!o.status.success(), "the crank cannot follow the driver past t = 1 s");
+    let e = text(&o.stderr);
+    assert!(e.contains("t = 0.99") || e.contains("t = 1.0"), "the failure time is near 1 s: {e}");
+    assert!(e.contains("joint '"), "an equation is named: {e}");
+    let csv = std::fs::read_to_string(out.join("lock.csv")).unwrap();
+    let rows = csv.lines().count() - 1;
+    assert!(rows >= 90, "rows up to the failure are kept: {rows}");
+    let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("lock.json")).unwrap()).unwrap();
+    assert_eq!(summary["status"], "failed");
+    assert!(summary["error"].as_str().unwrap().contains("too small"));
+}
+
+/// A bar on a revolute to ground whose tip is pulled by a distance driver `L(t) = 2 + t` from a ground
+/// point 2 m away: the tip can be at most 3 m from that point, reached at t = 1 s, after which the
+/// constraints cannot all hold.
+const LOCKING: &str = r#"
+[simulation]
+t_end = 2.0
+output_step = 0.01
+
+[[body]]
+name = "bar"
+mass = 1.0
+inertia = [0.01, 0.1, 0.1]
+center_of_mass = [0.5, 0, 0]
+orientation = { axis = [0, 0, 1], angle = 1.5707963267948966 }
+
+[[marker]]
+name = "pivot_ground"
+body = "ground"
+
+[[marker]]
+name = "pivot"
+body = "bar"
+
+[[marker]]
+name = "tip"
+body = "bar"
+origin = [1, 0, 0]
+
+[[marker]]
+name = "anchor"
+body = "ground"
+origin = [2, 0, 0]
+
+[[joint]]
+name = "hinge"
+type = "revolute"
+i = "pivot_ground"
+j = "pivot"
+
+[[joint]]
+name = "pull"
+type = "distance"
+i = "anchor"
+j = "tip"
+length = "sqrt(5) + (3 - sqrt(5))*t"
+"#;
+
+/// Planar four-bar (x-y plane) with four revolutes: three redundant equations in 3D.
+const FOUR_REVOLUTES: &str = r#"
+[[body]]
+name = "crank"
+mass = 1.0
+inertia = [0.01, 0.1, 0.1]
+
+[[body]]
+name = "coupler"
+mass = 1.0
+inertia = [0.01, 0.1, 0.1]
+position = [0, 1, 0]
+
+[[body]]
+name = "rocker"
+mass = 1.0
+inertia = [0.01, 0.1, 0.1]
+position = [2, 0, 0]
+
+[[marker]]
+name = "g1"
+body = "ground"
+
+[[marker]]
+name = "g2"
+body = "ground"
+origin = [2, 0, 0]
+
+[[marker]]
+name = "c0"
+body = "crank"
+
+[[marker]]
+name = "c1"
+body = "crank"
+origin = [0, 1, 0]
+
+[[marker]]
+name = "k0"
+body = "coupler"
+
+[[marker]]
+name = "k1"
+body = "coupler"
+origin = [2, 0, 0]
+
+[[marker]]
+name = "r0"
+body = "rocker"
+
+[[marker]]
+name = "r1"
+body = "rocker"
+origin = [0, 1, 0]
+
+[[joint]]
+name = "a"
+type = "revolute"
+i = "g1"
+j = "c0"
+
+[[joint]]
+name = "b"
+type = "revolute"
+i = "c1"
+j = "k0"
+
+[[joint]]
+name = "c"
+type = "revolute"
+i = "g2"
+j = "r0"
+
+[[joint]]
+name = "d"
+type = "revolute"
+i = "k1"
+j = "r1"
+"#;
