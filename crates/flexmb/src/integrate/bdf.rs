@@ -246,10 +246,12 @@ impl<'m> Bdf<'m> {
             self.h = min_step;
             self.factored_c = None;
         }
-        let mut reason = String::new();
+        // Why the last attempt failed; described (which allocates) only if the step size underflows.
+        let mut failure = AttemptFailure::None;
         let (t_new, safety) = loop {
             let mut h = self.h;
             if h < min_step {
+                let reason = self.describe_failure(failure);
                 return Err(IntegrationError::StepSizeTooSmall { t, h, reason });
             }
             let mut t_new = t + h;
@@ -288,7 +290,7 @@ impl<'m> Bdf<'m> {
                         self.refresh_jacobian(t_new, c);
                         continue;
                     }
-                    reason = format!("the iteration matrix is singular; {}", self.worst_equation(t_new, c));
+                    failure = AttemptFailure::Singular { t_new, c };
                     self.reduce_step(0.5);
                     continue;
                 }
@@ -303,7 +305,7 @@ impl<'m> Bdf<'m> {
                     self.refresh_jacobian(t_new, c);
                     continue;
                 }
-                reason = format!("the Newton iteration does not converge; {}", self.worst_equation(t_new, c));
+                failure = AttemptFailure::Newton { t_new, c };
                 self.reduce_step(0.5);
                 continue;
             }
@@ -315,7 +317,7 @@ impl<'m> Bdf<'m> {
             if error_norm > 1.0 {
                 self.stats.error_test_failures += 1;
                 let factor = MIN_FACTOR.max(safety * error_norm.powf(-1.0 / (order + 1) as f64));
-                reason = format!("the local error test fails (weighted error {error_norm:.2e})");
+                failure = AttemptFailure::ErrorTest { error_norm };
                 self.reduce_step(factor);
                 continue;
             }
@@ -457,6 +459,23 @@ impl<'m> Bdf<'m> {
         update_angle_references(self.model, &mut self.data);
     }
 
+    /// The message of a step-size underflow after `failure`. The predictor of the failed attempt is still
+    /// in `y_pred` and `psi` (a step-size reduction changes only the differences).
+    fn describe_failure(&mut self, failure: AttemptFailure) -> String {
+        match failure {
+            AttemptFailure::None => String::new(),
+            AttemptFailure::Singular { t_new, c } => {
+                format!("the iteration matrix is singular; {}", self.worst_equation(t_new, c))
+            }
+            AttemptFailure::Newton { t_new, c } => {
+                format!("the Newton iteration does not converge; {}", self.worst_equation(t_new, c))
+            }
+            AttemptFailure::ErrorTest { error_norm } => {
+                format!("the local error test fails (weighted error {error_norm:.2e})")
+            }
+        }
+    }
+
     /// What went wrong at the predictor, named for a person: the largest residual of the equations of
     /// motion and of the constraints, and any constraints that have become dependent (a lock or a
     /// singular position). Only called when a step fails, so it may allocate.
@@ -493,6 +512,16 @@ impl<'m> Bdf<'m> {
         }
         text
     }
+}
+
+/// Why the last attempt at a step failed, kept without allocating so that recoverable failures cost
+/// nothing; [`Bdf::describe_failure`] turns it into a message if the step size underflows.
+#[derive(Clone, Copy, Debug)]
+enum AttemptFailure {
+    None,
+    Singular { t_new: f64, c: f64 },
+    Newton { t_new: f64, c: f64 },
+    ErrorTest { error_norm: f64 },
 }
 
 /// Names row `row` of the residual.
