@@ -60,7 +60,8 @@ fn run_at(model: &Model, max_order: usize, tol: f64) -> (usize, f64, f64) {
     let mut state = State::initial(model);
     assemble(model, &mut data, &mut state, Default::default()).unwrap();
     velocity_analysis(model, &mut data, &mut state).unwrap();
-    let acc = AccelerationSolver::new(model).solve(model, &mut data, 0.0, &state.q, &state.v, &state.active).unwrap().clone();
+    let acc =
+        AccelerationSolver::new(model).solve(model, &mut data, 0.0, &state.q, &state.v, &state.active).unwrap().clone();
     let config = BdfConfig { rtol: tol, atol: tol, max_order, ..Default::default() };
     let mut bdf = Bdf::new(model, &state, &acc, config).unwrap();
     while bdf.t() < T_END {

@@ -44,7 +44,8 @@ fn four_bar(all_revolute: bool) -> Model {
     let crank_pin = marker(&mut b, "crank_pin", BodyRef::Body(crank), Vec3::new(a, 0.0, 0.0));
     let coupler_a = marker(&mut b, "coupler_a", BodyRef::Body(coupler), Vec3::zeros());
     let coupler_b_axes = if all_revolute { Mat3::identity() } else { frame_with_z(Vec3::y()) };
-    let coupler_b = marker_with_axes(&mut b, "coupler_b", BodyRef::Body(coupler), Vec3::new(b_len, 0.0, 0.0), coupler_b_axes);
+    let coupler_b =
+        marker_with_axes(&mut b, "coupler_b", BodyRef::Body(coupler), Vec3::new(b_len, 0.0, 0.0), coupler_b_axes);
     let rocker_pivot = marker(&mut b, "rocker_pivot", BodyRef::Body(rocker), Vec3::zeros());
     let rocker_b = marker(&mut b, "rocker_b", BodyRef::Body(rocker), Vec3::new(c, 0.0, 0.0));
     let crank_ground = joint(&mut b, "crank_ground", JointKind::Revolute, o2, crank_pivot);
@@ -84,7 +85,7 @@ fn all_revolute_four_bar_is_redundant_names_the_rows_and_still_runs() {
             r.description
         );
         assert_eq!(r.description, model.describe_constraint_row(r.row));
-        assert_eq!(state.active[r.row], false, "redundant row {} is switched off", r.row);
+        assert!(!state.active[r.row], "redundant row {} is switched off", r.row);
     }
 
     // The run goes on, and the switched-off rows are still satisfied (they are implied by the others).
@@ -169,7 +170,8 @@ fn locking_slider_crank() -> Model {
     let rod_b = marker_with_axes(&mut b, "rod_b", BodyRef::Body(rod), Vec3::new(l, 0.0, 0.0), frame_with_z(Vec3::y()));
     let slider_pin = marker(&mut b, "slider_pin", BodyRef::Body(slider), Vec3::zeros());
     let guide = marker_with_axes(&mut b, "guide", BodyRef::Ground, Vec3::zeros(), frame_with_z(Vec3::x()));
-    let slider_guide = marker_with_axes(&mut b, "slider_guide", BodyRef::Body(slider), Vec3::zeros(), frame_with_z(Vec3::x()));
+    let slider_guide =
+        marker_with_axes(&mut b, "slider_guide", BodyRef::Body(slider), Vec3::zeros(), frame_with_z(Vec3::x()));
     let crank_joint = joint(&mut b, "crank_pivot", JointKind::Revolute, pivot_ground, pivot);
     joint(&mut b, "crank_rod", JointKind::Spherical, pin, rod_a);
     joint(&mut b, "rod_slider", JointKind::Universal, rod_b, slider_pin);
@@ -191,10 +193,16 @@ fn mechanism_that_locks_fails_with_time_and_equation_after_delivering_frames() {
     let model = locking_slider_crank();
     let t_lock = (0.2_f64 / 0.3).asin() / std::f64::consts::TAU;
     let output_step = 0.005;
-    let (err, partial) = try_run(&model, &settings(1.0, output_step, 1e-7)).err().expect("the crank cannot turn past the toggle");
+    let (err, partial) =
+        try_run(&model, &settings(1.0, output_step, 1e-7)).err().expect("the crank cannot turn past the toggle");
     let message = err.to_string();
     eprintln!("locking slider-crank (lock at t = {t_lock:.6} s): {message}");
-    eprintln!("  frames received: {}, last at t = {:?}; t_reached {:.6}", partial.t.len(), partial.t.last(), err.report.t_reached);
+    eprintln!(
+        "  frames received: {}, last at t = {:?}; t_reached {:.6}",
+        partial.t.len(),
+        partial.t.last(),
+        err.report.t_reached
+    );
     let t_fail = match &err.cause {
         SimulationFailure::Integration(IntegrationError::StepSizeTooSmall { t, .. }) => *t,
         SimulationFailure::SingularAccelerations { t, .. } => *t,

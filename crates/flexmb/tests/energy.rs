@@ -14,7 +14,14 @@ use support::*;
 const G: f64 = 9.81;
 
 /// A slender link of length `len` along its body x axis, frame at one end.
-fn link(name: &str, mass: f64, len: f64, position: Vec3, orientation: EulerParameters, omega: Vec3) -> flexmb::body::RigidBody {
+fn link(
+    name: &str,
+    mass: f64,
+    len: f64,
+    position: Vec3,
+    orientation: EulerParameters,
+    omega: Vec3,
+) -> flexmb::body::RigidBody {
     let t = mass * len * len / 12.0;
     rigid(
         name,
@@ -162,12 +169,18 @@ fn damped_slider_follows_the_closed_form_and_loses_energy_monotonically() {
     let n = x.len();
     let err = max_over(n, |i| (x[i].x - exact(run.t[i])).abs());
     let off_axis = max_over(n, |i| x[i].y.abs().max(x[i].z.abs()));
-    eprintln!("damped slider: ζ = {zeta:.4}, max |x − x_exact| = {err:.2e} m over {:.1} damped periods", 10.0 * wd / std::f64::consts::TAU);
+    eprintln!(
+        "damped slider: ζ = {zeta:.4}, max |x − x_exact| = {err:.2e} m over {:.1} damped periods",
+        10.0 * wd / std::f64::consts::TAU
+    );
     assert!(err < 1e-5 * a0, "block position departs from the damped-oscillator solution by {err:e} m > 1e-5 a₀");
     assert!(off_axis < 1e-10, "block leaves the rail by {off_axis:e} m");
     let (balance, increase) = check_dissipation(&run, c, "damped slider");
     let e0 = run.col("energy.total")[0];
-    assert!(balance < 1e-4, "E(t) − E(0) + ∫ c l̇² dt off by {balance:e} of the dissipated energy > 1e-4 (trapezoid error)");
+    assert!(
+        balance < 1e-4,
+        "E(t) − E(0) + ∫ c l̇² dt off by {balance:e} of the dissipated energy > 1e-4 (trapezoid error)"
+    );
     assert!(increase <= 1e-9 * e0, "energy rises by {increase:e} J between two frames (> 1e-9 E₀): not monotone");
 }
 
@@ -207,6 +220,9 @@ fn spring_damper_pendulum_loses_energy_monotonically_at_the_damper_rate() {
     let run = run(&model, &settings(8.0, 0.001, 1e-9));
     let (balance, increase) = check_dissipation(&run, c, "elastic pendulum");
     let e0 = run.col("energy.total")[0].abs().max(1.0);
-    assert!(balance < 1e-4, "E(t) − E(0) + ∫ c l̇² dt off by {balance:e} of the dissipated energy > 1e-4 (trapezoid error)");
+    assert!(
+        balance < 1e-4,
+        "E(t) − E(0) + ∫ c l̇² dt off by {balance:e} of the dissipated energy > 1e-4 (trapezoid error)"
+    );
     assert!(increase <= 1e-9 * e0, "energy rises by {increase:e} J between two frames (> 1e-9 |E₀|): not monotone");
 }

@@ -75,7 +75,10 @@ fn drifts(tol: f64) -> Drifts {
     let mut state = State::initial(&model);
     assemble(&model, &mut data, &mut state, Default::default()).unwrap();
     velocity_analysis(&model, &mut data, &mut state).unwrap();
-    let acc = AccelerationSolver::new(&model).solve(&model, &mut data, 0.0, &state.q, &state.v, &state.active).unwrap().clone();
+    let acc = AccelerationSolver::new(&model)
+        .solve(&model, &mut data, 0.0, &state.q, &state.v, &state.active)
+        .unwrap()
+        .clone();
     let config = BdfConfig { rtol: tol, atol: tol, ..Default::default() };
     let mut bdf = Bdf::new(&model, &state, &acc, config).unwrap();
 

@@ -98,7 +98,10 @@ fn horizontal_top_precesses_at_the_gyroscopic_rate() {
          nutation {nutation:.2e} rad; spin drift {spin_drift:.2e}; energy drift {drift:.2e}; steps {}",
         run.report.stats.steps
     );
-    assert!(rel < 1e-6, "mean precession rate {measured} vs m g r/(I₃ ω₃) = {precession}: relative error {rel:e} > 1e-6");
+    assert!(
+        rel < 1e-6,
+        "mean precession rate {measured} vs m g r/(I₃ ω₃) = {precession}: relative error {rel:e} > 1e-6"
+    );
     assert!(phase_error < 1e-5, "azimuth departs from Ω t by {phase_error:e} rad > 1e-5 rad");
     assert!(nutation < 1e-5, "axis leaves the horizontal by {nutation:e} rad > 1e-5 rad (no nutation expected)");
     assert!((spin[0] - omega3).abs() < 1e-9 * omega3, "initial spin {} vs {omega3}", spin[0]);
@@ -160,7 +163,8 @@ fn tilted_top_follows_the_euler_angle_solution() {
     let reference_rate = (reference[n - 1].1 - reference[0].1) / duration;
     let omega3 = SPIN + gyroscopic * theta0.cos();
     let i1 = i1();
-    let steady = (I3 * omega3 - ((I3 * omega3).powi(2) - 4.0 * i1 * theta0.cos() * M * G * R).sqrt()) / (2.0 * i1 * theta0.cos());
+    let steady = (I3 * omega3 - ((I3 * omega3).powi(2) - 4.0 * i1 * theta0.cos() * M * G * R).sqrt())
+        / (2.0 * i1 * theta0.cos());
     // Fast-top estimate off by the first-order term ε = I₁ Ω cos θ / (I₃ ω₃) (8 % here): the mean rate
     // must lie between the gyroscopic value and the steady root Ω₀(1 + ε + O(ε²)) — the engine follows the
     // full equations, not the gyroscopic approximation.
@@ -171,7 +175,10 @@ fn tilted_top_follows_the_euler_angle_solution() {
          steady root {steady:.6}; excess over gyroscopic {excess:.4} for ε = {eps:.4}"
     );
     let rel = (mean_rate - reference_rate).abs() / reference_rate;
-    assert!(rel < 1e-6, "mean precession {mean_rate} vs Euler-angle reference {reference_rate}: relative {rel:e} > 1e-6");
+    assert!(
+        rel < 1e-6,
+        "mean precession {mean_rate} vs Euler-angle reference {reference_rate}: relative {rel:e} > 1e-6"
+    );
     assert!(
         excess > 0.5 * eps && mean_rate < steady,
         "mean precession {mean_rate} should exceed the gyroscopic {gyroscopic} by about ε = {eps:.3} and stay below the steady root {steady}"

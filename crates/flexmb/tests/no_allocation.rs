@@ -102,10 +102,39 @@ fn loaded_slider_crank(driven: bool) -> Model {
     let (r, l) = (0.1, 0.3);
     let mut b = ModelBuilder::new("loaded slider-crank").gravity(Vec3::new(0.0, -9.81, 0.0));
     let id = EulerParameters::identity();
-    let inertia = |m: f64, len: f64| Mat3::from_diagonal(&Vec3::new(1e-3 * m * len * len, m * len * len / 12.0, m * len * len / 12.0));
-    let crank = b.add_body(rigid("crank", 0.5, Vec3::new(r / 2.0, 0.0, 0.0), inertia(0.5, r), Vec3::zeros(), id, None, Some(Vec3::new(0.0, 0.0, 8.0))));
-    let rod = b.add_body(rigid("rod", 0.8, Vec3::new(l / 2.0, 0.0, 0.0), inertia(0.8, l), Vec3::new(r, 0.0, 0.0), id, None, None));
-    let slider = b.add_body(rigid("slider", 1.0, Vec3::zeros(), Mat3::from_diagonal(&Vec3::new(4e-4, 4e-4, 4e-4)), Vec3::new(r + l, 0.0, 0.0), id, None, None));
+    let inertia = |m: f64, len: f64| {
+        Mat3::from_diagonal(&Vec3::new(1e-3 * m * len * len, m * len * len / 12.0, m * len * len / 12.0))
+    };
+    let crank = b.add_body(rigid(
+        "crank",
+        0.5,
+        Vec3::new(r / 2.0, 0.0, 0.0),
+        inertia(0.5, r),
+        Vec3::zeros(),
+        id,
+        None,
+        Some(Vec3::new(0.0, 0.0, 8.0)),
+    ));
+    let rod = b.add_body(rigid(
+        "rod",
+        0.8,
+        Vec3::new(l / 2.0, 0.0, 0.0),
+        inertia(0.8, l),
+        Vec3::new(r, 0.0, 0.0),
+        id,
+        None,
+        None,
+    ));
+    let slider = b.add_body(rigid(
+        "slider",
+        1.0,
+        Vec3::zeros(),
+        Mat3::from_diagonal(&Vec3::new(4e-4, 4e-4, 4e-4)),
+        Vec3::new(r + l, 0.0, 0.0),
+        id,
+        None,
+        None,
+    ));
     let pivot_ground = marker(&mut b, "pivot_ground", BodyRef::Ground, Vec3::zeros());
     let pivot = marker(&mut b, "pivot", BodyRef::Body(crank), Vec3::zeros());
     let pin = marker(&mut b, "pin", BodyRef::Body(crank), Vec3::new(r, 0.0, 0.0));
@@ -113,7 +142,8 @@ fn loaded_slider_crank(driven: bool) -> Model {
     let rod_b = marker_with_axes(&mut b, "rod_b", BodyRef::Body(rod), Vec3::new(l, 0.0, 0.0), frame_with_z(Vec3::y()));
     let slider_pin = marker(&mut b, "slider_pin", BodyRef::Body(slider), Vec3::zeros());
     let guide = marker_with_axes(&mut b, "guide", BodyRef::Ground, Vec3::zeros(), frame_with_z(Vec3::x()));
-    let slider_guide = marker_with_axes(&mut b, "slider_guide", BodyRef::Body(slider), Vec3::zeros(), frame_with_z(Vec3::x()));
+    let slider_guide =
+        marker_with_axes(&mut b, "slider_guide", BodyRef::Body(slider), Vec3::zeros(), frame_with_z(Vec3::x()));
     let anchor = marker(&mut b, "anchor", BodyRef::Ground, Vec3::new(0.8, 0.0, 0.0));
     let crank_joint = joint(&mut b, "crank_pivot", JointKind::Revolute, pivot_ground, pivot);
     joint(&mut b, "crank_rod", JointKind::Spherical, pin, rod_a);
@@ -179,7 +209,8 @@ fn allocations_while_stepping(model: &Model) -> (Vec<String>, usize) {
     let mut state = State::initial(model);
     assemble(model, &mut data, &mut state, Default::default()).unwrap();
     velocity_analysis(model, &mut data, &mut state).unwrap();
-    let acc = AccelerationSolver::new(model).solve(model, &mut data, 0.0, &state.q, &state.v, &state.active).unwrap().clone();
+    let acc =
+        AccelerationSolver::new(model).solve(model, &mut data, 0.0, &state.q, &state.v, &state.active).unwrap().clone();
     let mut bdf = Bdf::new(model, &state, &acc, BdfConfig { rtol: 1e-7, atol: 1e-7, ..Default::default() }).unwrap();
     let t_end = 3.0;
     for _ in 0..20 {

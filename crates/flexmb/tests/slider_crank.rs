@@ -60,10 +60,17 @@ fn slider_crank() -> Model {
     let pivot = marker(&mut b, "crank_pivot", BodyRef::Body(crank), Vec3::zeros());
     let pin = marker(&mut b, "crank_pin", BodyRef::Body(crank), Vec3::new(CRANK, 0.0, 0.0));
     let rod_a = marker(&mut b, "rod_crank_end", BodyRef::Body(rod), Vec3::zeros());
-    let rod_b = marker_with_axes(&mut b, "rod_slider_end", BodyRef::Body(rod), Vec3::new(ROD, 0.0, 0.0), frame_with_z(Vec3::y()));
+    let rod_b = marker_with_axes(
+        &mut b,
+        "rod_slider_end",
+        BodyRef::Body(rod),
+        Vec3::new(ROD, 0.0, 0.0),
+        frame_with_z(Vec3::y()),
+    );
     let slider_pin = marker(&mut b, "slider_pin", BodyRef::Body(slider), Vec3::zeros());
     let guide = marker_with_axes(&mut b, "guide", BodyRef::Ground, Vec3::zeros(), frame_with_z(Vec3::x()));
-    let slider_guide = marker_with_axes(&mut b, "slider_guide", BodyRef::Body(slider), Vec3::zeros(), frame_with_z(Vec3::x()));
+    let slider_guide =
+        marker_with_axes(&mut b, "slider_guide", BodyRef::Body(slider), Vec3::zeros(), frame_with_z(Vec3::x()));
     let crank_joint = joint(&mut b, "crank_pivot", JointKind::Revolute, pivot_ground, pivot);
     joint(&mut b, "crank_rod", JointKind::Spherical, pin, rod_a);
     joint(&mut b, "rod_slider", JointKind::Universal, rod_b, slider_pin);

@@ -232,9 +232,7 @@ fn primitive_equations_jacobian_rate_and_acceleration_bias_match_finite_differen
         update_angle_references(&model, &mut data);
         let base = terms_at(&model, &mut data, t, &q, &v);
         let b = dense_b(&model, &mut data, t, &q, &v);
-        for row in 0..nc {
-            assert!(base[row].phi.is_finite());
-        }
+        assert!(base.iter().all(|e| e.phi.is_finite() && e.accel_bias.is_finite()), "finite Φ and γ at the base state");
 
         // (a) B = ∂Φ/∂(R, π̄), central differences with ε = 1e-6 (truncation ~ε², round-off ~1e-16/ε).
         let eps = 1e-6;
@@ -284,9 +282,7 @@ fn primitive_equations_jacobian_rate_and_acceleration_bias_match_finite_differen
             worst_d = worst_d.max(check_close(&model, &format!("trial {trial}: Φ_t"), row, base[row].phi_t, fd, 1e-7));
         }
     }
-    eprintln!(
-        "largest relative errors: B {worst_a:.2e}, Φ̇ {worst_b:.2e}, Φ̈ {worst_c:.2e}, Φ_t {worst_d:.2e}"
-    );
+    eprintln!("largest relative errors: B {worst_a:.2e}, Φ̇ {worst_b:.2e}, Φ̈ {worst_c:.2e}, Φ_t {worst_d:.2e}");
 }
 
 /// The time-law equations really depend on time: a check that (d) above is not vacuous.

@@ -85,12 +85,14 @@ impl Run {
 
     /// The three columns `name.x`, `name.y`, `name.z` as vectors.
     pub fn vec3(&self, name: &str) -> Vec<Vec3> {
-        let (x, y, z) = (self.col(&format!("{name}.x")), self.col(&format!("{name}.y")), self.col(&format!("{name}.z")));
+        let (x, y, z) =
+            (self.col(&format!("{name}.x")), self.col(&format!("{name}.y")), self.col(&format!("{name}.z")));
         (0..x.len()).map(|k| Vec3::new(x[k], y[k], z[k])).collect()
     }
 }
 
 /// Runs a simulation and collects every output frame; the error keeps the frames received before it.
+#[allow(clippy::result_large_err)]
 pub fn try_run(model: &Model, settings: &SimulationSettings) -> Result<Run, (SimulationError, Run)> {
     let columns: Vec<String> = output_columns(model).into_iter().map(|c| c.name).collect();
     let mut t = Vec::new();
