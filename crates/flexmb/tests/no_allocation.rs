@@ -2,13 +2,9 @@
 //! in this test binary only, counts the allocations made by the test thread while it steps and records
 //! each with a backtrace, so that a failure names the culprit.
 //!
-//! Finding: the engine's own code is allocation-free per step, but faer's *supernodal* numeric LU
-//! (`SparseLu` uses `SupernodalThreshold::FORCE_SUPERNODAL`) allocates four times per factorization
-//! (faer 0.24.4 `sparse/linalg/lu.rs`: the `contrib_work` vector at line 733, `resize_vec` at 1169,
-//! `try_reserve_exact` at 1182 and `MatU8::with_dims` at 1189). The strict test is therefore ignored;
-//! the active one allows allocations inside faer's LU factorization only. With
-//! `SupernodalThreshold::FORCE_SIMPLICIAL` in `SparseLu::new` the strict test passes (checked: 0
-//! allocations in 758 steps with 228 factorizations); the supernodal choice was made for speed.
+//! `SparseLu` uses faer's simplicial LU: faer 0.24.4's supernodal numeric LU allocates four times per
+//! factorization (`sparse/linalg/lu.rs` lines 733, 1169, 1182, 1189), so it is not used. The strict test
+//! below holds the whole step, faer included, to zero allocations.
 #![allow(unsafe_code)] // the global allocator below; the engine itself stays free of unsafe code
 
 mod support;
@@ -269,8 +265,6 @@ fn bdf_step_allocates_nowhere_but_in_the_sparse_lu_factorization() {
 }
 
 #[test]
-#[ignore = "faer's supernodal numeric LU (SparseLu forces SupernodalThreshold::FORCE_SUPERNODAL) allocates 4 times \
-            per factorization: faer-0.24.4 sparse/linalg/lu.rs lines 733, 1169, 1182, 1189; passes with FORCE_SIMPLICIAL"]
 fn bdf_step_does_not_allocate_after_warm_up() {
     for driven in [false, true] {
         let model = loaded_slider_crank(driven);

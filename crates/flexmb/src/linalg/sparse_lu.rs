@@ -54,10 +54,11 @@ impl SparseLu {
         }
         let nnz = row_idx.len();
         let pattern = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
-        // The supernodal factorization measured faster than the simplicial one on every model shipped,
-        // from the 78-unknown slider-crank to the 400-unknown chain (`flexmb bench`).
+        // Simplicial (left-looking, Gilbert–Peierls) rather than supernodal: faer 0.24's supernodal
+        // numeric factorization allocates four times per call, and a time step must not allocate. The
+        // supernodal one was 1.3–1.7× faster on `flexmb bench`; see tests/no_allocation.rs.
         let params = LuSymbolicParams {
-            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SIMPLICIAL,
             ..Default::default()
         };
         let symbolic = factorize_symbolic_lu(pattern.as_ref(), params)
