@@ -114,9 +114,11 @@ fn run(
     let n_out = output_columns(model).len();
     let mut values = vec![0.0; n_out];
     let mut y = vec![0.0; yl.len()];
+    // The rows in force do not change during a run; copied once so that no step allocates.
+    let active = bdf.active().to_vec();
+    let mut y_step = vec![0.0; yl.len()];
     let mut frame = |bdf: &mut Bdf, t: f64, y: &[f64], values: &mut [f64], report: &mut SimulationReport| {
         let (q, v) = (&y[yl.q.clone()], &y[yl.v.clone()]);
-        let active = bdf.active().to_vec();
         let data = bdf.data_mut();
         let acc = acc_solver
             .solve(model, data, t, q, v, &active)
@@ -143,7 +145,8 @@ fn run(
         report.t_reached = bdf.t();
         report.wall_time = start.elapsed().as_secs_f64();
         step?;
-        check_step(model, &mut bdf, &yl, report);
+        y_step.copy_from_slice(bdf.y());
+        check_step(model, &mut bdf, &yl, &y_step, &active, report);
         while next <= n_frames && next as f64 * settings.output_step <= bdf.t() * (1.0 + 1e-12) {
             let t_out = next as f64 * settings.output_step;
             bdf.interpolate(t_out.min(bdf.t()), &mut y);
@@ -161,15 +164,13 @@ fn run(
 }
 
 /// Records the constraint residuals and the Euler-parameter normalization at an accepted step.
-fn check_step(model: &Model, bdf: &mut Bdf, yl: &YLayout, report: &mut SimulationReport) {
+fn check_step(model: &Model, bdf: &mut Bdf, yl: &YLayout, y: &[f64], active: &[bool], report: &mut SimulationReport) {
     let t = bdf.t();
-    let y = bdf.y().to_vec();
-    let active = bdf.active().to_vec();
     let (q, v) = (&y[yl.q.clone()], &y[yl.v.clone()]);
     let data = bdf.data_mut();
     kinematics(model, data, q, v);
     constraint_equations(model, data, t);
-    let (p, vel) = constraint_residuals(model, data, &active);
+    let (p, vel) = constraint_residuals(model, data, active);
     report.max_position_residual = report.max_position_residual.max(p);
     report.max_velocity_residual = report.max_velocity_residual.max(vel);
     for b in 0..model.bodies.len() {
