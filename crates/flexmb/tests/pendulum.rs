@@ -1,6 +1,6 @@
 //! Simple pendulum: period against the elliptic-integral value, energy conservation over many periods.
 
-mod common;
+mod support;
 
 use flexmb::analysis::{simulate, SimulationSettings};
 use flexmb::integrate::BdfConfig;
@@ -9,14 +9,14 @@ use flexmb::model::OutputKind;
 #[test]
 fn period_matches_elliptic_integral_and_energy_is_conserved() {
     let (l, m, ic, g, theta0) = (1.0, 1.0, 1e-3, 9.81, 1.0_f64);
-    let mut b = common::pendulum(l, m, ic, theta0, g);
+    let mut b = support::pendulum(l, m, ic, theta0, g);
     let bob = b.find_marker("bob_centre").unwrap();
     b.add_output("bob", OutputKind::MarkerPosition(bob));
     b.add_output("energy", OutputKind::Energy);
     let model = b.build().unwrap();
     // Physical pendulum: T = 4 sqrt(I_O / (m g l)) K(sin(θ0/2)).
     let i_pivot = ic + m * l * l;
-    let period = 4.0 * (i_pivot / (m * g * l)).sqrt() * common::elliptic_k((theta0 / 2.0).sin());
+    let period = 4.0 * (i_pivot / (m * g * l)).sqrt() * support::elliptic_k((theta0 / 2.0).sin());
     let settings = SimulationSettings {
         t_end: 10.0 * period,
         output_step: 1e-3,

@@ -137,3 +137,27 @@ pub fn unwrap_angles(a: &[f64]) -> Vec<f64> {
     }
     out
 }
+
+/// A pendulum of length `l` swinging about the global z axis through the origin, bob (mass `m`,
+/// inertia `ic` about its centre) released at rest `theta0` from the hanging position; gravity −y.
+pub fn pendulum(l: f64, m: f64, ic: f64, theta0: f64, g: f64) -> ModelBuilder {
+    let mut b = ModelBuilder::new("pendulum").gravity(Vec3::new(0.0, -g, 0.0));
+    let pose = EulerParameters::from_axis_angle(&Vec3::z(), theta0);
+    let bob = b.add_body(rigid("bob", m, Vec3::zeros(), Mat3::from_diagonal(&Vec3::new(ic, ic, ic)), Vec3::new(l * theta0.sin(), -l * theta0.cos(), 0.0), pose, None, None));
+    let gm = marker(&mut b, "pivot_ground", BodyRef::Ground, Vec3::zeros());
+    let bm = marker(&mut b, "pivot_bob", BodyRef::Body(bob), Vec3::new(0.0, l, 0.0));
+    marker(&mut b, "bob_centre", BodyRef::Body(bob), Vec3::zeros());
+    joint(&mut b, "pivot", JointKind::Revolute, gm, bm);
+    b
+}
+
+/// Complete elliptic integral of the first kind `K(k)` by the arithmetic–geometric mean.
+pub fn elliptic_k(k: f64) -> f64 {
+    let (mut a, mut g) = (1.0_f64, (1.0 - k * k).sqrt());
+    for _ in 0..40 {
+        let an = 0.5 * (a + g);
+        g = (a * g).sqrt();
+        a = an;
+    }
+    std::f64::consts::PI / (2.0 * a)
+}
