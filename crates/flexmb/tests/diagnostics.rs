@@ -151,31 +151,7 @@ fn assembly_that_cannot_close_names_a_joint() {
 fn locking_slider_crank() -> Model {
     let (r, l) = (0.3, 0.2);
     let mut b = ModelBuilder::new("locking slider-crank");
-    let crank = b.add_body(bar("crank", 0.5, r, Vec3::zeros(), 0.0, None));
-    let rod = b.add_body(bar("rod", 0.3, l, Vec3::new(r, 0.0, 0.0), 0.0, None));
-    let slider = b.add_body(rigid(
-        "slider",
-        1.0,
-        Vec3::zeros(),
-        Mat3::from_diagonal(&Vec3::new(1e-3, 1e-3, 1e-3)),
-        Vec3::new(r + l, 0.0, 0.0),
-        EulerParameters::identity(),
-        None,
-        None,
-    ));
-    let pivot_ground = marker(&mut b, "pivot_ground", BodyRef::Ground, Vec3::zeros());
-    let pivot = marker(&mut b, "pivot", BodyRef::Body(crank), Vec3::zeros());
-    let pin = marker(&mut b, "pin", BodyRef::Body(crank), Vec3::new(r, 0.0, 0.0));
-    let rod_a = marker(&mut b, "rod_a", BodyRef::Body(rod), Vec3::zeros());
-    let rod_b = marker_with_axes(&mut b, "rod_b", BodyRef::Body(rod), Vec3::new(l, 0.0, 0.0), frame_with_z(Vec3::y()));
-    let slider_pin = marker(&mut b, "slider_pin", BodyRef::Body(slider), Vec3::zeros());
-    let guide = marker_with_axes(&mut b, "guide", BodyRef::Ground, Vec3::zeros(), frame_with_z(Vec3::x()));
-    let slider_guide =
-        marker_with_axes(&mut b, "slider_guide", BodyRef::Body(slider), Vec3::zeros(), frame_with_z(Vec3::x()));
-    let crank_joint = joint(&mut b, "crank_pivot", JointKind::Revolute, pivot_ground, pivot);
-    joint(&mut b, "crank_rod", JointKind::Spherical, pin, rod_a);
-    joint(&mut b, "rod_slider", JointKind::Universal, rod_b, slider_pin);
-    joint(&mut b, "slide", JointKind::Translational, guide, slider_guide);
+    let SliderCrank { crank_joint, pivot_ground, pivot, .. } = slider_crank_linkage(&mut b, r, l, None);
     joint(
         &mut b,
         "crank_motion",

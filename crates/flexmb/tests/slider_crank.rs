@@ -13,9 +13,9 @@ mod support;
 
 use flexmb::function::TimeFunction;
 use flexmb::joint::JointKind;
-use flexmb::math::{EulerParameters, Mat3, Vec3};
+use flexmb::math::Vec3;
 use flexmb::measure::{Measure, MeasureKind};
-use flexmb::model::{BodyRef, Model, ModelBuilder, OutputKind};
+use flexmb::model::{Model, ModelBuilder, OutputKind};
 use std::f64::consts::PI;
 use support::*;
 
@@ -25,56 +25,8 @@ const SPEED: f64 = 2.0 * PI; // rad/s, ω (1 rev/s)
 
 fn slider_crank() -> Model {
     let mut b = ModelBuilder::new("slider-crank").gravity(Vec3::new(0.0, -9.81, 0.0));
-    let id = EulerParameters::identity();
-    let crank = b.add_body(rigid(
-        "crank",
-        0.5,
-        Vec3::new(CRANK / 2.0, 0.0, 0.0),
-        Mat3::from_diagonal(&Vec3::new(4.17e-5, 6.04e-4, 6.38e-4)),
-        Vec3::zeros(),
-        id,
-        None,
-        None,
-    ));
-    let rod = b.add_body(rigid(
-        "rod",
-        0.8,
-        Vec3::new(ROD / 2.0, 0.0, 0.0),
-        Mat3::from_diagonal(&Vec3::new(4.83e-5, 6.01e-3, 6.04e-3)),
-        Vec3::new(CRANK, 0.0, 0.0),
-        id,
-        None,
-        None,
-    ));
-    let slider = b.add_body(rigid(
-        "slider",
-        1.0,
-        Vec3::zeros(),
-        Mat3::from_diagonal(&Vec3::new(4.17e-4, 4.17e-4, 4.17e-4)),
-        Vec3::new(CRANK + ROD, 0.0, 0.0),
-        id,
-        None,
-        None,
-    ));
-    let pivot_ground = marker(&mut b, "crank_pivot_ground", BodyRef::Ground, Vec3::zeros());
-    let pivot = marker(&mut b, "crank_pivot", BodyRef::Body(crank), Vec3::zeros());
-    let pin = marker(&mut b, "crank_pin", BodyRef::Body(crank), Vec3::new(CRANK, 0.0, 0.0));
-    let rod_a = marker(&mut b, "rod_crank_end", BodyRef::Body(rod), Vec3::zeros());
-    let rod_b = marker_with_axes(
-        &mut b,
-        "rod_slider_end",
-        BodyRef::Body(rod),
-        Vec3::new(ROD, 0.0, 0.0),
-        frame_with_z(Vec3::y()),
-    );
-    let slider_pin = marker(&mut b, "slider_pin", BodyRef::Body(slider), Vec3::zeros());
-    let guide = marker_with_axes(&mut b, "guide", BodyRef::Ground, Vec3::zeros(), frame_with_z(Vec3::x()));
-    let slider_guide =
-        marker_with_axes(&mut b, "slider_guide", BodyRef::Body(slider), Vec3::zeros(), frame_with_z(Vec3::x()));
-    let crank_joint = joint(&mut b, "crank_pivot", JointKind::Revolute, pivot_ground, pivot);
-    joint(&mut b, "crank_rod", JointKind::Spherical, pin, rod_a);
-    joint(&mut b, "rod_slider", JointKind::Universal, rod_b, slider_pin);
-    let slide = joint(&mut b, "slide", JointKind::Translational, guide, slider_guide);
+    let SliderCrank { crank_joint, slide, pivot_ground, pivot, slider_pin, .. } =
+        slider_crank_linkage(&mut b, CRANK, ROD, None);
     joint(
         &mut b,
         "crank_motion",

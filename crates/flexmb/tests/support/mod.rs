@@ -161,3 +161,65 @@ pub fn elliptic_k(k: f64) -> f64 {
     }
     std::f64::consts::PI / (2.0 * a)
 }
+
+/// The elements of a slider-crank built by [`slider_crank_linkage`].
+pub struct SliderCrank {
+    pub crank_joint: JointId,
+    pub slide: JointId,
+    pub pivot_ground: MarkerId,
+    pub pivot: MarkerId,
+    pub rod_slider_end: MarkerId,
+    pub slider_pin: MarkerId,
+}
+
+/// A slider-crank in the x-y plane: crank of radius `r` on a revolute to ground about global z, rod of
+/// length `l`, slider on a translational joint along global x; crank along +x at the start. Joints as in
+/// `models/slider_crank.toml` (revolute, spherical, universal, translational), so the loop has no
+/// redundant equations: one degree of freedom, zero with a driver on `crank_joint`'s markers.
+pub fn slider_crank_linkage(b: &mut ModelBuilder, r: f64, l: f64, crank_omega: Option<Vec3>) -> SliderCrank {
+    let id = EulerParameters::identity();
+    let crank = b.add_body(rigid(
+        "crank",
+        0.5,
+        Vec3::new(r / 2.0, 0.0, 0.0),
+        Mat3::from_diagonal(&Vec3::new(4.17e-5, 6.04e-4, 6.38e-4)),
+        Vec3::zeros(),
+        id,
+        None,
+        crank_omega,
+    ));
+    let rod = b.add_body(rigid(
+        "rod",
+        0.8,
+        Vec3::new(l / 2.0, 0.0, 0.0),
+        Mat3::from_diagonal(&Vec3::new(4.83e-5, 6.01e-3, 6.04e-3)),
+        Vec3::new(r, 0.0, 0.0),
+        id,
+        None,
+        None,
+    ));
+    let slider = b.add_body(rigid(
+        "slider",
+        1.0,
+        Vec3::zeros(),
+        Mat3::from_diagonal(&Vec3::new(4.17e-4, 4.17e-4, 4.17e-4)),
+        Vec3::new(r + l, 0.0, 0.0),
+        id,
+        None,
+        None,
+    ));
+    let pivot_ground = marker(b, "crank_pivot_ground", BodyRef::Ground, Vec3::zeros());
+    let pivot = marker(b, "crank_pivot", BodyRef::Body(crank), Vec3::zeros());
+    let pin = marker(b, "crank_pin", BodyRef::Body(crank), Vec3::new(r, 0.0, 0.0));
+    let rod_a = marker(b, "rod_crank_end", BodyRef::Body(rod), Vec3::zeros());
+    let rod_slider_end =
+        marker_with_axes(b, "rod_slider_end", BodyRef::Body(rod), Vec3::new(l, 0.0, 0.0), frame_with_z(Vec3::y()));
+    let slider_pin = marker(b, "slider_pin", BodyRef::Body(slider), Vec3::zeros());
+    let guide = marker_with_axes(b, "guide", BodyRef::Ground, Vec3::zeros(), frame_with_z(Vec3::x()));
+    let slider_guide = marker_with_axes(b, "slider_guide", BodyRef::Body(slider), Vec3::zeros(), frame_with_z(Vec3::x()));
+    let crank_joint = joint(b, "crank_pivot", JointKind::Revolute, pivot_ground, pivot);
+    joint(b, "crank_rod", JointKind::Spherical, pin, rod_a);
+    joint(b, "rod_slider", JointKind::Universal, rod_slider_end, slider_pin);
+    let slide = joint(b, "slide", JointKind::Translational, guide, slider_guide);
+    SliderCrank { crank_joint, slide, pivot_ground, pivot, rod_slider_end, slider_pin }
+}
