@@ -7,7 +7,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use flexmb::function::{Expression, ExpressionError, TimeFunction};
 use flexmb::model::MeasureId;
 
-use super::expression_text::{identifiers, rewrite, tokenize, Token, BUILTIN_NAMES, FUNCTION_NAMES};
+use flexmb::function::expression_text::{identifiers, rewrite, tokenize, Token, BUILTIN_NAMES, FUNCTION_NAMES};
 use super::suggest::did_you_mean;
 
 /// The names an expression may use besides `exmex`'s constants and functions.

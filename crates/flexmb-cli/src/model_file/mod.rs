@@ -4,7 +4,6 @@
 
 mod build;
 mod error;
-mod expression_text;
 mod expressions;
 mod key_path;
 mod parameters;

@@ -4,7 +4,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use super::error::ModelFileError;
-use super::expression_text::{identifiers, is_plain_identifier, BUILTIN_NAMES};
+use flexmb::function::expression_text::{identifiers, is_plain_identifier, BUILTIN_NAMES};
 use super::expressions::Scope;
 use super::key_path::KeyPath;
 use super::schema::{Name, Number};

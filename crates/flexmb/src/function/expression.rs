@@ -48,7 +48,9 @@ impl Expression {
         source: &str,
         resolve: &dyn Fn(&str) -> Option<MeasureId>,
     ) -> Result<Self, ExpressionError> {
-        let flat = exmex::parse::<f64>(source).map_err(|e| ExpressionError::Parse {
+        // `exmex` cannot read exponent literals such as `1e-6`: they are written out in decimals first.
+        let text = super::expression_text::rewrite(source, &|_| None);
+        let flat = exmex::parse::<f64>(&text).map_err(|e| ExpressionError::Parse {
             source_text: source.to_string(),
             message: e.to_string(),
         })?;
@@ -165,6 +167,13 @@ mod tests {
         };
         let e = Expression::parse("2*alpha + omega*t", &resolve).unwrap();
         assert_eq!(e.eval(3.0, &[5.0, 7.0]), 2.0 * 5.0 + 7.0 * 3.0);
+    }
+
+    #[test]
+    fn exponent_literals_are_read() {
+        let e = Expression::parse("1e-3*t + 2.5E2", &|_| None).unwrap();
+        assert_eq!(e.eval(2.0, &[]), 0.002 + 250.0);
+        assert_eq!(e.source(), "1e-3*t + 2.5E2");
     }
 
     #[test]

@@ -10,7 +10,7 @@ use flexmb::model::MeasureId;
 use toml::Spanned;
 
 use crate::model_file::error::{ErrorKind, ModelFileError};
-use crate::model_file::expression_text::decimal;
+use flexmb::function::expression_text::decimal;
 use crate::model_file::expressions::Scope;
 use crate::model_file::key_path::KeyPath;
 use crate::model_file::schema::{Number, Vector};

@@ -9,7 +9,7 @@ use toml::Spanned;
 use super::context::Context;
 use super::names::NameTable;
 use crate::model_file::error::ModelFileError;
-use crate::model_file::expression_text::{is_plain_identifier, BINARY_FUNCTION_NAMES, BUILTIN_NAMES};
+use flexmb::function::expression_text::{is_plain_identifier, BINARY_FUNCTION_NAMES, BUILTIN_NAMES};
 use crate::model_file::key_path::KeyPath;
 use crate::model_file::schema::{MeasureSection, Name};
 

@@ -1,17 +1,17 @@
-//! The text of an expression as the file layer sees it before `exmex` parses it: a tokenizer that
+//! The text of an expression before `exmex` parses it: a tokenizer that
 //! finds identifiers (at identifier boundaries only) and number literals, and the rewriting that
 //! substitutes parameters, writes exponent literals (`1e-6`, which `exmex` cannot read) in plain
 //! decimals and turns tabs and newlines into spaces.
 
 /// Names `exmex` gives a meaning: constants and functions. They cannot name a parameter or measure.
-pub(crate) const BUILTIN_NAMES: &[&str] = &[
+pub const BUILTIN_NAMES: &[&str] = &[
     "PI", "π", "E", "e", "TAU", "τ", "abs", "signum", "sin", "cos", "tan", "asin", "acos", "atan", "sinh", "cosh",
     "tanh", "asinh", "acosh", "atanh", "floor", "round", "ceil", "trunc", "fract", "exp", "sqrt", "cbrt", "ln", "log2",
     "log10", "log", "atan2", "min", "max",
 ];
 
 /// The functions among [`BUILTIN_NAMES`]: names that may stand right before `(`.
-pub(crate) const FUNCTION_NAMES: &[&str] = &[
+pub const FUNCTION_NAMES: &[&str] = &[
     "abs", "signum", "sin", "cos", "tan", "asin", "acos", "atan", "sinh", "cosh", "tanh", "asinh", "acosh", "atanh",
     "floor", "round", "ceil", "trunc", "fract", "exp", "sqrt", "cbrt", "ln", "log2", "log10", "log", "atan2", "min",
     "max",
@@ -19,11 +19,11 @@ pub(crate) const FUNCTION_NAMES: &[&str] = &[
 
 /// Two-argument functions `exmex` recognises at the start of any name, so no measure name may begin
 /// with them (`max_torque` would read as `max` followed by `_torque`).
-pub(crate) const BINARY_FUNCTION_NAMES: &[&str] = &["atan2", "min", "max"];
+pub const BINARY_FUNCTION_NAMES: &[&str] = &["atan2", "min", "max"];
 
 /// A piece of expression text.
 #[derive(Clone, Debug, PartialEq)]
-pub(crate) enum Token<'a> {
+pub enum Token<'a> {
     Identifier(&'a str),
     Number {
         text: &'a str,
@@ -34,7 +34,7 @@ pub(crate) enum Token<'a> {
 }
 
 /// Splits `text` into identifiers, numbers and single other characters.
-pub(crate) fn tokenize(text: &str) -> Vec<Token<'_>> {
+pub fn tokenize(text: &str) -> Vec<Token<'_>> {
     let mut tokens = Vec::new();
     let mut rest = text;
     while let Some(c) = rest.chars().next() {
@@ -59,7 +59,7 @@ pub(crate) fn tokenize(text: &str) -> Vec<Token<'_>> {
 }
 
 /// The identifiers in `text`, in order of appearance.
-pub(crate) fn identifiers(text: &str) -> Vec<&str> {
+pub fn identifiers(text: &str) -> Vec<&str> {
     tokenize(text)
         .into_iter()
         .filter_map(|t| match t {
@@ -71,7 +71,7 @@ pub(crate) fn identifiers(text: &str) -> Vec<&str> {
 
 /// `text` ready for `exmex`: identifiers for which `value_of` gives a value are replaced by it in
 /// parentheses, numbers with an exponent are written out in decimals, white space becomes spaces.
-pub(crate) fn rewrite(text: &str, value_of: &dyn Fn(&str) -> Option<f64>) -> String {
+pub fn rewrite(text: &str, value_of: &dyn Fn(&str) -> Option<f64>) -> String {
     let mut out = String::with_capacity(text.len());
     for token in tokenize(text) {
         match token {
@@ -95,12 +95,12 @@ pub(crate) fn rewrite(text: &str, value_of: &dyn Fn(&str) -> Option<f64>) -> Str
 
 /// A finite number in plain decimal notation, as `exmex` reads it (Rust's `Display` for `f64` never
 /// uses an exponent and round-trips exactly).
-pub(crate) fn decimal(value: f64) -> String {
+pub fn decimal(value: f64) -> String {
     format!("{value}")
 }
 
 /// Whether `name` is a plain ASCII identifier: a letter or `_`, then letters, digits and `_`.
-pub(crate) fn is_plain_identifier(name: &str) -> bool {
+pub fn is_plain_identifier(name: &str) -> bool {
     let mut chars = name.chars();
     chars.next().is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
         && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
