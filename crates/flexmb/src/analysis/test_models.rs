@@ -8,9 +8,9 @@ use crate::math::{EulerParameters, Mat3, Vec3};
 use crate::measure::{Measure, MeasureKind};
 use crate::model::{BodyRef, Model, ModelBuilder};
 
-/// A spatial double pendulum (spherical, then revolute) with an offset centre of mass, a spring–damper
-/// between the second link and ground whose actuator reads the first joint's… rate of a distance, and
-/// gravity; generic enough to exercise every coupling path of the Jacobian pattern.
+/// A spatial double pendulum (spherical, then revolute) with an offset centre of mass, gravity, and a
+/// spring–damper between the second link and ground whose actuator reads the hinge's rate: every coupling
+/// path of the Jacobian pattern (joints, forces, measures) is exercised.
 pub(crate) fn double_pendulum_with_spring() -> Model {
     let mut b = ModelBuilder::new("test double pendulum").gravity(Vec3::new(0.0, -9.81, 0.0));
     let tilt = EulerParameters::from_axis_angle(&Vec3::new(0.3, 0.2, 1.0), 0.7);

@@ -27,10 +27,9 @@ const MAX_FACTOR: f64 = 10.0;
 const REUSE_MIN: f64 = 0.6;
 const REUSE_MAX: f64 = 1.0 / 0.6;
 
-/// `γ_k = Σ_{j=1..k} 1/j`.
-fn gamma(k: usize) -> f64 {
-    (1..=k).map(|j| 1.0 / j as f64).sum()
-}
+/// `γ_k = Σ_{j=1..k} 1/j` for `k = 0..=MAX_ORDER`.
+const GAMMA: [f64; MAX_ORDER + 1] =
+    [0.0, 1.0, 1.5, 1.5 + 1.0 / 3.0, 1.5 + 1.0 / 3.0 + 0.25, 1.5 + 1.0 / 3.0 + 0.25 + 0.2];
 
 /// Error constant of BDF order `k`: `1/(k + 1)`.
 fn error_const(k: usize) -> f64 {
@@ -263,7 +262,7 @@ impl<'m> Bdf<'m> {
                 self.factored_c = None;
             }
             let order = self.order;
-            let alpha = gamma(order);
+            let alpha = GAMMA[order];
             for k in 0..n {
                 let mut yp = 0.0;
                 let mut psi = 0.0;
@@ -271,7 +270,7 @@ impl<'m> Bdf<'m> {
                     let dj = self.d[j * n + k];
                     yp += dj;
                     if j > 0 {
-                        psi += dj * gamma(j);
+                        psi += dj * GAMMA[j];
                     }
                 }
                 self.y_pred[k] = yp;

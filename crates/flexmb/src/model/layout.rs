@@ -68,8 +68,4 @@ impl Layout {
     pub fn n_position_constraints(&self) -> usize {
         self.nc + self.n_bodies()
     }
-    /// Length of the integrator's unknown vector `y = [q, v, λ, μ]`.
-    pub fn ny(&self) -> usize {
-        self.nq + self.nv + self.nc + self.n_position_constraints()
-    }
 }

@@ -55,8 +55,8 @@ pub(crate) fn add_jacobian_transpose(model: &Model, data: &Data, w: &[f64], out:
     }
 }
 
-/// Calls `f(row, v_column, value)` for every entry of `B`; entries of the same position may repeat
-/// (a joint between two markers of… different bodies never does, but callers must add, not set).
+/// Calls `f(row, v_column, value)` for every entry of `B`. Callers add the values rather than set them,
+/// so that the function stays correct should two sides of a row ever share a body.
 pub(crate) fn jacobian_entries(model: &Model, data: &Data, mut f: impl FnMut(usize, usize, f64)) {
     for row in 0..model.layout.nc {
         for (b, r) in row_sides(model, data, row).into_iter().flatten() {
