@@ -1,0 +1,74 @@
+//! Element matrices: stiffness and lumped mass of one element, in body-frame components, 6 degrees of
+//! freedom per node (`ux uy uz rx ry rz`) in the order of the element's nodes.
+//!
+//! A lumped mass is, at each node, a point mass (the same in all three translations) and optionally a
+//! 3×3 rotary inertia about the node; with rotary inertia off the mass matrix is diagonal, as in the
+//! seed.
+
+pub mod beam;
+pub mod shell;
+
+use nalgebra::{DMatrix, Matrix3};
+
+use crate::mesh::{Element, ElementKind, Mesh, ModelOptions};
+
+/// The stiffness matrix (symmetric, 6n × 6n) and the lumped mass (one entry per node) of one element.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ElementMatrices {
+    pub stiffness: DMatrix<f64>,
+    pub lumped_mass: Vec<NodalMass>,
+}
+
+/// The mass an element lumps at one of its nodes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NodalMass {
+    /// Translational mass (kg), the same along the three axes.
+    pub mass: f64,
+    /// Rotary inertia about the node in body-frame components (kg m²), symmetric; zero unless the
+    /// model asks for rotary inertia.
+    pub rotary_inertia: Matrix3<f64>,
+}
+
+/// Why an element's matrices cannot be formed.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ElementError {
+    #[error("the element has {found} nodes; a {kind} needs {expected}")]
+    NodeCount { kind: &'static str, expected: &'static str, found: usize },
+    #[error("the beam has zero length (its two nodes coincide)")]
+    ZeroLength,
+    #[error("the beam's orientation vector is parallel to the beam axis")]
+    OrientationParallel,
+    #[error("the shell is degenerate (zero or negative area, or collinear nodes)")]
+    DegenerateShape,
+    #[error("the shell's nodes are not in one plane: warp {warp:.3e} relative to its size")]
+    Warped { warp: f64 },
+    #[error("{property} must be positive and finite, got {value}")]
+    InvalidProperty { property: &'static str, value: f64 },
+}
+
+/// The matrices of `element` of `mesh`.
+pub fn element_matrices(
+    mesh: &Mesh,
+    element: &Element,
+    options: &ModelOptions,
+) -> Result<ElementMatrices, ElementError> {
+    let points: Vec<_> = element.nodes.iter().map(|&n| mesh.nodes[n].position).collect();
+    match element.kind {
+        ElementKind::Beam { section } => {
+            let section = &mesh.beam_sections[section];
+            let material = &mesh.materials[section.material];
+            if points.len() != 2 {
+                return Err(ElementError::NodeCount { kind: "beam", expected: "2", found: points.len() });
+            }
+            beam::beam_matrices(&points[0], &points[1], section, material, options.rotary_inertia)
+        }
+        ElementKind::Shell { section } => {
+            let section = &mesh.shell_sections[section];
+            let material = &mesh.materials[section.material];
+            if points.len() != 3 && points.len() != 4 {
+                return Err(ElementError::NodeCount { kind: "shell", expected: "3 or 4", found: points.len() });
+            }
+            shell::shell_matrices(&points, section, material, options)
+        }
+    }
+}

@@ -1,0 +1,22 @@
+//! # flexmb-fem — the finite-element preprocessor of flexmb
+//!
+//! A flexible body of flexmb is built, as in the DADS code of Haug's *Dynamics of Articulated
+//! Structures*, from a lumped-mass finite-element model: 3D beams and flat shells (membrane plus
+//! bending) with 6 degrees of freedom per node. This crate
+//!
+//! 1. holds the model ([`mesh`]: nodes, materials, sections, elements, point masses, generators of
+//!    regular meshes, and the Abaqus/CalculiX `.inp` reader in [`inp`]),
+//! 2. computes element matrices ([`element`]) and assembles the global sparse stiffness and lumped mass
+//!    ([`assembly`]) with boundary conditions per node and degree of freedom,
+//! 3. finds the vibration modes ([`modes`]: dense or shift-invert Lanczos, rigid mechanisms left by
+//!    under-determined supports detected and set aside) and the static correction modes,
+//! 4. reduces the model to a mode set such as `4N5S` and evaluates the inertia invariants of the
+//!    equations of motion ([`reduction`]), written as a flexible-body file.
+
+pub mod element;
+pub mod mesh;
+
+pub use mesh::{
+    BeamSection, Dof, DofSet, Element, ElementKind, FeModel, Material, Mesh, Node, PointMass,
+    ModelOptions, ShellSection, StaticLoad, StaticLoadKind, Support,
+};

@@ -1,0 +1,212 @@
+//! The finite-element model of one flexible body: nodes with 6 degrees of freedom (three
+//! translations, three rotations), materials, beam and shell sections, elements, point masses, and,
+//! in [`FeModel`], the boundary conditions and the unit loads of the static correction modes.
+//!
+//! Elements refer to nodes by index into [`Mesh::nodes`]; each node also keeps the label it has in
+//! the user's input (an `.inp` node number or a generated one), which is what messages show.
+
+mod dof;
+mod generate;
+
+use std::collections::BTreeMap;
+
+use nalgebra::Vector3;
+
+pub use dof::{Dof, DofSet};
+pub use generate::ShellShape;
+
+/// A node of the mesh: its label in the input and its undeformed position in the body frame (m).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Node {
+    pub label: u64,
+    pub position: Vector3<f64>,
+}
+
+/// An isotropic linear-elastic material.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    pub name: String,
+    /// Young's modulus E (Pa).
+    pub youngs_modulus: f64,
+    /// Poisson's ratio ν (-); the shear modulus is G = E / (2 (1 + ν)).
+    pub poisson_ratio: f64,
+    /// Mass density ρ (kg/m³).
+    pub density: f64,
+}
+
+impl Material {
+    /// Shear modulus G = E / (2 (1 + ν)).
+    pub fn shear_modulus(&self) -> f64 {
+        self.youngs_modulus / (2.0 * (1.0 + self.poisson_ratio))
+    }
+}
+
+/// The cross-section of a 3D beam, in its local axes: x along the beam from its first node to its
+/// second, y the cross-section axis given by [`orientation`](Self::orientation), z = x × y.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BeamSection {
+    pub name: String,
+    /// Index into [`Mesh::materials`].
+    pub material: usize,
+    /// Area A (m²).
+    pub area: f64,
+    /// Second moment of area about the local y axis, ∫ z² dA (m⁴): bending in the x–z plane.
+    pub iy: f64,
+    /// Second moment of area about the local z axis, ∫ y² dA (m⁴): bending in the x–y plane.
+    pub iz: f64,
+    /// Torsion constant J (m⁴).
+    pub torsion_constant: f64,
+    /// A vector, in body-frame components, that fixes the local y axis: y is its part normal to the
+    /// beam axis (Abaqus' first cross-section direction n₁). Must not be parallel to the beam.
+    pub orientation: Vector3<f64>,
+    /// Timoshenko shear coefficient k (shear area k A in both directions, e.g. 5/6 for a rectangle);
+    /// `None` for Euler–Bernoulli beams (no shear deformation).
+    pub shear_coefficient: Option<f64>,
+}
+
+/// The section of a flat shell (membrane plus bending) element: material and uniform thickness.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShellSection {
+    pub name: String,
+    /// Index into [`Mesh::materials`].
+    pub material: usize,
+    /// Thickness t (m).
+    pub thickness: f64,
+}
+
+/// What an element is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ElementKind {
+    /// A 2-node 3D beam; `section` indexes [`Mesh::beam_sections`].
+    Beam { section: usize },
+    /// A 3-node (triangle) or 4-node (quadrilateral) flat shell; `section` indexes
+    /// [`Mesh::shell_sections`]. Nodes go around the element in order.
+    Shell { section: usize },
+}
+
+/// One element: its kind and its nodes (indices into [`Mesh::nodes`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Element {
+    /// Label in the input (an `.inp` element number or a generated one), for messages.
+    pub label: u64,
+    pub kind: ElementKind,
+    pub nodes: Vec<usize>,
+}
+
+/// A concentrated mass at a node, with optional rotary inertia about the node (body axes, diagonal).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PointMass {
+    pub node: usize,
+    /// Mass (kg).
+    pub mass: f64,
+    /// Rotary inertia about the node in body axes (kg m²), diagonal entries `[Jxx, Jyy, Jzz]`.
+    pub rotary_inertia: Vector3<f64>,
+}
+
+/// A finite-element mesh.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Mesh {
+    pub nodes: Vec<Node>,
+    pub materials: Vec<Material>,
+    pub beam_sections: Vec<BeamSection>,
+    pub shell_sections: Vec<ShellSection>,
+    pub elements: Vec<Element>,
+    pub point_masses: Vec<PointMass>,
+    /// Named sets of nodes (indices into [`nodes`](Self::nodes)), from `*NSET` or from the mesh
+    /// generators.
+    pub node_sets: BTreeMap<String, Vec<usize>>,
+}
+
+impl Mesh {
+    /// Adds a node and returns its index.
+    pub fn add_node(&mut self, label: u64, position: Vector3<f64>) -> usize {
+        self.nodes.push(Node { label, position });
+        self.nodes.len() - 1
+    }
+
+    /// The index of the node with this label.
+    pub fn node_index(&self, label: u64) -> Option<usize> {
+        self.nodes.iter().position(|n| n.label == label)
+    }
+
+    /// The largest node label in use, 0 for an empty mesh.
+    pub fn max_node_label(&self) -> u64 {
+        self.nodes.iter().map(|n| n.label).max().unwrap_or(0)
+    }
+
+    /// The largest element label in use, 0 for an empty mesh.
+    pub fn max_element_label(&self) -> u64 {
+        self.elements.iter().map(|e| e.label).max().unwrap_or(0)
+    }
+
+    /// The node nearest to `position` and its distance, `None` for an empty mesh.
+    pub fn nearest_node(&self, position: &Vector3<f64>) -> Option<(usize, f64)> {
+        self.nodes
+            .iter()
+            .enumerate()
+            .map(|(i, n)| (i, (n.position - position).norm()))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+    }
+
+    /// The diagonal of the box around all nodes (m), the length scale of tolerances.
+    pub fn size(&self) -> f64 {
+        let mut lo = Vector3::repeat(f64::INFINITY);
+        let mut hi = Vector3::repeat(f64::NEG_INFINITY);
+        for n in &self.nodes {
+            lo = lo.inf(&n.position);
+            hi = hi.sup(&n.position);
+        }
+        if self.nodes.is_empty() { 0.0 } else { (hi - lo).norm() }
+    }
+}
+
+/// A boundary condition of the mode analysis: these degrees of freedom of this node are held at zero.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Support {
+    pub node: usize,
+    pub dofs: DofSet,
+}
+
+/// What a static correction mode's unit load is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum StaticLoadKind {
+    /// A force along this direction (normalized to unit length, N) at the node.
+    Force(Vector3<f64>),
+    /// A torque about this axis (normalized to unit length, N m) at the node.
+    Torque(Vector3<f64>),
+}
+
+/// The unit load of one static correction mode: a deleted joint constraint at a node.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StaticLoad {
+    /// The mode's name (e.g. `bottom_hinge_rx`), for tables and files.
+    pub name: String,
+    pub node: usize,
+    pub kind: StaticLoadKind,
+}
+
+/// Modelling options that change the element matrices.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ModelOptions {
+    /// Lump rotary inertia at the nodes as well as translational mass (default false, as in the seed).
+    pub rotary_inertia: bool,
+    /// Drilling stiffness of shells, as a fraction of the element's in-plane stiffness scale
+    /// (see [`element::shell`](crate::element::shell)). Default 1e-6.
+    pub drilling_stiffness: f64,
+}
+
+impl Default for ModelOptions {
+    fn default() -> Self {
+        Self { rotary_inertia: false, drilling_stiffness: 1e-6 }
+    }
+}
+
+/// A flexible body's FE model: the mesh, the supports of the mode analysis, the unit loads of the
+/// static correction modes, and the modelling options.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FeModel {
+    pub mesh: Mesh,
+    pub supports: Vec<Support>,
+    pub static_loads: Vec<StaticLoad>,
+    pub options: ModelOptions,
+}
