@@ -1,10 +1,48 @@
-//! 3D beam element (to be written).
-use nalgebra::Vector3;
+//! The 2-node 3D beam: axial, torsion and bending in two planes, Euler–Bernoulli or Timoshenko,
+//! with a lumped mass.
+//!
+//! **Local axes.** x runs from node a to node b; y is the part of the section's orientation vector
+//! normal to x (Abaqus' n₁); z = x × y. Local components are `u_loc = Λ u_body` with the rows of the
+//! direction matrix Λ the local axes, and the body-frame stiffness is `Tᵀ K_loc T` with
+//! `T = diag(Λ, Λ, Λ, Λ)` (Przemieniecki, *Theory of Matrix Structural Analysis*, 1968, §5.6).
+//!
+//! **Stiffness** (Przemieniecki 1968, §5.6, eq. 5.116 with shear deformation): the local degrees of
+//! freedom per node are `u v w θx θy θz`,
+//!
+//! - axial `EA/L` on u, torsion `GJ/L` on θx (uniform torsion, no warping restraint);
+//! - bending in the x–y plane (v, θz, θz = dv/dx, second moment `Iz`),
+//!   `E Iz / ((1 + Φy) L³) · [12, 6L, −12, 6L; 6L, (4 + Φy)L², −6L, (2 − Φy)L²; …]`;
+//! - bending in the x–z plane (w, θy) with `Iy` and `Φz`: the same matrix in (w, −θy), because a
+//!   positive θy turns the axis towards −z (θy = −dw/dx), which flips the sign of every w–θy term;
+//! - the shear parameters are `Φy = 12 E Iz / (k G A L²)` and `Φz = 12 E Iy / (k G A L²)` for a
+//!   Timoshenko beam with shear coefficient k, and zero (Euler–Bernoulli) without one. For a tip
+//!   load on a cantilever this matrix is exact: `P L³ / (3 E I) + P L / (k G A)`.
+//!
+//! **Lumped mass.** Half of `m = ρ A L` at each node. With rotary inertia each node also gets, in
+//! local axes, the inertia of its half of the beam about the node: `ρ (Iy + Iz) L / 2` about x (the
+//! polar second moment `Iy + Iz`, not J), and `m L² / 24 + ρ Iy L / 2` about y,
+//! `m L² / 24 + ρ Iz L / 2` about z (a slender rod of mass m/2 and length L/2 about its end, plus the
+//! sections' own rotary inertia); in body axes this is `Λᵀ diag(…) Λ`.
 
-use super::{ElementError, ElementMatrices};
+use nalgebra::{DMatrix, Matrix3, Vector3};
+
+use super::validate::{positive, Elastic};
+use super::{ElementError, ElementMatrices, NodalMass};
 use crate::mesh::{BeamSection, Material};
 
+/// Below this length relative to the distance of the nodes from the body origin, the two nodes are
+/// taken as coincident.
+const ZERO_LENGTH: f64 = 1e-12;
+
+/// Below this sine of the angle between the orientation vector and the beam axis, the two are taken
+/// as parallel.
+const PARALLEL: f64 = 1e-6;
+
 /// Stiffness and lumped mass of a 2-node 3D beam from `a` to `b`.
+///
+/// Errors: `ZeroLength` if a and b coincide, `OrientationParallel` if the section's orientation
+/// vector is zero or parallel to the beam, `InvalidProperty` / `OutOfRange` for a material or
+/// section property that is not positive (E, A, Iy, Iz, J, k) or out of range (ν, ρ).
 pub fn beam_matrices(
     a: &Vector3<f64>,
     b: &Vector3<f64>,
@@ -12,6 +50,133 @@ pub fn beam_matrices(
     material: &Material,
     rotary_inertia: bool,
 ) -> Result<ElementMatrices, ElementError> {
-    let _ = (a, b, section, material, rotary_inertia);
-    todo!("beam element")
+    let elastic = Elastic::new(material)?;
+    let properties = SectionProperties {
+        area: positive("beam section area", section.area)?,
+        iy: positive("beam section Iy", section.iy)?,
+        iz: positive("beam section Iz", section.iz)?,
+        torsion_constant: positive("beam torsion constant", section.torsion_constant)?,
+        shear_coefficient: match section.shear_coefficient {
+            Some(k) => Some(positive("beam shear coefficient", k)?),
+            None => None,
+        },
+    };
+    let axes = local_axes(a, b, &section.orientation)?;
+    let length = (b - a).norm();
+
+    let k_local = local_stiffness(length, &elastic, &properties);
+    let mut t = DMatrix::zeros(12, 12);
+    for block in 0..4 {
+        t.fixed_view_mut::<3, 3>(3 * block, 3 * block)
+            .copy_from(&axes);
+    }
+    let stiffness = t.transpose() * k_local * &t;
+
+    let mass = elastic.density * properties.area * length;
+    let rotary = if rotary_inertia {
+        let rho = elastic.density;
+        let half = 0.5 * length;
+        let about_ends = mass * length * length / 24.0;
+        let local = Matrix3::from_diagonal(&Vector3::new(
+            rho * (properties.iy + properties.iz) * half,
+            about_ends + rho * properties.iy * half,
+            about_ends + rho * properties.iz * half,
+        ));
+        axes.transpose() * local * axes
+    } else {
+        Matrix3::zeros()
+    };
+    let nodal = NodalMass {
+        mass: 0.5 * mass,
+        rotary_inertia: rotary,
+    };
+    Ok(ElementMatrices {
+        stiffness,
+        lumped_mass: vec![nodal, nodal],
+    })
 }
+
+/// The checked section properties.
+struct SectionProperties {
+    area: f64,
+    iy: f64,
+    iz: f64,
+    torsion_constant: f64,
+    shear_coefficient: Option<f64>,
+}
+
+/// The direction matrix Λ of the beam: its rows are the local x, y, z axes in body components.
+fn local_axes(
+    a: &Vector3<f64>,
+    b: &Vector3<f64>,
+    orientation: &Vector3<f64>,
+) -> Result<Matrix3<f64>, ElementError> {
+    let axis = b - a;
+    let length = axis.norm();
+    if !(length > ZERO_LENGTH * a.norm().max(b.norm())) || !length.is_finite() {
+        return Err(ElementError::ZeroLength);
+    }
+    let x = axis / length;
+    let size = orientation.norm();
+    let y = orientation - x * x.dot(orientation);
+    if !(y.norm() > PARALLEL * size) || !size.is_finite() {
+        return Err(ElementError::OrientationParallel);
+    }
+    let y = y.normalize();
+    let z = x.cross(&y);
+    Ok(Matrix3::from_rows(&[
+        x.transpose(),
+        y.transpose(),
+        z.transpose(),
+    ]))
+}
+
+/// The 12 × 12 stiffness in local axes, degrees of freedom `u v w θx θy θz` of node a then node b
+/// (Przemieniecki 1968, eq. 5.116).
+fn local_stiffness(length: f64, elastic: &Elastic, s: &SectionProperties) -> DMatrix<f64> {
+    let (e, g, l) = (elastic.youngs_modulus, elastic.shear_modulus, length);
+    // Shear parameters: Φ = 12 E I / (k G A L²), zero for Euler–Bernoulli.
+    let phi = |i: f64| match s.shear_coefficient {
+        Some(k) => 12.0 * e * i / (k * g * s.area * l * l),
+        None => 0.0,
+    };
+    let mut k = DMatrix::zeros(12, 12);
+    let mut add_pair = |i: usize, j: usize, value: f64| {
+        k[(i, i)] += value;
+        k[(j, j)] += value;
+        k[(i, j)] -= value;
+        k[(j, i)] -= value;
+    };
+    add_pair(0, 6, e * s.area / l);
+    add_pair(3, 9, g * s.torsion_constant / l);
+
+    // Bending block in (deflection, rotation) of both nodes, rotation = +d(deflection)/dx.
+    let bending = |i: f64| {
+        let phi = phi(i);
+        let c = e * i / ((1.0 + phi) * l * l * l);
+        let (a, b, d, f) = (
+            12.0 * c,
+            6.0 * l * c,
+            (4.0 + phi) * l * l * c,
+            (2.0 - phi) * l * l * c,
+        );
+        [[a, b, -a, b], [b, d, -b, f], [-a, -b, a, -b], [b, f, -b, d]]
+    };
+    // x–y plane: v (1, 7) and θz (5, 11), θz = dv/dx.
+    let xy = bending(s.iz);
+    let xy_dofs = [1, 5, 7, 11];
+    // x–z plane: w (2, 8) and θy (4, 10), θy = −dw/dx: the same block in (w, −θy).
+    let xz = bending(s.iy);
+    let xz_dofs = [2, 4, 8, 10];
+    let xz_sign = [1.0, -1.0, 1.0, -1.0];
+    for r in 0..4 {
+        for c in 0..4 {
+            k[(xy_dofs[r], xy_dofs[c])] += xy[r][c];
+            k[(xz_dofs[r], xz_dofs[c])] += xz_sign[r] * xz_sign[c] * xz[r][c];
+        }
+    }
+    k
+}
+
+#[cfg(test)]
+mod tests;

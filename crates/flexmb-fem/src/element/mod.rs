@@ -7,6 +7,9 @@
 
 pub mod beam;
 pub mod shell;
+#[cfg(test)]
+mod test_support;
+mod validate;
 
 use nalgebra::{DMatrix, Matrix3};
 
@@ -44,6 +47,10 @@ pub enum ElementError {
     Warped { warp: f64 },
     #[error("{property} must be positive and finite, got {value}")]
     InvalidProperty { property: &'static str, value: f64 },
+    /// A property that may be zero or negative (density, Poisson's ratio, the drilling stiffness
+    /// factor) is outside its range; `requirement` says what the range is.
+    #[error("{property} must be {requirement}, got {value}")]
+    OutOfRange { property: &'static str, requirement: &'static str, value: f64 },
 }
 
 /// The matrices of `element` of `mesh`.

@@ -1,0 +1,286 @@
+//! Tests of the beam: rigid motions, cantilever deflections against beam theory, axial and torsion,
+//! the orientation vector, the lumped mass.
+
+use nalgebra::{DVector, Matrix3, Vector3};
+
+use super::*;
+use crate::element::test_support::{assert_rigid_body_modes, DenseModel};
+
+const E: f64 = 210e9;
+const NU: f64 = 0.3;
+const RHO: f64 = 7800.0;
+
+fn steel() -> Material {
+    Material {
+        name: "steel".into(),
+        youngs_modulus: E,
+        poisson_ratio: NU,
+        density: RHO,
+    }
+}
+
+fn section(orientation: Vector3<f64>, shear_coefficient: Option<f64>) -> BeamSection {
+    BeamSection {
+        name: "s".into(),
+        material: 0,
+        area: 4e-3,
+        iy: 2e-6,
+        iz: 5e-6,
+        torsion_constant: 3e-6,
+        orientation,
+        shear_coefficient,
+    }
+}
+
+/// An oblique beam in space and its direction matrix (rows: local x, y, z).
+fn oblique_beam() -> (Vector3<f64>, Vector3<f64>, Vector3<f64>, Matrix3<f64>) {
+    let a = Vector3::new(0.3, -0.2, 1.0);
+    let b = a + Vector3::new(1.2, 0.8, -0.5);
+    let orientation = Vector3::new(0.2, 0.1, 1.0);
+    let x = (b - a).normalize();
+    let y = (orientation - x * x.dot(&orientation)).normalize();
+    let z = x.cross(&y);
+    (
+        a,
+        b,
+        orientation,
+        Matrix3::from_rows(&[x.transpose(), y.transpose(), z.transpose()]),
+    )
+}
+
+/// The tip displacement and rotation (body frame) of a single-element cantilever clamped at `a`
+/// under a tip force and torque (body frame).
+fn cantilever_tip(
+    a: &Vector3<f64>,
+    b: &Vector3<f64>,
+    section: &BeamSection,
+    force: Vector3<f64>,
+    torque: Vector3<f64>,
+) -> (Vector3<f64>, Vector3<f64>) {
+    let k = beam_matrices(a, b, section, &steel(), false)
+        .unwrap()
+        .stiffness;
+    let mut model = DenseModel::new(2);
+    model.add(&[0, 1], &k);
+    let mut loads = DVector::zeros(12);
+    loads.fixed_rows_mut::<3>(6).copy_from(&force);
+    loads.fixed_rows_mut::<3>(9).copy_from(&torque);
+    let clamped: Vec<(usize, f64)> = (0..6).map(|d| (d, 0.0)).collect();
+    let u = model.solve(&clamped, &loads);
+    (
+        u.fixed_rows::<3>(6).into_owned(),
+        u.fixed_rows::<3>(9).into_owned(),
+    )
+}
+
+fn assert_vector_close(actual: &Vector3<f64>, expected: &Vector3<f64>, tol: f64, what: &str) {
+    let error = (actual - expected).norm() / expected.norm();
+    assert!(
+        error < tol,
+        "{what}: {actual:?} vs {expected:?}, relative error {error:e}"
+    );
+}
+
+#[test]
+fn oblique_beam_has_exactly_six_rigid_body_modes() {
+    let (a, b, orientation, _) = oblique_beam();
+    for k in [None, Some(5.0 / 6.0)] {
+        let m = beam_matrices(&a, &b, &section(orientation, k), &steel(), true).unwrap();
+        let seventh = assert_rigid_body_modes(&m.stiffness, &[a, b], 1e-6);
+        assert!(seventh < 1.0);
+    }
+}
+
+#[test]
+fn euler_bernoulli_cantilever_is_exact_in_both_planes() {
+    // Beam along body x, local y = body y, local z = body z.
+    let (a, b) = (Vector3::zeros(), Vector3::new(1.5, 0.0, 0.0));
+    let l: f64 = 1.5;
+    let s = section(Vector3::y(), None);
+    let p = 1000.0;
+    // x–y plane: Iz, tip rotation about +z.
+    let (u, r) = cantilever_tip(&a, &b, &s, Vector3::new(0.0, p, 0.0), Vector3::zeros());
+    assert_vector_close(
+        &u,
+        &Vector3::new(0.0, p * l.powi(3) / (3.0 * E * s.iz), 0.0),
+        1e-12,
+        "x-y deflection",
+    );
+    assert_vector_close(
+        &r,
+        &Vector3::new(0.0, 0.0, p * l * l / (2.0 * E * s.iz)),
+        1e-12,
+        "x-y rotation",
+    );
+    // x–z plane: Iy, a positive w turns the axis about −y.
+    let (u, r) = cantilever_tip(&a, &b, &s, Vector3::new(0.0, 0.0, p), Vector3::zeros());
+    assert_vector_close(
+        &u,
+        &Vector3::new(0.0, 0.0, p * l.powi(3) / (3.0 * E * s.iy)),
+        1e-12,
+        "x-z deflection",
+    );
+    assert_vector_close(
+        &r,
+        &Vector3::new(0.0, -p * l * l / (2.0 * E * s.iy), 0.0),
+        1e-12,
+        "x-z rotation",
+    );
+}
+
+#[test]
+fn oblique_cantilever_is_exact_in_local_axes() {
+    let (a, b, orientation, axes) = oblique_beam();
+    let l = (b - a).norm();
+    let (ex, ey, ez) = (
+        axes.row(0).transpose(),
+        axes.row(1).transpose(),
+        axes.row(2).transpose(),
+    );
+    let p = 700.0;
+    for (shear, label) in [(None, "Euler-Bernoulli"), (Some(0.85), "Timoshenko")] {
+        let s = section(orientation, shear);
+        let g = steel().shear_modulus();
+        let shear_flexibility = shear.map_or(0.0, |k| p * l / (k * g * s.area));
+        // Load along local y: deflection along y, rotation about +z, second moment Iz.
+        let (u, r) = cantilever_tip(&a, &b, &s, ey * p, Vector3::zeros());
+        let deflection = p * l.powi(3) / (3.0 * E * s.iz) + shear_flexibility;
+        assert_vector_close(&u, &(ey * deflection), 1e-11, label);
+        assert_vector_close(&r, &(ez * (p * l * l / (2.0 * E * s.iz))), 1e-11, label);
+        // Load along local z: deflection along z, rotation about −y, second moment Iy.
+        let (u, r) = cantilever_tip(&a, &b, &s, ez * p, Vector3::zeros());
+        let deflection = p * l.powi(3) / (3.0 * E * s.iy) + shear_flexibility;
+        assert_vector_close(&u, &(ez * deflection), 1e-11, label);
+        assert_vector_close(&r, &(-ey * (p * l * l / (2.0 * E * s.iy))), 1e-11, label);
+        // Axial force and torque.
+        let (u, r) = cantilever_tip(&a, &b, &s, ex * p, ex * p);
+        assert_vector_close(&u, &(ex * (p * l / (E * s.area))), 1e-11, label);
+        assert_vector_close(&r, &(ex * (p * l / (g * s.torsion_constant))), 1e-11, label);
+    }
+}
+
+#[test]
+fn timoshenko_cantilever_adds_shear_deflection() {
+    // A short, deep beam, where shear deformation is a large part of the deflection.
+    let (a, b) = (Vector3::zeros(), Vector3::new(0.2, 0.0, 0.0));
+    let (l, k, p): (f64, f64, f64) = (0.2, 5.0 / 6.0, 1000.0);
+    let s = section(Vector3::y(), Some(k));
+    let g = steel().shear_modulus();
+    let (u, r) = cantilever_tip(&a, &b, &s, Vector3::new(0.0, p, 0.0), Vector3::zeros());
+    let bending = p * l.powi(3) / (3.0 * E * s.iz);
+    let shear = p * l / (k * g * s.area);
+    assert!(shear > 0.1 * bending);
+    assert_vector_close(
+        &u,
+        &Vector3::new(0.0, bending + shear, 0.0),
+        1e-12,
+        "deflection",
+    );
+    assert_vector_close(
+        &r,
+        &Vector3::new(0.0, 0.0, p * l * l / (2.0 * E * s.iz)),
+        1e-12,
+        "rotation",
+    );
+}
+
+#[test]
+fn orientation_vector_chooses_the_bending_planes() {
+    let (a, b) = (Vector3::zeros(), Vector3::new(2.0, 0.0, 0.0));
+    let p = 100.0;
+    let force = Vector3::new(0.0, p, 0.0);
+    // Orientation y: body y is local y, bending about local z with Iz.
+    let s = section(Vector3::y(), None);
+    let (u, _) = cantilever_tip(&a, &b, &s, force, Vector3::zeros());
+    assert!((u.y / (p * 8.0 / (3.0 * E * s.iz)) - 1.0).abs() < 1e-12);
+    // Orientation (0.4, 0, 2), normal part along z: local y is body z, local z = x × y is −body y, bending with Iy.
+    let s = section(Vector3::new(0.4, 0.0, 2.0), None);
+    let (u, r) = cantilever_tip(&a, &b, &s, force, Vector3::zeros());
+    assert!((u.y / (p * 8.0 / (3.0 * E * s.iy)) - 1.0).abs() < 1e-12);
+    assert!((r.z / (p * 4.0 / (2.0 * E * s.iy)) - 1.0).abs() < 1e-12);
+    assert!(u.z.abs() < 1e-12 * u.y.abs());
+}
+
+#[test]
+fn lumped_mass_and_rotated_rotary_inertia() {
+    let (a, b, orientation, axes) = oblique_beam();
+    let l = (b - a).norm();
+    let s = section(orientation, None);
+    let m = rho_a_l(&s, l);
+    let without = beam_matrices(&a, &b, &s, &steel(), false).unwrap();
+    let total: f64 = without.lumped_mass.iter().map(|n| n.mass).sum();
+    assert!((total / m - 1.0).abs() < 1e-14);
+    assert!(without
+        .lumped_mass
+        .iter()
+        .all(|n| n.rotary_inertia == Matrix3::zeros()));
+
+    let with = beam_matrices(&a, &b, &s, &steel(), true).unwrap();
+    let expected_local = [
+        RHO * (s.iy + s.iz) * l / 2.0,
+        m * l * l / 24.0 + RHO * s.iy * l / 2.0,
+        m * l * l / 24.0 + RHO * s.iz * l / 2.0,
+    ];
+    for node in &with.lumped_mass {
+        assert!((node.mass / (m / 2.0) - 1.0).abs() < 1e-14);
+        let j = node.rotary_inertia;
+        assert!((j - j.transpose()).amax() < 1e-14 * j.amax());
+        // Each local axis is a principal axis with the local moment of inertia.
+        for (k, &moment) in expected_local.iter().enumerate() {
+            let axis = axes.row(k).transpose();
+            assert!(
+                (j * axis - axis * moment).norm() < 1e-12 * moment,
+                "axis {k}"
+            );
+        }
+    }
+}
+
+fn rho_a_l(s: &BeamSection, l: f64) -> f64 {
+    RHO * s.area * l
+}
+
+#[test]
+fn bad_geometry_and_properties_are_reported() {
+    let a = Vector3::new(1.0, 2.0, 3.0);
+    let s = section(Vector3::z(), None);
+    assert_eq!(
+        beam_matrices(&a, &a, &s, &steel(), false),
+        Err(ElementError::ZeroLength)
+    );
+    let b = a + Vector3::new(0.0, 0.0, 1.0);
+    assert_eq!(
+        beam_matrices(&a, &b, &s, &steel(), false),
+        Err(ElementError::OrientationParallel)
+    );
+    let zero = section(Vector3::zeros(), None);
+    assert_eq!(
+        beam_matrices(&a, &b, &zero, &steel(), false),
+        Err(ElementError::OrientationParallel)
+    );
+    let b = a + Vector3::x();
+    let bad = BeamSection {
+        area: -1.0,
+        ..s.clone()
+    };
+    assert!(matches!(
+        beam_matrices(&a, &b, &bad, &steel(), false),
+        Err(ElementError::InvalidProperty { .. })
+    ));
+    let light = Material {
+        density: -1.0,
+        ..steel()
+    };
+    assert!(matches!(
+        beam_matrices(&a, &b, &s, &light, false),
+        Err(ElementError::OutOfRange { .. })
+    ));
+    let rubber = Material {
+        poisson_ratio: 0.6,
+        ..steel()
+    };
+    assert!(matches!(
+        beam_matrices(&a, &b, &s, &rubber, false),
+        Err(ElementError::OutOfRange { .. })
+    ));
+}
