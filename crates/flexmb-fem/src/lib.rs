@@ -13,8 +13,15 @@
 //! 4. reduces the model to a mode set such as `4N5S` and evaluates the inertia invariants of the
 //!    equations of motion ([`reduction`]), written as a flexible-body file.
 
+pub mod assembly;
 pub mod element;
+mod error;
 pub mod mesh;
+pub mod modes;
+pub mod reduction;
+pub mod static_correction;
+
+pub use error::FemError;
 
 pub use mesh::{
     BeamSection, Dof, DofSet, Element, ElementKind, FeModel, Material, Mesh, Node, PointMass,

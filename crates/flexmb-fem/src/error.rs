@@ -1,0 +1,34 @@
+//! What can go wrong in the preprocessor, with the node, element or mode it concerns.
+
+use crate::element::ElementError;
+
+/// An error of the finite-element preprocessor.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum FemError {
+    #[error("element {label}: {source}")]
+    Element { label: u64, source: ElementError },
+    #[error("the model has no free degree of freedom")]
+    NoFreeDofs,
+    #[error("node {label} dof {dof} has no stiffness: the node is not connected to any element that resists this motion; support it or connect it")]
+    NoStiffness { label: u64, dof: &'static str },
+    #[error("node {label}: point mass must be non-negative and finite, got {mass}")]
+    InvalidPointMass { label: u64, mass: f64 },
+    #[error("the model has no mass: the vibration modes are undefined")]
+    NoMass,
+    #[error("the stiffness matrix is singular beyond the rigid motions the supports leave ({rigid} of them): the mesh has a mechanism (disconnected parts, a hinge, or a dof held by nothing)")]
+    Mechanism { rigid: usize },
+    #[error("asked for {asked} vibration modes but the model has only {available} elastic degrees of freedom with mass")]
+    TooManyModes { asked: usize, available: usize },
+    #[error("the eigensolver found {converged} of {asked} modes; try more Lanczos vectors or the dense solver")]
+    EigenNotConverged { asked: usize, converged: usize },
+    #[error("mode {mode}: eigen residual {residual:.2e} exceeds {tolerance:.0e}")]
+    EigenResidual { mode: usize, residual: f64, tolerance: f64 },
+    #[error("static load {name}: acts on node {label} dof {dof}, which is supported; a static correction mode needs a deleted constraint, not a supported one")]
+    LoadOnSupport { name: String, label: u64, dof: &'static str },
+    #[error("mode set `{text}`: {message}")]
+    ModeSet { text: String, message: String },
+    #[error("the mode basis is singular: {message}")]
+    SingularBasis { message: String },
+    #[error("linear algebra: {0}")]
+    LinearAlgebra(String),
+}

@@ -1,0 +1,229 @@
+//! Vibration modes of a supported FE model: the lowest eigenpairs of `K φ = ω² M φ`, mass-normalized
+//! and sorted, with the rigid mechanisms of under-determined supports set aside.
+//!
+//! Both solvers work on the shift-invert operator of [`shift_invert`]: the dense one forms it
+//! completely and calls a symmetric eigensolver (small models), the other runs faer's Krylov–Schur
+//! (thick-restart Lanczos) on it with one sparse Cholesky factorization (large models). Every mode's
+//! residual `‖K φ − ω² M φ‖` and the M-orthogonality of the set are checked before the modes are
+//! returned.
+
+mod dense;
+mod lanczos;
+pub mod rigid;
+pub mod shift_invert;
+
+use faer::Mat;
+
+use crate::assembly::{assemble, AssembledModel};
+use crate::error::FemError;
+use crate::mesh::FeModel;
+use shift_invert::ShiftInvert;
+
+/// Which eigensolver to use.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum EigenSolver {
+    /// Dense up to [`EigenSettings::dense_limit`] free dofs, Lanczos above.
+    #[default]
+    Auto,
+    Dense,
+    Lanczos,
+}
+
+/// Settings of the vibration-mode analysis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EigenSettings {
+    /// Default [`EigenSolver::Auto`].
+    pub solver: EigenSolver,
+    /// Largest model (free dofs) solved densely by `Auto`. Default 1500.
+    pub dense_limit: usize,
+    /// Convergence tolerance of the Lanczos iteration (relative). Default 1e-12.
+    pub lanczos_tolerance: f64,
+    /// Largest accepted relative residual `‖Kφ − ω²Mφ‖ / ‖Kφ‖` of a mode. Default 1e-6.
+    pub residual_tolerance: f64,
+}
+
+impl Default for EigenSettings {
+    fn default() -> Self {
+        Self {
+            solver: EigenSolver::Auto,
+            dense_limit: 1500,
+            lanczos_tolerance: 1e-12,
+            residual_tolerance: 1e-6,
+        }
+    }
+}
+
+/// The lowest elastic vibration modes of a supported model.
+#[derive(Clone, Debug)]
+pub struct VibrationModes {
+    /// Eigenvalues ω² (rad²/s²), ascending.
+    pub eigenvalues: Vec<f64>,
+    /// Natural frequencies f = ω / 2π (Hz).
+    pub frequencies_hz: Vec<f64>,
+    /// Mode shapes over the free dofs (`n_free × count`), `φᵀ M φ = 1`.
+    pub shapes: Mat<f64>,
+    /// Number of zero-frequency rigid motions the supports leave (excluded from the modes).
+    pub rigid_modes: usize,
+    /// The solver that ran.
+    pub solver: EigenSolver,
+    /// Largest relative residual `‖Kφ − ω²Mφ‖ / ‖Kφ‖` among the modes.
+    pub max_residual: f64,
+    /// Largest `|ΦᵀMΦ − I|` entry.
+    pub max_orthogonality_error: f64,
+}
+
+/// The lowest `count` elastic vibration modes of `model`.
+pub fn vibration_modes(model: &FeModel, count: usize, settings: &EigenSettings) -> Result<VibrationModes, FemError> {
+    let assembled = assemble(model)?;
+    let rigid = rigid::free_rigid_motions(&model.mesh, &assembled.dofs);
+    vibration_modes_of(&assembled, &rigid, count, settings)
+}
+
+/// The lowest `count` elastic vibration modes of an assembled model whose free rigid motions are
+/// `rigid` (from [`rigid::free_rigid_motions`]).
+pub fn vibration_modes_of(
+    assembled: &AssembledModel,
+    rigid: &Mat<f64>,
+    count: usize,
+    settings: &EigenSettings,
+) -> Result<VibrationModes, FemError> {
+    let n = assembled.dofs.n_free();
+    let available = massive_dofs(assembled).saturating_sub(rigid.ncols());
+    if count > available {
+        return Err(FemError::TooManyModes { asked: count, available });
+    }
+    let operator = factor_shifted(assembled, rigid)?;
+    let solver = match settings.solver {
+        EigenSolver::Auto if n <= settings.dense_limit => EigenSolver::Dense,
+        EigenSolver::Auto => EigenSolver::Lanczos,
+        chosen => chosen,
+    };
+    let z = match solver {
+        EigenSolver::Dense => dense::largest_eigenvectors(&operator, count)?,
+        _ => lanczos::largest_eigenvectors(&operator, count, settings.lanczos_tolerance)?,
+    };
+    let mut shapes = operator.mode_shapes(z.as_ref());
+    let mut eigenvalues = Vec::with_capacity(count);
+    for j in 0..shapes.ncols() {
+        let (k_norm, m_norm) = (quadratic_form(&assembled.stiffness, &shapes, j), quadratic_form(&assembled.mass, &shapes, j));
+        let scale = 1.0 / m_norm.sqrt();
+        for i in 0..n {
+            shapes[(i, j)] *= scale;
+        }
+        eigenvalues.push(k_norm / m_norm);
+    }
+    sort_modes(&mut eigenvalues, &mut shapes);
+    check_mechanisms(assembled, &eigenvalues, rigid.ncols())?;
+    let max_residual = max_residual(assembled, &eigenvalues, &shapes);
+    if max_residual.1 > settings.residual_tolerance {
+        return Err(FemError::EigenResidual { mode: max_residual.0 + 1, residual: max_residual.1, tolerance: settings.residual_tolerance });
+    }
+    let gram = shapes.transpose() * (&assembled.mass * &shapes);
+    let mut max_orthogonality_error = 0.0_f64;
+    for i in 0..count {
+        for j in 0..count {
+            let target = if i == j { 1.0 } else { 0.0 };
+            max_orthogonality_error = max_orthogonality_error.max((gram[(i, j)] - target).abs());
+        }
+    }
+    let frequencies_hz = eigenvalues.iter().map(|l| l.max(0.0).sqrt() / (2.0 * std::f64::consts::PI)).collect();
+    Ok(VibrationModes {
+        eigenvalues,
+        frequencies_hz,
+        shapes,
+        rigid_modes: rigid.ncols(),
+        solver,
+        max_residual: max_residual.1,
+        max_orthogonality_error,
+    })
+}
+
+/// Factors `K` (no rigid motions) or `K + σM` with a small shift (rigid motions present, or `K`
+/// found singular). A failed factorization with the shift means a mechanism the geometry does not
+/// explain.
+fn factor_shifted(assembled: &AssembledModel, rigid: &Mat<f64>) -> Result<ShiftInvert, FemError> {
+    if rigid.ncols() == 0 {
+        if let Ok(op) = ShiftInvert::new(assembled, rigid, 0.0) {
+            return Ok(op);
+        }
+    }
+    // The shift only has to make K + σM positive definite in the rigid directions, where σM is the
+    // whole matrix; 1e-9 of the stiffness-to-mass scale keeps its pivots far above round-off.
+    let shift = 1e-9 * stiffness_to_mass_scale(assembled);
+    ShiftInvert::new(assembled, rigid, shift).map_err(|_| FemError::Mechanism { rigid: rigid.ncols() })
+}
+
+/// `Σ K_ii / Σ M_ii` over the dofs with mass: the scale of ω² of the mesh's shortest waves.
+pub(crate) fn stiffness_to_mass_scale(assembled: &AssembledModel) -> f64 {
+    let (mut k, mut m) = (0.0, 0.0);
+    for (i, (kd, md)) in diagonal(&assembled.stiffness).into_iter().zip(diagonal(&assembled.mass)).enumerate() {
+        let _ = i;
+        if md > 0.0 {
+            k += kd;
+            m += md;
+        }
+    }
+    if m > 0.0 { k / m } else { 1.0 }
+}
+
+fn diagonal(a: &faer::sparse::SparseColMat<usize, f64>) -> Vec<f64> {
+    let mut d = vec![0.0; a.ncols()];
+    for j in 0..a.ncols() {
+        for (i, v) in a.row_idx_of_col(j).zip(a.val_of_col(j)) {
+            if i == j {
+                d[j] += *v;
+            }
+        }
+    }
+    d
+}
+
+fn massive_dofs(assembled: &AssembledModel) -> usize {
+    diagonal(&assembled.mass).iter().filter(|&&m| m > 0.0).count()
+}
+
+/// `φⱼᵀ A φⱼ`.
+fn quadratic_form(a: &faer::sparse::SparseColMat<usize, f64>, shapes: &Mat<f64>, j: usize) -> f64 {
+    let column = shapes.col(j);
+    let product = a * column;
+    (0..column.nrows()).map(|i| column[i] * product[i]).sum()
+}
+
+fn sort_modes(eigenvalues: &mut [f64], shapes: &mut Mat<f64>) {
+    let mut order: Vec<usize> = (0..eigenvalues.len()).collect();
+    order.sort_by(|&a, &b| eigenvalues[a].total_cmp(&eigenvalues[b]));
+    let sorted_values: Vec<f64> = order.iter().map(|&k| eigenvalues[k]).collect();
+    let sorted_shapes = Mat::from_fn(shapes.nrows(), shapes.ncols(), |i, j| shapes[(i, order[j])]);
+    eigenvalues.copy_from_slice(&sorted_values);
+    *shapes = sorted_shapes;
+}
+
+/// A zero eigenvalue among the elastic modes is a mechanism the supports and the geometry do not
+/// explain (a disconnected part, a hinge in the mesh).
+fn check_mechanisms(assembled: &AssembledModel, eigenvalues: &[f64], rigid: usize) -> Result<(), FemError> {
+    let scale = stiffness_to_mass_scale(assembled);
+    if eigenvalues.first().is_some_and(|&l| l < 1e-12 * scale) {
+        return Err(FemError::Mechanism { rigid });
+    }
+    Ok(())
+}
+
+/// (mode index, largest relative residual `‖Kφ − λMφ‖ / ‖Kφ‖`).
+fn max_residual(assembled: &AssembledModel, eigenvalues: &[f64], shapes: &Mat<f64>) -> (usize, f64) {
+    let k_phi = &assembled.stiffness * shapes;
+    let m_phi = &assembled.mass * shapes;
+    let mut worst = (0, 0.0_f64);
+    for (j, lambda) in eigenvalues.iter().enumerate() {
+        let mut residual = 0.0_f64;
+        let mut norm = 0.0_f64;
+        for i in 0..shapes.nrows() {
+            residual += (k_phi[(i, j)] - lambda * m_phi[(i, j)]).powi(2);
+            norm += k_phi[(i, j)].powi(2);
+        }
+        let relative = residual.sqrt() / norm.sqrt().max(f64::MIN_POSITIVE);
+        if relative > worst.1 {
+            worst = (j, relative);
+        }
+    }
+    worst
+}

@@ -1,0 +1,267 @@
+//! Reduction of an FE model to a flexible body: the mode set's basis (vibration and static correction
+//! modes, raw or mass-orthonormalized), the frequencies of the reduced model, the modal mass and
+//! stiffness, the inertia invariants, and the flexible-body file that holds them.
+
+mod flexible_body;
+mod invariants;
+mod mode_set;
+mod serde_matrix;
+
+use faer::{Mat, Side};
+use nalgebra::{DMatrix, Matrix3, Vector3};
+
+pub use flexible_body::{
+    Basis, BodyElement, BodyFileError, BodyMassProperties, BodyNode, FlexibleBody, ModeInfo, ModeKind, ModeShape,
+    FORMAT, VERSION,
+};
+pub use invariants::InertiaInvariants;
+pub use mode_set::{ModeGroup, ModeSet};
+
+use crate::assembly::{assemble, AssembledModel, MassProperties};
+use crate::error::FemError;
+use crate::mesh::{ElementKind, FeModel};
+use crate::modes::{rigid::free_rigid_motions, vibration_modes_of, EigenSettings, VibrationModes};
+use crate::static_correction::{static_correction_modes, StaticModes};
+
+/// What to reduce to.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReductionSettings {
+    pub mode_set: ModeSet,
+    /// Default [`Basis::Orthonormal`].
+    pub basis: Basis,
+    pub eigen: EigenSettings,
+}
+
+/// A reduced body and how it was obtained.
+#[derive(Clone, Debug)]
+pub struct Reduction {
+    pub body: FlexibleBody,
+    /// The FE vibration modes computed (at least as many as the basis has modes, for comparison).
+    pub fe_modes: VibrationModes,
+    /// The static correction modes (all the model's loads), if the mode set has any.
+    pub static_modes: Option<StaticModes>,
+    /// Smallest eigenvalue of the raw basis' Gram matrix `ΦᵀMΦ` scaled to unit diagonal: near 0, the
+    /// basis is nearly dependent.
+    pub basis_independence: f64,
+    /// Things the user should know: rigid modes found, loads balanced by inertia relief, a nearly
+    /// dependent basis.
+    pub warnings: Vec<String>,
+}
+
+/// Below this, the scaled Gram matrix's smallest eigenvalue makes the basis a warning.
+const NEARLY_DEPENDENT: f64 = 1e-6;
+/// Below this, the basis is singular.
+const DEPENDENT: f64 = 1e-12;
+
+/// Reduces `model` to the mode set of `settings`; `name` names the body.
+pub fn reduce(model: &FeModel, name: &str, settings: &ReductionSettings) -> Result<Reduction, FemError> {
+    let set = &settings.mode_set;
+    if set.statics() > model.static_loads.len() {
+        return Err(FemError::ModeSet {
+            text: set.to_string(),
+            message: format!(
+                "asks for {} static correction modes but the model defines {} static loads",
+                set.statics(),
+                model.static_loads.len()
+            ),
+        });
+    }
+    let assembled = assemble(model)?;
+    let rigid = free_rigid_motions(&model.mesh, &assembled.dofs);
+    let mut warnings = Vec::new();
+    if rigid.ncols() > 0 {
+        warnings.push(format!(
+            "the supports leave {} rigid motion(s) (zero-frequency mechanisms); they are excluded from the vibration modes",
+            rigid.ncols()
+        ));
+    }
+    let fe_count = set.len().max(set.vibration());
+    let fe_modes = vibration_modes_of(&assembled, &rigid, fe_count, &settings.eigen)?;
+    let static_modes = if set.statics() > 0 { Some(static_correction_modes(model, &assembled, &rigid)?) } else { None };
+    if let Some(statics) = &static_modes {
+        for (name, fraction) in statics.names.iter().zip(&statics.rigid_load_fractions).take(set.statics()) {
+            if *fraction > 1e-8 {
+                warnings.push(format!(
+                    "static load {name} moves the rigid mechanism ({:.1} % of it); it was balanced by rigid-body inertia forces (inertia relief)",
+                    100.0 * fraction
+                ));
+            }
+        }
+    }
+    let (mut basis, mut modes) = raw_basis(set, &fe_modes, static_modes.as_ref());
+    let mut modal_mass = basis.transpose() * (&assembled.mass * &basis);
+    let mut modal_stiffness = basis.transpose() * (&assembled.stiffness * &basis);
+    let basis_independence = scaled_gram_minimum(&modal_mass)?;
+    if basis_independence < DEPENDENT {
+        return Err(FemError::SingularBasis {
+            message: format!("the modes of {set} are linearly dependent (scaled Gram eigenvalue {basis_independence:.1e}); drop a static mode or use fewer modes"),
+        });
+    }
+    if basis_independence < NEARLY_DEPENDENT {
+        warnings.push(format!(
+            "the modes of {set} are nearly dependent (scaled Gram eigenvalue {basis_independence:.1e}): a static mode is almost in the span of the others"
+        ));
+    }
+    let (reduced_eigenvalues, ritz) = reduced_eigenproblem(&modal_mass, &modal_stiffness)?;
+    let reduced_frequencies_hz: Vec<f64> = reduced_eigenvalues.iter().map(|l| hz(*l)).collect();
+    if settings.basis == Basis::Orthonormal {
+        basis = &basis * &ritz;
+        modal_mass = basis.transpose() * (&assembled.mass * &basis);
+        modal_stiffness = basis.transpose() * (&assembled.stiffness * &basis);
+        modes = reduced_frequencies_hz
+            .iter()
+            .enumerate()
+            .map(|(j, f)| ModeInfo { label: format!("O{}", j + 1), kind: ModeKind::Orthonormal, frequency_hz: Some(*f), load: None })
+            .collect();
+    }
+    let body = flexible_body(
+        model,
+        &assembled,
+        name,
+        settings,
+        &basis,
+        modes,
+        (&modal_mass, &modal_stiffness),
+        reduced_frequencies_hz,
+        &fe_modes,
+    );
+    Ok(Reduction { body, fe_modes, static_modes, basis_independence, warnings })
+}
+
+fn hz(eigenvalue: f64) -> f64 {
+    eigenvalue.max(0.0).sqrt() / (2.0 * std::f64::consts::PI)
+}
+
+/// The raw basis over the free dofs, in the order of the mode set's groups, and its mode labels.
+fn raw_basis(set: &ModeSet, fe: &VibrationModes, statics: Option<&StaticModes>) -> (Mat<f64>, Vec<ModeInfo>) {
+    let n = fe.shapes.nrows();
+    let mut columns: Vec<Vec<f64>> = Vec::new();
+    let mut modes = Vec::new();
+    for group in &set.groups {
+        match *group {
+            ModeGroup::Vibration(count) => {
+                for j in 0..count {
+                    columns.push((0..n).map(|i| fe.shapes[(i, j)]).collect());
+                    modes.push(ModeInfo { label: format!("N{}", j + 1), kind: ModeKind::Vibration, frequency_hz: Some(fe.frequencies_hz[j]), load: None });
+                }
+            }
+            ModeGroup::Static(count) => {
+                let statics = statics.expect("static modes computed when the set has any");
+                for j in 0..count {
+                    columns.push((0..n).map(|i| statics.shapes[(i, j)]).collect());
+                    modes.push(ModeInfo { label: format!("S{}", j + 1), kind: ModeKind::Static, frequency_hz: None, load: Some(statics.names[j].clone()) });
+                }
+            }
+        }
+    }
+    (Mat::from_fn(n, columns.len(), |i, j| columns[j][i]), modes)
+}
+
+/// Smallest eigenvalue of `D^{-1/2} G D^{-1/2}` (`D` the diagonal of `G`).
+fn scaled_gram_minimum(gram: &Mat<f64>) -> Result<f64, FemError> {
+    let m = gram.nrows();
+    let scaled = Mat::from_fn(m, m, |i, j| gram[(i, j)] / (gram[(i, i)] * gram[(j, j)]).sqrt());
+    let values = scaled
+        .self_adjoint_eigenvalues(Side::Lower)
+        .map_err(|e| FemError::LinearAlgebra(format!("basis Gram matrix: {e:?}")))?;
+    Ok(values.first().copied().unwrap_or(1.0))
+}
+
+/// The eigenvalues ω² (ascending) and M-orthonormal eigenvectors `X` of the reduced pair
+/// `(ΦᵀKΦ) x = ω² (ΦᵀMΦ) x`.
+fn reduced_eigenproblem(mass: &Mat<f64>, stiffness: &Mat<f64>) -> Result<(Vec<f64>, Mat<f64>), FemError> {
+    let m = mass.nrows();
+    let factor = mass
+        .llt(Side::Lower)
+        .map_err(|e| FemError::SingularBasis { message: format!("the modal mass is not positive definite: {e:?}") })?;
+    let l = factor.L();
+    // A = L⁻¹ K L⁻ᵀ
+    let mut a = stiffness.clone();
+    faer::linalg::triangular_solve::solve_lower_triangular_in_place(l, a.as_mut(), faer::Par::Seq);
+    let mut a = a.transpose().to_owned();
+    faer::linalg::triangular_solve::solve_lower_triangular_in_place(l, a.as_mut(), faer::Par::Seq);
+    let a = Mat::from_fn(m, m, |i, j| 0.5 * (a[(i, j)] + a[(j, i)]));
+    let eigen = a
+        .self_adjoint_eigen(Side::Lower)
+        .map_err(|e| FemError::LinearAlgebra(format!("reduced eigenproblem: {e:?}")))?;
+    let values: Vec<f64> = (0..m).map(|k| eigen.S()[k]).collect();
+    // X = L⁻ᵀ Y
+    let mut x = eigen.U().to_owned();
+    faer::linalg::triangular_solve::solve_upper_triangular_in_place(l.transpose(), x.as_mut(), faer::Par::Seq);
+    Ok((values, x))
+}
+
+fn to_nalgebra(m: &Mat<f64>) -> DMatrix<f64> {
+    DMatrix::from_fn(m.nrows(), m.ncols(), |i, j| m[(i, j)])
+}
+
+#[allow(clippy::too_many_arguments)]
+fn flexible_body(
+    model: &FeModel,
+    assembled: &AssembledModel,
+    name: &str,
+    settings: &ReductionSettings,
+    basis: &Mat<f64>,
+    modes: Vec<ModeInfo>,
+    (modal_mass, modal_stiffness): (&Mat<f64>, &Mat<f64>),
+    reduced_frequencies_hz: Vec<f64>,
+    fe_modes: &VibrationModes,
+) -> FlexibleBody {
+    let mesh = &model.mesh;
+    let m = basis.ncols();
+    let nodal: Vec<Vec<f64>> =
+        (0..m).map(|j| assembled.dofs.expand(&(0..basis.nrows()).map(|i| basis[(i, j)]).collect::<Vec<_>>())).collect();
+    let shapes: Vec<ModeShape> = nodal
+        .iter()
+        .map(|v| ModeShape {
+            translation: (0..mesh.nodes.len()).map(|i| [v[6 * i], v[6 * i + 1], v[6 * i + 2]]).collect(),
+            rotation: (0..mesh.nodes.len()).map(|i| [v[6 * i + 3], v[6 * i + 4], v[6 * i + 5]]).collect(),
+        })
+        .collect();
+    let positions: Vec<Vector3<f64>> = mesh.nodes.iter().map(|n| n.position).collect();
+    let masses: Vec<f64> = assembled.nodal_masses.iter().map(|n| n.mass).collect();
+    let rotary: Vec<Matrix3<f64>> = assembled.nodal_masses.iter().map(|n| n.rotary_inertia).collect();
+    let psi: Vec<DMatrix<f64>> = (0..mesh.nodes.len()).map(|i| DMatrix::from_fn(3, m, |r, j| nodal[j][6 * i + r])).collect();
+    let theta: Vec<DMatrix<f64>> =
+        (0..mesh.nodes.len()).map(|i| DMatrix::from_fn(3, m, |r, j| nodal[j][6 * i + 3 + r])).collect();
+    let invariants = InertiaInvariants::new(&positions, &masses, &rotary, &psi, &theta, m);
+    let properties = MassProperties::of_lumped(&positions, &assembled.nodal_masses);
+    FlexibleBody {
+        format: FORMAT.to_string(),
+        version: VERSION,
+        name: name.to_string(),
+        mode_set: settings.mode_set.to_string(),
+        basis: settings.basis,
+        nodes: mesh
+            .nodes
+            .iter()
+            .zip(&assembled.nodal_masses)
+            .map(|(n, lumped)| BodyNode { label: n.label, position: n.position, mass: lumped.mass, rotary_inertia: lumped.rotary_inertia })
+            .collect(),
+        elements: mesh
+            .elements
+            .iter()
+            .map(|e| BodyElement {
+                label: e.label,
+                kind: match e.kind {
+                    ElementKind::Beam { .. } => "beam".to_string(),
+                    ElementKind::Shell { .. } => "shell".to_string(),
+                },
+                nodes: e.nodes.clone(),
+            })
+            .collect(),
+        modes,
+        shapes,
+        modal_stiffness: to_nalgebra(modal_stiffness),
+        modal_mass: to_nalgebra(modal_mass),
+        invariants,
+        reduced_frequencies_hz,
+        fe_frequencies_hz: fe_modes.frequencies_hz.clone(),
+        rigid_modes: fe_modes.rigid_modes,
+        mass_properties: BodyMassProperties {
+            mass: properties.mass,
+            center_of_mass: properties.center_of_mass,
+            inertia: properties.inertia,
+        },
+    }
+}
