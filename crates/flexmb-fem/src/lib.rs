@@ -15,6 +15,7 @@
 
 pub mod assembly;
 pub mod element;
+pub mod inp;
 mod error;
 pub mod mesh;
 pub mod modes;
