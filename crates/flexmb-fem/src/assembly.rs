@@ -47,6 +47,12 @@ impl DofMap {
         self.n_free
     }
 
+    /// The node and dof of equation `equation`.
+    pub fn node_dof(&self, equation: usize) -> (usize, Dof) {
+        let global = self.equations.iter().position(|e| *e == Some(equation)).expect("equation exists");
+        (global / 6, Dof::ALL[global % 6])
+    }
+
     /// Number of nodes.
     pub fn n_nodes(&self) -> usize {
         self.equations.len() / 6

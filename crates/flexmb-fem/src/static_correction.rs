@@ -18,6 +18,7 @@ use faer::{Mat, Side};
 use crate::assembly::AssembledModel;
 use crate::error::FemError;
 use crate::mesh::{Dof, FeModel, StaticLoadKind};
+use crate::modes::rigid::pivot_dofs;
 
 /// The static correction modes of a model, over its free dofs.
 #[derive(Clone, Debug)]
@@ -81,7 +82,7 @@ pub fn static_correction_modes(
         }
         loads = inertia_relief(assembled, rigid, &loads)?;
     }
-    let held = determinate_extra_supports(rigid);
+    let held = pivot_dofs(rigid);
     let solution = solve_with_extra_supports(assembled, &held, &loads, rigid.ncols())?;
     let shapes = if rigid.ncols() > 0 { m_orthogonal_to(assembled, rigid, &solution)? } else { solution };
     let residual = &assembled.stiffness * &shapes - &loads;
@@ -108,34 +109,6 @@ fn m_orthogonal_to(assembled: &AssembledModel, rigid: &Mat<f64>, x: &Mat<f64>) -
     let mut coefficients = m_r.transpose() * x;
     rigid_mass.partial_piv_lu().solve_in_place(coefficients.as_mut());
     Ok(x - rigid * &coefficients)
-}
-
-/// Free dofs (as many as rigid motions) whose values fix the rigid motions: rows of `R` chosen by
-/// Gram–Schmidt with the largest remaining norm first.
-fn determinate_extra_supports(rigid: &Mat<f64>) -> Vec<usize> {
-    let (n, r) = (rigid.nrows(), rigid.ncols());
-    let mut rows: Vec<Vec<f64>> = (0..n).map(|i| (0..r).map(|k| rigid[(i, k)]).collect()).collect();
-    let mut chosen = Vec::with_capacity(r);
-    for _ in 0..r {
-        let norm2 = |v: &Vec<f64>| v.iter().map(|x| x * x).sum::<f64>();
-        let best = (0..n)
-            .filter(|i| !chosen.contains(i))
-            .max_by(|&a, &b| norm2(&rows[a]).total_cmp(&norm2(&rows[b])))
-            .expect("more free dofs than rigid motions");
-        let pivot: Vec<f64> = {
-            let v = &rows[best];
-            let norm = norm2(v).sqrt();
-            v.iter().map(|x| x / norm).collect()
-        };
-        for row in rows.iter_mut() {
-            let dot: f64 = row.iter().zip(&pivot).map(|(a, b)| a * b).sum();
-            for (x, p) in row.iter_mut().zip(&pivot) {
-                *x -= dot * p;
-            }
-        }
-        chosen.push(best);
-    }
-    chosen
 }
 
 /// Solves `K x = f` with the dofs `held` also held at zero (their rows dropped).

@@ -16,7 +16,7 @@ use faer::Mat;
 
 use crate::assembly::{assemble, AssembledModel};
 use crate::error::FemError;
-use crate::mesh::FeModel;
+use crate::mesh::{Dof, DofSet, FeModel, Support};
 use shift_invert::ShiftInvert;
 
 /// Which eigensolver to use.
@@ -74,9 +74,45 @@ pub struct VibrationModes {
 
 /// The lowest `count` elastic vibration modes of `model`.
 pub fn vibration_modes(model: &FeModel, count: usize, settings: &EigenSettings) -> Result<VibrationModes, FemError> {
+    let prepared = prepare(model)?;
+    let mut modes = vibration_modes_of(&prepared.assembled, &prepared.rigid, count, settings)?;
+    modes.rigid_modes += prepared.held_massless.len();
+    Ok(modes)
+}
+
+/// A model ready for the mode analysis: assembled, with its rigid motions, and with the rigid
+/// motions that carry no mass held by extra supports.
+#[derive(Clone, Debug)]
+pub struct PreparedModel {
+    /// The model with the extra supports added.
+    pub model: FeModel,
+    pub assembled: AssembledModel,
+    /// The rigid motions the supports leave, all with mass (orthonormal columns over the free dofs).
+    pub rigid: Mat<f64>,
+    /// The dofs held because a rigid motion through them has no mass, as (node, dof).
+    pub held_massless: Vec<(usize, Dof)>,
+}
+
+/// Assembles `model` and finds its rigid motions. A rigid motion without mass (a straight line of
+/// beams without rotary inertia spinning about its axis) has neither a frequency nor a mass to move
+/// it; one dof per such motion is held, which leaves every vibration mode unchanged (the modes can be
+/// chosen zero there) and makes the shifted stiffness positive definite.
+pub fn prepare(model: &FeModel) -> Result<PreparedModel, FemError> {
     let assembled = assemble(model)?;
     let rigid = rigid::free_rigid_motions(&model.mesh, &assembled.dofs);
-    vibration_modes_of(&assembled, &rigid, count, settings)
+    let massless = rigid::massless_rigid_motions(&assembled.mass, &rigid);
+    if massless.ncols() == 0 {
+        return Ok(PreparedModel { model: model.clone(), assembled, rigid, held_massless: Vec::new() });
+    }
+    let held_massless: Vec<(usize, Dof)> =
+        rigid::pivot_dofs(&massless).into_iter().map(|e| assembled.dofs.node_dof(e)).collect();
+    let mut model = model.clone();
+    for &(node, dof) in &held_massless {
+        model.supports.push(Support { node, dofs: DofSet::EMPTY.with(dof) });
+    }
+    let assembled = assemble(&model)?;
+    let rigid = rigid::free_rigid_motions(&model.mesh, &assembled.dofs);
+    Ok(PreparedModel { model, assembled, rigid, held_massless })
 }
 
 /// The lowest `count` elastic vibration modes of an assembled model whose free rigid motions are

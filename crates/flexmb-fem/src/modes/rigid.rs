@@ -70,6 +70,55 @@ pub fn free_rigid_motions(mesh: &Mesh, dofs: &DofMap) -> Mat<f64> {
     motions
 }
 
+/// Free dofs, as many as the columns of `motions`, whose values fix those motions: rows of the
+/// matrix chosen by Gram–Schmidt, the largest remaining norm first. Holding them at zero is a
+/// statically determinate extra support (Nastran's SUPORT).
+pub fn pivot_dofs(motions: &Mat<f64>) -> Vec<usize> {
+    let (n, r) = (motions.nrows(), motions.ncols());
+    let mut rows: Vec<Vec<f64>> = (0..n).map(|i| (0..r).map(|k| motions[(i, k)]).collect()).collect();
+    let norm2 = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>();
+    let mut chosen = Vec::with_capacity(r);
+    for _ in 0..r {
+        let best = (0..n)
+            .filter(|i| !chosen.contains(i))
+            .max_by(|&a, &b| norm2(&rows[a]).total_cmp(&norm2(&rows[b])))
+            .expect("more free dofs than rigid motions");
+        let norm = norm2(&rows[best]).sqrt();
+        let pivot: Vec<f64> = rows[best].iter().map(|x| x / norm).collect();
+        for row in rows.iter_mut() {
+            let dot: f64 = row.iter().zip(&pivot).map(|(a, b)| a * b).sum();
+            for (x, p) in row.iter_mut().zip(&pivot) {
+                *x -= dot * p;
+            }
+        }
+        chosen.push(best);
+    }
+    chosen
+}
+
+/// The combinations of the rigid motions that carry no mass (`M R c = 0`): a straight line of beams
+/// without rotary inertia spinning about its own axis. They are neither vibration modes nor
+/// mechanisms the model can move in, and they make `K + σM` singular.
+pub fn massless_rigid_motions(mass: &faer::sparse::SparseColMat<usize, f64>, rigid: &Mat<f64>) -> Mat<f64> {
+    let r = rigid.ncols();
+    if r == 0 {
+        return Mat::zeros(rigid.nrows(), 0);
+    }
+    let gram = rigid.transpose() * (mass * rigid);
+    let eigen = gram.self_adjoint_eigen(faer::Side::Lower).expect("small symmetric eigenproblem");
+    let largest = (0..r).map(|k| eigen.S()[k]).fold(0.0_f64, f64::max);
+    let massless: Vec<usize> = (0..r).filter(|&k| eigen.S()[k] <= 1e-12 * largest.max(f64::MIN_POSITIVE)).collect();
+    let mut motions = Mat::zeros(rigid.nrows(), massless.len());
+    for (c, &k) in massless.iter().enumerate() {
+        let combination = eigen.U().col(k);
+        let column = rigid * combination;
+        for i in 0..rigid.nrows() {
+            motions[(i, c)] = column[i];
+        }
+    }
+    motions
+}
+
 /// Modified Gram–Schmidt, twice, on the columns of `m` (Euclidean inner product).
 pub(crate) fn orthonormalize_columns(m: &mut Mat<f64>) {
     for _pass in 0..2 {

@@ -17,10 +17,10 @@ pub use flexible_body::{
 pub use invariants::InertiaInvariants;
 pub use mode_set::{ModeGroup, ModeSet};
 
-use crate::assembly::{assemble, AssembledModel, MassProperties};
+use crate::assembly::{AssembledModel, MassProperties};
 use crate::error::FemError;
 use crate::mesh::{ElementKind, FeModel};
-use crate::modes::{rigid::free_rigid_motions, vibration_modes_of, EigenSettings, VibrationModes};
+use crate::modes::{prepare, vibration_modes_of, EigenSettings, VibrationModes};
 use crate::static_correction::{static_correction_modes, StaticModes};
 
 /// What to reduce to.
@@ -66,18 +66,26 @@ pub fn reduce(model: &FeModel, name: &str, settings: &ReductionSettings) -> Resu
             ),
         });
     }
-    let assembled = assemble(model)?;
-    let rigid = free_rigid_motions(&model.mesh, &assembled.dofs);
+    let prepared = prepare(model)?;
+    let (model, assembled, rigid) = (&prepared.model, &prepared.assembled, &prepared.rigid);
     let mut warnings = Vec::new();
-    if rigid.ncols() > 0 {
+    for &(node, dof) in &prepared.held_massless {
         warnings.push(format!(
-            "the supports leave {} rigid motion(s) (zero-frequency mechanisms); they are excluded from the vibration modes",
-            rigid.ncols()
+            "node {} dof {} held: the rigid motion through it has no mass (lump rotary inertia to keep it)",
+            model.mesh.nodes[node].label,
+            dof.name()
+        ));
+    }
+    let rigid_count = rigid.ncols() + prepared.held_massless.len();
+    if rigid_count > 0 {
+        warnings.push(format!(
+            "the supports leave {rigid_count} rigid motion(s) (zero-frequency mechanisms); they are excluded from the vibration modes"
         ));
     }
     let fe_count = set.len().max(set.vibration());
-    let fe_modes = vibration_modes_of(&assembled, &rigid, fe_count, &settings.eigen)?;
-    let static_modes = if set.statics() > 0 { Some(static_correction_modes(model, &assembled, &rigid)?) } else { None };
+    let mut fe_modes = vibration_modes_of(assembled, rigid, fe_count, &settings.eigen)?;
+    fe_modes.rigid_modes = rigid_count;
+    let static_modes = if set.statics() > 0 { Some(static_correction_modes(model, assembled, rigid)?) } else { None };
     if let Some(statics) = &static_modes {
         for (name, fraction) in statics.names.iter().zip(&statics.rigid_load_fractions).take(set.statics()) {
             if *fraction > 1e-8 {
@@ -116,7 +124,7 @@ pub fn reduce(model: &FeModel, name: &str, settings: &ReductionSettings) -> Resu
     }
     let body = flexible_body(
         model,
-        &assembled,
+        assembled,
         name,
         settings,
         &basis,
