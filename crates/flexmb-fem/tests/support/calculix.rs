@@ -14,14 +14,17 @@ use std::process::Command;
 /// The `ccx` executable on the PATH, if any.
 pub fn ccx_path() -> Option<PathBuf> {
     let path = std::env::var_os("PATH")?;
-    std::env::split_paths(&path).map(|dir| dir.join("ccx")).find(|candidate| is_executable(candidate))
+    std::env::split_paths(&path)
+        .map(|dir| dir.join("ccx"))
+        .find(|candidate| is_executable(candidate))
 }
 
 fn is_executable(path: &Path) -> bool {
     #[cfg(unix)]
     {
         use std::os::unix::fs::PermissionsExt;
-        path.metadata().is_ok_and(|m| m.is_file() && m.permissions().mode() & 0o111 != 0)
+        path.metadata()
+            .is_ok_and(|m| m.is_file() && m.permissions().mode() & 0o111 != 0)
     }
     #[cfg(not(unix))]
     {
@@ -32,8 +35,10 @@ fn is_executable(path: &Path) -> bool {
 /// Writes `inp_text` to `work_dir/job.inp`, runs `ccx -i job` there (one thread) and returns the
 /// frequencies (cycles/time) of the first eigenvalue table of `job.dat`, in ccx's order (ascending).
 pub fn natural_frequencies(inp_text: &str, work_dir: &Path) -> Result<Vec<f64>, String> {
-    let ccx = ccx_path().ok_or("ccx not found on the PATH (install Debian package calculix-ccx)")?;
-    std::fs::create_dir_all(work_dir).map_err(|e| format!("cannot create {}: {e}", work_dir.display()))?;
+    let ccx =
+        ccx_path().ok_or("ccx not found on the PATH (install Debian package calculix-ccx)")?;
+    std::fs::create_dir_all(work_dir)
+        .map_err(|e| format!("cannot create {}: {e}", work_dir.display()))?;
     let dat = work_dir.join("job.dat");
     let _ = std::fs::remove_file(&dat);
     std::fs::write(work_dir.join("job.inp"), inp_text)
@@ -48,7 +53,14 @@ pub fn natural_frequencies(inp_text: &str, work_dir: &Path) -> Result<Vec<f64>, 
     let stdout = String::from_utf8_lossy(&output.stdout);
     let errors: Vec<&str> = stdout.lines().filter(|l| l.contains("*ERROR")).collect();
     if !output.status.success() || !errors.is_empty() {
-        let tail: Vec<&str> = stdout.lines().rev().take(20).collect::<Vec<_>>().into_iter().rev().collect();
+        let tail: Vec<&str> = stdout
+            .lines()
+            .rev()
+            .take(20)
+            .collect::<Vec<_>>()
+            .into_iter()
+            .rev()
+            .collect();
         return Err(format!(
             "ccx failed ({}) in {}:\n{}\n{}",
             output.status,
@@ -57,14 +69,17 @@ pub fn natural_frequencies(inp_text: &str, work_dir: &Path) -> Result<Vec<f64>, 
             tail.join("\n")
         ));
     }
-    let text = std::fs::read_to_string(&dat).map_err(|e| format!("cannot read {}: {e}", dat.display()))?;
+    let text =
+        std::fs::read_to_string(&dat).map_err(|e| format!("cannot read {}: {e}", dat.display()))?;
     parse_eigenvalue_table(&text).ok_or_else(|| format!("no eigenvalue table in {}", dat.display()))
 }
 
 /// The frequencies (cycles/time, the fourth column) of the first `E I G E N V A L U E   O U T P U T`
 /// table of a ccx `.dat` file.
 pub fn parse_eigenvalue_table(dat: &str) -> Option<Vec<f64>> {
-    let mut lines = dat.lines().skip_while(|l| !l.contains("E I G E N V A L U E   O U T P U T"));
+    let mut lines = dat
+        .lines()
+        .skip_while(|l| !l.contains("E I G E N V A L U E   O U T P U T"));
     lines.next()?;
     let mut frequencies = Vec::new();
     for line in lines {
@@ -118,7 +133,12 @@ impl CantileverBeam {
         let n = self.elements;
         s += "** flexmb test deck: cantilever of B31 beams, clamped at x = 0\n*NODE, NSET=NALL\n";
         for i in 0..=n {
-            let _ = writeln!(s, "{}, {}, 0., 0.", i + 1, self.length * i as f64 / n as f64);
+            let _ = writeln!(
+                s,
+                "{}, {}, 0., 0.",
+                i + 1,
+                self.length * i as f64 / n as f64
+            );
         }
         s += "*ELEMENT, TYPE=B31, ELSET=EBEAM\n";
         for i in 1..=n {
@@ -130,7 +150,11 @@ impl CantileverBeam {
             "*MATERIAL, NAME=MAT\n*ELASTIC\n{}, {}\n*DENSITY\n{}",
             self.youngs_modulus, self.poisson_ratio, self.density
         );
-        let _ = writeln!(s, "*BEAM SECTION, ELSET=EBEAM, MATERIAL=MAT, SECTION=RECT\n{}, {}\n0., 1., 0.", self.a, self.b);
+        let _ = writeln!(
+            s,
+            "*BEAM SECTION, ELSET=EBEAM, MATERIAL=MAT, SECTION=RECT\n{}, {}\n0., 1., 0.",
+            self.a, self.b
+        );
         s += "*BOUNDARY\nROOT, 1, 6\n";
         let _ = writeln!(s, "*STEP\n*FREQUENCY\n{}\n*END STEP", self.modes);
         s
@@ -187,7 +211,10 @@ impl CantileverPlate {
         s += "** flexmb test deck: cantilever plate of S4 shells, clamped along x = 0\n*NODE\n";
         for j in 0..=ny {
             for i in 0..=nx {
-                let (x, y) = (self.lx * i as f64 / nx as f64, self.ly * j as f64 / ny as f64);
+                let (x, y) = (
+                    self.lx * i as f64 / nx as f64,
+                    self.ly * j as f64 / ny as f64,
+                );
                 let _ = writeln!(s, "{}, {x}, {y}, 0.", node(i, j));
             }
         }
@@ -196,16 +223,32 @@ impl CantileverPlate {
         for j in 0..ny {
             for i in 0..nx {
                 label += 1;
-                let _ = writeln!(s, "{label}, {}, {}, {}, {}", node(i, j), node(i + 1, j), node(i + 1, j + 1), node(i, j + 1));
+                let _ = writeln!(
+                    s,
+                    "{label}, {}, {}, {}, {}",
+                    node(i, j),
+                    node(i + 1, j),
+                    node(i + 1, j + 1),
+                    node(i, j + 1)
+                );
             }
         }
-        let _ = writeln!(s, "*NSET, NSET=CLAMPED, GENERATE\n1, {}, {}", node(0, ny), nx + 1);
+        let _ = writeln!(
+            s,
+            "*NSET, NSET=CLAMPED, GENERATE\n1, {}, {}",
+            node(0, ny),
+            nx + 1
+        );
         let _ = writeln!(
             s,
             "*MATERIAL, NAME=MAT\n*ELASTIC\n{}, {}\n*DENSITY\n{}",
             self.youngs_modulus, self.poisson_ratio, self.density
         );
-        let _ = writeln!(s, "*SHELL SECTION, ELSET=PLATE, MATERIAL=MAT\n{}", self.thickness);
+        let _ = writeln!(
+            s,
+            "*SHELL SECTION, ELSET=PLATE, MATERIAL=MAT\n{}",
+            self.thickness
+        );
         s += "*BOUNDARY\nCLAMPED, 1, 6\n";
         let _ = writeln!(s, "*STEP\n*FREQUENCY\n{}\n*END STEP", self.modes);
         s
@@ -216,7 +259,8 @@ impl CantileverPlate {
     /// first mode for a plate longer than wide (the clamp's anticlastic restraint stiffens it a
     /// little).
     pub fn first_bending_frequency_beam_estimate(&self) -> f64 {
-        let d = self.youngs_modulus * self.thickness.powi(3) / (12.0 * (1.0 - self.poisson_ratio.powi(2)));
+        let d = self.youngs_modulus * self.thickness.powi(3)
+            / (12.0 * (1.0 - self.poisson_ratio.powi(2)));
         1.875_104_068_711_961_f64.powi(2) / (2.0 * std::f64::consts::PI)
             * (d / (self.density * self.thickness * self.lx.powi(4))).sqrt()
     }
