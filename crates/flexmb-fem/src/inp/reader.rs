@@ -49,11 +49,14 @@ fn element_kind(type_name: &str) -> Result<Kind, String> {
         "MASS" => Ok(Kind::Mass),
         "ROTARYI" => Ok(Kind::RotaryInertia),
         _ => {
-            let hint = if type_name.starts_with('B') {
-                " (quadratic and 2D beams are not supported: use B31)"
-            } else if type_name.starts_with('S') || type_name.starts_with("STRI") {
-                " (quadratic shells are not supported: use S3 or S4)"
-            } else if type_name.starts_with('C') {
+            let t = type_name;
+            let hint = if t.starts_with("B2") || t.starts_with("B3") || t.starts_with("PIPE") {
+                " (other beam types are not supported: use B31 or B33)"
+            } else if (t.starts_with('S') && !t.starts_with("SPRING") && !t.starts_with("SAX"))
+                || t.starts_with("M3D")
+            {
+                " (other shell types are not supported: use S3, S3R, S4 or S4R)"
+            } else if t.starts_with('C') {
                 " (continuum elements are not supported: flexmb models beams and shells)"
             } else {
                 ""
