@@ -99,6 +99,7 @@ pub fn reduce(model: &FeModel, name: &str, settings: &ReductionSettings) -> Resu
     let (mut basis, mut modes) = raw_basis(set, &fe_modes, static_modes.as_ref());
     let mut modal_mass = basis.transpose() * (&assembled.mass * &basis);
     let mut modal_stiffness = basis.transpose() * (&assembled.stiffness * &basis);
+    massive_modes(&modal_mass, &modes)?;
     let basis_independence = scaled_gram_minimum(&modal_mass)?;
     if basis_independence < DEPENDENT {
         return Err(FemError::SingularBasis {
@@ -163,6 +164,25 @@ fn raw_basis(set: &ModeSet, fe: &VibrationModes, statics: Option<&StaticModes>) 
         }
     }
     (Mat::from_fn(n, columns.len(), |i, j| columns[j][i]), modes)
+}
+
+/// Every mode must move mass: a mode without modal mass (a twist of beams without rotary inertia)
+/// would make the mass matrix of the flexible body singular.
+fn massive_modes(modal_mass: &Mat<f64>, modes: &[ModeInfo]) -> Result<(), FemError> {
+    let largest = (0..modal_mass.nrows()).map(|j| modal_mass[(j, j)]).fold(0.0_f64, f64::max);
+    for (j, mode) in modes.iter().enumerate() {
+        if !(modal_mass[(j, j)] > 1e-12 * largest) {
+            let what = mode.load.as_ref().map_or(String::new(), |l| format!(" ({l})"));
+            return Err(FemError::SingularBasis {
+                message: format!(
+                    "mode {}{what} moves no mass (modal mass {:.1e}): it only turns nodes without rotary inertia; set rotary_inertia = true or drop the mode",
+                    mode.label,
+                    modal_mass[(j, j)]
+                ),
+            });
+        }
+    }
+    Ok(())
 }
 
 /// Smallest eigenvalue of `D^{-1/2} G D^{-1/2}` (`D` the diagonal of `G`).

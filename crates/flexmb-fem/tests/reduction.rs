@@ -1,0 +1,225 @@
+//! Reduction to a mode set: the basis, the reduced model's frequencies, the modal mass and stiffness,
+//! and the inertia invariants, checked against node-by-node sums and the FE matrices.
+
+mod support;
+
+use faer::Mat;
+use flexmb_fem::modes::prepare;
+use flexmb_fem::reduction::{reduce, Basis, FlexibleBody, ModeKind, ReductionSettings};
+use flexmb_fem::FeModel;
+use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
+use support::*;
+
+fn settings(set: &str, basis: Basis) -> ReductionSettings {
+    ReductionSettings { mode_set: set.parse().unwrap(), basis, eigen: Default::default() }
+}
+
+/// A cantilever with a tip force and a tip bending torque as deleted constraints.
+fn arm() -> FeModel {
+    let mut model = cantilever(1.0, 12, square_section(0.01));
+    let tip = model.mesh.nodes.len() - 1;
+    model.static_loads = vec![force("tip_fz", tip, [0.0, 0.0, 1.0]), torque("tip_tz", tip, [0.0, 0.0, 1.0])];
+    model
+}
+
+/// Deterministic pseudo-random numbers in (-1, 1).
+fn pseudo_random(n: usize, seed: f64) -> Vec<f64> {
+    (0..n).map(|i| 2.0 * ((i as f64 + seed) * 0.754_877_666_246_693).fract() - 1.0).collect()
+}
+
+/// `Φ` over all nodal dofs (6 n × m) from the body file.
+fn nodal_basis(body: &FlexibleBody) -> DMatrix<f64> {
+    let n = body.nodes.len();
+    DMatrix::from_fn(6 * n, body.mode_count(), |g, j| {
+        let (node, d) = (g / 6, g % 6);
+        if d < 3 { body.shapes[j].translation[node][d] } else { body.shapes[j].rotation[node][d - 3] }
+    })
+}
+
+/// The FE stiffness over all nodal dofs (zero rows and columns at supports).
+fn nodal_stiffness(model: &FeModel) -> DMatrix<f64> {
+    let prepared = prepare(model).unwrap();
+    let k: Mat<f64> = prepared.assembled.stiffness.to_dense();
+    let dofs = &prepared.assembled.dofs;
+    let n = 6 * dofs.n_nodes();
+    DMatrix::from_fn(n, n, |a, b| match (dofs.equation_of(a), dofs.equation_of(b)) {
+        (Some(i), Some(j)) => k[(i, j)],
+        _ => 0.0,
+    })
+}
+
+#[test]
+fn orthonormal_basis_has_identity_mass_and_diagonal_stiffness() {
+    let reduction = reduce(&arm(), "arm", &settings("4N2S", Basis::Orthonormal)).unwrap();
+    let body = &reduction.body;
+    assert_eq!(body.mode_count(), 6);
+    assert!(body.modes.iter().all(|m| m.kind == ModeKind::Orthonormal));
+    let m = body.mode_count();
+    for i in 0..m {
+        for j in 0..m {
+            let identity = if i == j { 1.0 } else { 0.0 };
+            assert!((body.modal_mass[(i, j)] - identity).abs() < 1e-10);
+            assert!((body.invariants.c9[(i, j)] - identity).abs() < 1e-10, "no rotary inertia: C9 is the modal mass");
+            let expected = if i == j { (2.0 * std::f64::consts::PI * body.reduced_frequencies_hz[i]).powi(2) } else { 0.0 };
+            assert!((body.modal_stiffness[(i, j)] - expected).abs() < 1e-8 * body.modal_stiffness[(m - 1, m - 1)]);
+        }
+    }
+    // The span holds the four lowest vibration modes, so the reduced model has their frequencies
+    // (the vibration modes come in pairs of equal frequency: square section); its other two
+    // frequencies lie above the FE ones (Rayleigh–Ritz).
+    for k in 0..4 {
+        assert!(rel(body.reduced_frequencies_hz[k], body.fe_frequencies_hz[k]) < 1e-9);
+    }
+    for k in 4..6 {
+        assert!(body.reduced_frequencies_hz[k] >= body.fe_frequencies_hz[k] * (1.0 - 1e-12));
+    }
+}
+
+#[test]
+fn raw_basis_keeps_the_seeds_modes_and_the_same_reduced_frequencies() {
+    let raw = reduce(&arm(), "arm", &settings("4N2S", Basis::Raw)).unwrap().body;
+    let orthonormal = reduce(&arm(), "arm", &settings("4N2S", Basis::Orthonormal)).unwrap().body;
+    let labels: Vec<&str> = raw.modes.iter().map(|m| m.label.as_str()).collect();
+    assert_eq!(labels, ["N1", "N2", "N3", "N4", "S1", "S2"]);
+    assert_eq!(raw.modes[4].load.as_deref(), Some("tip_fz"));
+    for (a, b) in raw.reduced_frequencies_hz.iter().zip(&orthonormal.reduced_frequencies_hz) {
+        assert!(rel(*a, *b) < 1e-9);
+    }
+    // The static mode is the unit-load response: tip deflection L³/3EI.
+    let tip = raw.nodes.len() - 1;
+    let ei = E * square_section(0.01).iy;
+    assert!(rel(raw.shapes[4].translation[tip][2], 1.0 / (3.0 * ei)) < 1e-10);
+}
+
+#[test]
+fn modal_mass_and_stiffness_equal_the_projected_fe_matrices() {
+    let model = arm();
+    let body = reduce(&model, "arm", &settings("3N2S", Basis::Raw)).unwrap().body;
+    let phi = nodal_basis(&body);
+    let k = nodal_stiffness(&model);
+    let k_aa = phi.transpose() * &k * &phi;
+    assert!((&k_aa - &body.modal_stiffness).amax() < 1e-9 * k_aa.amax());
+    // Φᵀ M Φ with the lumped masses, node by node.
+    let mut c9 = DMatrix::zeros(5, 5);
+    for (i, node) in body.nodes.iter().enumerate() {
+        let psi = body.psi(i);
+        c9 += node.mass * psi.transpose() * psi;
+    }
+    assert!((&c9 - &body.invariants.c9).amax() < 1e-12 * c9.amax());
+    assert!((&c9 - &body.modal_mass).amax() < 1e-12 * c9.amax());
+}
+
+#[test]
+fn mass_first_moment_and_inertia_equal_the_rigid_properties_of_the_mesh() {
+    let body = reduce(&arm(), "arm", &settings("2N", Basis::Orthonormal)).unwrap().body;
+    let inv = &body.invariants;
+    let section = square_section(0.01);
+    let mass = RHO * section.area * 1.0;
+    assert!(rel(inv.mass, mass) < 1e-12);
+    assert!(rel(body.mass_properties.mass, mass) < 1e-12);
+    // Centre of mass at mid-length.
+    assert!((inv.c1 - mass * Vector3::new(0.5, 0.0, 0.0)).norm() < 1e-12 * mass);
+    assert!((body.mass_properties.center_of_mass - Vector3::new(0.5, 0.0, 0.0)).norm() < 1e-12);
+    // −C3 is the inertia about the frame origin; shifted to the centre of mass it is the mass
+    // properties' inertia (parallel axes).
+    let c = body.mass_properties.center_of_mass;
+    let about_origin = body.mass_properties.inertia + inv.mass * (Matrix3::identity() * c.norm_squared() - c * c.transpose());
+    assert!((-inv.c3 - about_origin).amax() < 1e-12 * about_origin.amax());
+    // Lumped nodes: Σ mᵢ xᵢ² is the trapezoidal rule for m L²/3, exact up to m h²/6 / ... :
+    // with n elements the lumped value is m L² (1/3 + 1/(6 n²)).
+    let n = 12.0;
+    assert!(rel(-inv.c3[(1, 1)], mass * (1.0 / 3.0 + 1.0 / (6.0 * n * n))) < 1e-12);
+}
+
+#[test]
+fn invariant_expansions_equal_node_sums_for_a_deformed_state() {
+    let body = reduce(&arm(), "arm", &settings("3N2S", Basis::Raw)).unwrap().body;
+    let inv = &body.invariants;
+    let m = body.mode_count();
+    let a = DVector::from_vec(pseudo_random(m, 0.3)) * 1e-2;
+    // Node sums at the deformed positions r̄ᵢ = s̄ᵢ + Ψᵢ a.
+    let mut first_moment = Vector3::zeros();
+    let mut inertia = Matrix3::zeros();
+    let mut coupling = DMatrix::zeros(3, m);
+    for (i, node) in body.nodes.iter().enumerate() {
+        let psi = body.psi(i);
+        let d = &psi * &a;
+        let r = node.position + Vector3::new(d[0], d[1], d[2]);
+        let r_tilde = r.cross_matrix();
+        first_moment += node.mass * r;
+        inertia -= node.mass * r_tilde * r_tilde;
+        coupling += node.mass * DMatrix::from_fn(3, 3, |p, q| r_tilde[(p, q)]) * psi;
+    }
+    // S(a) = C1 + C2 a
+    let c2a = &inv.c2 * &a;
+    let s = inv.c1 + Vector3::new(c2a[0], c2a[1], c2a[2]);
+    assert!((s - first_moment).norm() < 1e-12 * first_moment.norm());
+    // J̄(a) = −(C3 + Σⱼ (C4(j) + C4(j)ᵀ) aⱼ + Σⱼₖ C5(j,k) aⱼ aₖ)
+    let mut j_bar = inv.c3;
+    for j in 0..m {
+        j_bar += (inv.c4[j] + inv.c4[j].transpose()) * a[j];
+        for k in 0..m {
+            j_bar += inv.c5[j][k] * a[j] * a[k];
+        }
+    }
+    assert!((-j_bar - inertia).amax() < 1e-12 * inertia.amax());
+    // Σ mᵢ r̄̃ᵢ Ψᵢ = C6 + Σₖ C7(k) aₖ
+    let mut expansion = inv.c6.clone();
+    for k in 0..m {
+        expansion += &inv.c7[k] * a[k];
+    }
+    assert!((&expansion - &coupling).amax() < 1e-12 * coupling.amax());
+    // C8(j) = Σ mᵢ s̄ᵢᵀ ψᵢʲ
+    for j in 0..m {
+        let c8: f64 = body.nodes.iter().enumerate().map(|(i, n)| n.mass * n.position.dot(&body.psi(i).column(j).into_owned().fixed_rows::<3>(0).into_owned())).sum();
+        assert!((c8 - inv.c8[j]).abs() < 1e-12 * inv.c8.amax());
+    }
+}
+
+#[test]
+fn rotary_inertia_enters_the_modal_mass() {
+    let mut model = arm();
+    model.options.rotary_inertia = true;
+    let body = reduce(&model, "arm", &settings("3N", Basis::Orthonormal)).unwrap().body;
+    let total = &body.invariants.c9 + &body.invariants.rotary_modal_mass;
+    assert!((total - DMatrix::identity(3, 3)).amax() < 1e-10, "Φᵀ M Φ = C9 + Σ Θᵀ J Θ = I");
+    assert!(body.invariants.rotary_modal_mass.amax() > 0.0);
+}
+
+#[test]
+fn flexible_body_file_round_trips() {
+    let body = reduce(&arm(), "arm", &settings("2N2S", Basis::Raw)).unwrap().body;
+    let text = body.to_json();
+    let back = FlexibleBody::from_json(&text, "arm.json").unwrap();
+    assert_eq!(back, body);
+    let broken = text.replacen("\"format\":\"flexmb-flexible-body\"", "\"format\":\"other\"", 1);
+    let error = FlexibleBody::from_json(&broken, "arm.json").unwrap_err().to_string();
+    assert!(error.starts_with("arm.json: not a flexible-body file"), "{error}");
+}
+
+#[test]
+fn asking_for_more_static_modes_than_loads_is_an_error() {
+    let error = reduce(&arm(), "arm", &settings("3S", Basis::Raw)).unwrap_err().to_string();
+    assert!(error.contains("3 static correction modes") && error.contains("2 static loads"), "{error}");
+}
+
+#[test]
+fn a_static_mode_in_the_span_of_the_others_makes_the_basis_singular() {
+    let mut model = arm();
+    let tip = model.mesh.nodes.len() - 1;
+    model.static_loads.push(force("tip_fz_again", tip, [0.0, 0.0, 2.0]));
+    let error = reduce(&model, "arm", &settings("3S", Basis::Raw)).unwrap_err().to_string();
+    assert!(error.contains("linearly dependent"), "{error}");
+}
+
+#[test]
+fn a_static_mode_that_moves_no_mass_is_an_error() {
+    let mut model = arm();
+    let tip = model.mesh.nodes.len() - 1;
+    // A torque about the beam's axis only twists it: without rotary inertia, nothing with mass moves.
+    model.static_loads[1] = torque("tip_tx", tip, [1.0, 0.0, 0.0]);
+    let error = reduce(&model, "arm", &settings("2S", Basis::Raw)).unwrap_err().to_string();
+    assert!(error.contains("mode S2 (tip_tx) moves no mass"), "{error}");
+    model.options.rotary_inertia = true;
+    assert!(reduce(&model, "arm", &settings("2S", Basis::Raw)).is_ok());
+}
