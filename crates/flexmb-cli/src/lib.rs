@@ -2,6 +2,7 @@
 
 pub mod bench;
 pub mod check;
+pub mod fe_model_file;
 pub mod model_file;
 pub mod results;
 pub mod run;

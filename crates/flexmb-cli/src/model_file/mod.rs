@@ -2,16 +2,16 @@
 //! position kept, validated with errors that name the file, key path and line, and built into a
 //! [`flexmb::Model`].
 
-mod build;
+pub(crate) mod build;
 mod error;
-mod expressions;
-mod key_path;
-mod parameters;
-mod schema;
-mod source;
-mod suggest;
-mod toml_errors;
-mod value;
+pub(crate) mod expressions;
+pub(crate) mod key_path;
+pub(crate) mod parameters;
+pub(crate) mod schema;
+pub(crate) mod source;
+pub(crate) mod suggest;
+pub(crate) mod toml_errors;
+pub(crate) mod value;
 
 use std::path::Path;
 

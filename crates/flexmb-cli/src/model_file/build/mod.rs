@@ -3,7 +3,7 @@
 //! with the key and line it came from; last the engine's own validation.
 
 mod bodies;
-mod context;
+pub(crate) mod context;
 mod drivers;
 mod engine_errors;
 mod forces;
@@ -11,7 +11,7 @@ mod inertia;
 mod joints;
 mod markers;
 mod measures;
-mod names;
+pub(crate) mod names;
 mod orientation;
 mod outputs;
 mod simulation;

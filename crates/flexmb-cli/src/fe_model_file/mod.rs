@@ -1,0 +1,117 @@
+//! FE model files: the finite-element model of a flexible body described in TOML (see
+//! `docs/fe-model-file.md`) — materials, sections, nodes, elements, generated beam lines and plates,
+//! masses, supports and the static loads of the static correction modes, optionally on top of an
+//! Abaqus/CalculiX `.inp` mesh — built into a [`flexmb_fem::FeModel`].
+//!
+//! Errors are those of mechanism model files ([`ModelFileError`]): file, 1-based line, TOML key path
+//! and what was expected; the TOML parsing, `[parameters]`, numbers and expressions, names and
+//! suggestions are the model-file layer's own.
+
+mod build;
+mod elements;
+mod format;
+mod generators;
+mod masses;
+mod materials;
+mod mesh_file;
+mod names;
+mod node_ref;
+mod nodes;
+mod options;
+mod schema;
+mod sections;
+mod static_loads;
+mod supports;
+mod value;
+
+use std::path::Path;
+
+use serde::Deserialize;
+use toml::de::DeTable;
+
+use flexmb_fem::reduction::{Basis, ModeSet};
+
+use crate::model_file::source::Source;
+use crate::model_file::toml_errors;
+use crate::model_file::ErrorKind;
+pub use crate::model_file::ModelFileError;
+
+use schema::FeModelFile;
+
+/// An FE model read from a file, with the file's defaults for `flexmb modes`.
+#[derive(Clone, Debug)]
+pub struct LoadedFeModel {
+    /// `[fe_model] name`, or the file name without extension.
+    pub name: String,
+    pub model: flexmb_fem::FeModel,
+    pub defaults: ModesDefaults,
+    /// Things worth knowing that do not stop the model from being built (a definition nothing uses,
+    /// a skipped keyword of the mesh file), each `file:line: …`.
+    pub warnings: Vec<String>,
+}
+
+/// `[modes]`: what `flexmb modes` uses unless told otherwise; `None` where the file says nothing.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ModesDefaults {
+    pub mode_set: Option<ModeSet>,
+    pub basis: Option<Basis>,
+}
+
+/// Reads and builds the FE model file at `path`: a TOML FE model file, or an `.inp` deck directly
+/// (then the model is the deck's, named after the file, without `[modes]` defaults).
+pub fn load_fe_model(path: &Path) -> Result<LoadedFeModel, ModelFileError> {
+    let file = path.display().to_string();
+    let stem = file_stem(&file);
+    if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("inp")) {
+        let inp = flexmb_fem::inp::read_inp(path).map_err(|e| mesh_file::inp_error(&e))?;
+        check_has_elements(&inp.model, &file)?;
+        return Ok(LoadedFeModel {
+            name: stem,
+            model: inp.model,
+            defaults: ModesDefaults::default(),
+            warnings: inp.warnings,
+        });
+    }
+    let io_error = |message: String| ModelFileError {
+        kind: ErrorKind::Io,
+        file: file.clone(),
+        line: None,
+        key_path: String::new(),
+        message,
+    };
+    let bytes = std::fs::read(path).map_err(|e| io_error(format!("cannot read the FE model file: {e}")))?;
+    let text = String::from_utf8(bytes).map_err(|e| io_error(format!("the FE model file is not UTF-8 text: {e}")))?;
+    let base_dir = path.parent().unwrap_or(Path::new(""));
+    parse_fe_model(&text, &file, base_dir)
+}
+
+/// Builds an FE model from the text of an FE model file. `file_name` is used in error messages and its
+/// stem is the model's default name; a relative `[fe_model] mesh` path starts at `base_dir`.
+pub fn parse_fe_model(text: &str, file_name: &str, base_dir: &Path) -> Result<LoadedFeModel, ModelFileError> {
+    let source = Source::new(file_name, text);
+    let (document, syntax_errors) = DeTable::parse_recoverable(text);
+    if let Some(error) = syntax_errors.first() {
+        return Err(toml_errors::syntax_error(&source, document.get_ref(), error));
+    }
+    let file = FeModelFile::deserialize(toml::de::Deserializer::from(document.clone()))
+        .map_err(|e| toml_errors::schema_error(&source, document.get_ref(), &e))?;
+    build::build(&file, &source, file_name, base_dir, &file_stem(file_name))
+}
+
+fn file_stem(file_name: &str) -> String {
+    Path::new(file_name).file_stem().and_then(|s| s.to_str()).unwrap_or("fe_model").to_string()
+}
+
+/// An `.inp` deck read directly must have elements, as a TOML model must.
+fn check_has_elements(model: &flexmb_fem::FeModel, file: &str) -> Result<(), ModelFileError> {
+    if model.mesh.elements.is_empty() {
+        return Err(ModelFileError {
+            kind: ErrorKind::Invalid,
+            file: file.to_string(),
+            line: None,
+            key_path: String::new(),
+            message: "the mesh file has no elements (*ELEMENT with a beam or shell type)".to_string(),
+        });
+    }
+    Ok(())
+}
