@@ -71,6 +71,8 @@ pub fn beam_matrices(
             .copy_from(&axes);
     }
     let stiffness = t.transpose() * k_local * &t;
+    // Exactly symmetric, whatever the rounding of the products.
+    let stiffness = (&stiffness + stiffness.transpose()) * 0.5;
 
     let mass = elastic.density * properties.area * length;
     let rotary = if rotary_inertia {
@@ -113,13 +115,13 @@ fn local_axes(
 ) -> Result<Matrix3<f64>, ElementError> {
     let axis = b - a;
     let length = axis.norm();
-    if !(length > ZERO_LENGTH * a.norm().max(b.norm())) || !length.is_finite() {
+    if !length.is_finite() || length <= ZERO_LENGTH * a.norm().max(b.norm()) {
         return Err(ElementError::ZeroLength);
     }
     let x = axis / length;
     let size = orientation.norm();
     let y = orientation - x * x.dot(orientation);
-    if !(y.norm() > PARALLEL * size) || !size.is_finite() {
+    if !size.is_finite() || y.norm() <= PARALLEL * size {
         return Err(ElementError::OrientationParallel);
     }
     let y = y.normalize();

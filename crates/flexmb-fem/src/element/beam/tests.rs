@@ -193,7 +193,8 @@ fn orientation_vector_chooses_the_bending_planes() {
     let s = section(Vector3::y(), None);
     let (u, _) = cantilever_tip(&a, &b, &s, force, Vector3::zeros());
     assert!((u.y / (p * 8.0 / (3.0 * E * s.iz)) - 1.0).abs() < 1e-12);
-    // Orientation (0.4, 0, 2), normal part along z: local y is body z, local z = x × y is −body y, bending with Iy.
+    // Orientation (0.4, 0, 2), normal part along z: local y is body z, local z = x × y is −body y,
+    // bending with Iy.
     let s = section(Vector3::new(0.4, 0.0, 2.0), None);
     let (u, r) = cantilever_tip(&a, &b, &s, force, Vector3::zeros());
     assert!((u.y / (p * 8.0 / (3.0 * E * s.iy)) - 1.0).abs() < 1e-12);
