@@ -46,9 +46,13 @@ fn beam_frequencies_agree_with_calculix() {
     }
 }
 
+/// A cantilever plate of 32 × 16 S4 shells: the six lowest frequencies agree within 3 %. (On a
+/// 16 × 8 mesh ccx's brick expansion of S4 is still 7–11 % stiff in the twisting modes, while
+/// flexmb's MITC4 quadrilaterals and DKT triangles agree with each other and with
+/// warping-restrained torsion theory; refined, ccx comes down to them.)
 #[test]
 fn plate_frequencies_agree_with_calculix() {
-    let plate = CantileverPlate { modes: 6, ..CantileverPlate::default() };
+    let plate = CantileverPlate { nx: 32, ny: 16, modes: 6, ..CantileverPlate::default() };
     let Some((ours, theirs)) = both(&plate.deck(), "plate_s4.inp", 6) else { return };
     for k in 0..6 {
         let difference = (ours[k] - theirs[k]).abs() / theirs[k];

@@ -1,0 +1,85 @@
+//! Vibration modes of a simply supported rectangular plate against Kirchhoff theory,
+//! `f = (π/2)((i/a)² + (j/b)²) √(E t² / (12 ρ (1 − ν²)))`, for quadrilateral and triangular flat
+//! shells, with mesh convergence; the in-plane rigid motions the supports leave are found and set
+//! aside; the Lanczos path agrees with the dense one.
+
+mod support;
+
+use flexmb_fem::mesh::ShellShape;
+use flexmb_fem::modes::{vibration_modes, EigenSettings, EigenSolver};
+use flexmb_fem::reduction::{reduce, Basis, ReductionSettings};
+use nalgebra::Vector3;
+use support::*;
+
+const A: f64 = 1.0;
+const B: f64 = 0.8;
+const T: f64 = 0.005;
+
+/// The lowest `count` Kirchhoff frequencies, ascending.
+fn kirchhoff(count: usize) -> Vec<f64> {
+    let mut f: Vec<f64> = (1..=8).flat_map(|i| (1..=8).map(move |j| plate_frequency(i, j, A, B, T))).collect();
+    f.sort_by(f64::total_cmp);
+    f.truncate(count);
+    f
+}
+
+fn errors(na: usize, nb: usize, shape: ShellShape, count: usize) -> Vec<f64> {
+    let model = simply_supported_plate(A, B, T, na, nb, shape);
+    let modes = vibration_modes(&model, count, &EigenSettings::default()).unwrap();
+    assert_eq!(modes.rigid_modes, 3, "in-plane translations and turn are left free");
+    modes.frequencies_hz.iter().zip(kirchhoff(count)).map(|(f, reference)| rel(*f, reference)).collect()
+}
+
+#[test]
+fn quadrilateral_plate_frequencies_converge_to_kirchhoff() {
+    let coarse = errors(10, 8, ShellShape::Quadrilateral, 6);
+    let fine = errors(20, 16, ShellShape::Quadrilateral, 6);
+    println!("quadrilaterals 10×8:  {coarse:?}\nquadrilaterals 20×16: {fine:?}");
+    for k in 0..6 {
+        assert!(fine[k] < coarse[k], "mode {}: {} then {}", k + 1, coarse[k], fine[k]);
+        assert!(fine[k] < 0.02, "mode {}: error {:.2e} at 20×16", k + 1, fine[k]);
+    }
+    assert!(fine[0] < 5e-3, "first mode error {:.2e}", fine[0]);
+}
+
+#[test]
+fn triangle_plate_frequencies_converge_to_kirchhoff() {
+    let coarse = errors(10, 8, ShellShape::Triangle, 6);
+    let fine = errors(20, 16, ShellShape::Triangle, 6);
+    println!("triangles 10×8:  {coarse:?}\ntriangles 20×16: {fine:?}");
+    for k in 0..6 {
+        assert!(fine[k] < coarse[k], "mode {}: {} then {}", k + 1, coarse[k], fine[k]);
+        assert!(fine[k] < 0.03, "mode {}: error {:.2e} at 20×16", k + 1, fine[k]);
+    }
+}
+
+#[test]
+fn square_plate_has_repeated_frequencies_and_lanczos_agrees_with_dense() {
+    // (1,2) and (2,1) of a square plate have the same frequency.
+    let model = simply_supported_plate(1.0, 1.0, T, 14, 14, ShellShape::Quadrilateral);
+    let dense = vibration_modes(&model, 6, &EigenSettings { solver: EigenSolver::Dense, ..Default::default() }).unwrap();
+    let lanczos = vibration_modes(&model, 6, &EigenSettings { solver: EigenSolver::Lanczos, ..Default::default() }).unwrap();
+    let f = &lanczos.frequencies_hz;
+    assert!(rel(f[1], f[2]) < 1e-8, "repeated pair {} {}", f[1], f[2]);
+    for (a, b) in dense.frequencies_hz.iter().zip(f) {
+        assert!(rel(*b, *a) < 1e-9, "dense {a} vs Lanczos {b}");
+    }
+    assert!(lanczos.max_orthogonality_error < 1e-9, "{}", lanczos.max_orthogonality_error);
+}
+
+#[test]
+fn plate_invariants_are_its_rigid_properties() {
+    let model = simply_supported_plate(A, B, T, 10, 8, ShellShape::Quadrilateral);
+    let settings = ReductionSettings { mode_set: "3N".parse().unwrap(), basis: Basis::Orthonormal, eigen: Default::default() };
+    let body = reduce(&model, "plate", &settings).unwrap().body;
+    let mass = RHO * A * B * T;
+    assert!(rel(body.invariants.mass, mass) < 1e-12);
+    assert!((body.mass_properties.center_of_mass - Vector3::new(A / 2.0, B / 2.0, 0.0)).norm() < 1e-12);
+    // Lumped masses at the nodes of a regular grid: Σ mᵢ yᵢ² about the centre is the trapezoidal rule,
+    // m b² (1/12 + 1/(6 nb²)); likewise in x.
+    let i = body.mass_properties.inertia;
+    assert!(rel(i[(0, 0)], mass * B * B * (1.0 / 12.0 + 1.0 / (6.0 * 64.0))) < 1e-12, "Ixx {}", i[(0, 0)]);
+    assert!(rel(i[(1, 1)], mass * A * A * (1.0 / 12.0 + 1.0 / (6.0 * 100.0))) < 1e-12, "Iyy {}", i[(1, 1)]);
+    assert!(rel(i[(2, 2)], i[(0, 0)] + i[(1, 1)]) < 1e-12, "perpendicular axes");
+    assert_eq!(body.rigid_modes, 3);
+}
