@@ -1,10 +1,13 @@
-//! flexmb command-line layer: model files, simulation runs, results, benchmarks.
+//! flexmb command-line layer: model files, FE model files, simulation runs, mode analysis, results
+//! (CSV, JSON, VTK), benchmarks.
 
 pub mod bench;
 pub mod check;
 pub mod fe_model_file;
 pub mod model_file;
+pub mod modes;
 pub mod results;
 pub mod run;
+pub mod vtk;
 
 pub use model_file::{load_model, parse_model, LoadedModel, ModelFileError, SimulationDefaults};

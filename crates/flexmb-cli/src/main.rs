@@ -6,7 +6,10 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 use flexmb_cli::bench::{run_benchmarks, BenchCase};
 use flexmb_cli::check::{check_model, describe};
+use flexmb_cli::modes::{run_modes, ModesOptions};
 use flexmb_cli::run::{run_model, RunOptions};
+use flexmb_fem::modes::EigenSolver;
+use flexmb_fem::reduction::Basis;
 
 /// flexmb: dynamics of articulated structures (rigid and flexible multibody systems).
 #[derive(Parser)]
@@ -46,6 +49,29 @@ enum Command {
         /// Model file (TOML).
         model: PathBuf,
     },
+    /// Reduce a flexible body's FE model to a mode set: frequencies, mass properties, and the
+    /// flexible-body file (JSON) that mechanism models use.
+    Modes {
+        /// FE model file (TOML, see docs/fe-model-file.md) or an Abaqus/CalculiX .inp mesh.
+        fe_model: PathBuf,
+        /// Mode set: N vibration and S static correction modes, e.g. 6N, 5S, 4N5S; default from the
+        /// file's [modes] set.
+        #[arg(long)]
+        modes: Option<String>,
+        /// Basis of the flexible body: the modes as computed (raw, as in the seed) or
+        /// mass-orthonormalized; default from the file, else orthonormal.
+        #[arg(long, value_enum)]
+        basis: Option<BasisArg>,
+        /// Flexible-body file to write (default out/NAME.json).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Also write the mode shapes as VTK (.vtu) into this directory, for ParaView.
+        #[arg(long)]
+        vtk: Option<PathBuf>,
+        /// Eigensolver: dense for small models, Lanczos (shift-invert, sparse Cholesky) for large.
+        #[arg(long, value_enum, default_value_t = SolverArg::Auto)]
+        solver: SolverArg,
+    },
     /// Run the performance benchmarks and report cost per step and per simulated second.
     Bench {
         /// Which case to run (default: all).
@@ -55,6 +81,19 @@ enum Command {
         #[arg(long, default_value_t = 5)]
         repeat: usize,
     },
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum BasisArg {
+    Raw,
+    Orthonormal,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum SolverArg {
+    Auto,
+    Dense,
+    Lanczos,
 }
 
 fn main() -> ExitCode {
@@ -72,6 +111,23 @@ fn main() -> ExitCode {
                     .map_err(|e| format!("{}: {e}", model.display()))
             })
             .map_err(flexmb_cli::run::CliError),
+        Command::Modes { fe_model, modes, basis, out, vtk, solver } => {
+            let options = ModesOptions {
+                mode_set: modes,
+                basis: basis.map(|b| match b {
+                    BasisArg::Raw => Basis::Raw,
+                    BasisArg::Orthonormal => Basis::Orthonormal,
+                }),
+                out,
+                vtk,
+                solver: match solver {
+                    SolverArg::Auto => EigenSolver::Auto,
+                    SolverArg::Dense => EigenSolver::Dense,
+                    SolverArg::Lanczos => EigenSolver::Lanczos,
+                },
+            };
+            run_modes(&fe_model, &options).map(|report| print!("{report}"))
+        }
         Command::Bench { case, repeat } => run_benchmarks(case, repeat.max(1)).map_err(flexmb_cli::run::CliError),
     };
     match result {

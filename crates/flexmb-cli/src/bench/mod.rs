@@ -1,8 +1,11 @@
 //! `flexmb bench`: performance cases, reported as cost per step and per simulated second.
 //!
-//! Cases: the shipped slider-crank for 10 s, and a spatial chain of 20 bodies on spherical joints
-//! falling under gravity for 5 s. Each case runs `repeat` times; the fastest run is reported (the others
-//! measure the machine's noise, not the code).
+//! Cases: the shipped slider-crank for 10 s, a spatial chain of 20 bodies on spherical joints falling
+//! under gravity for 5 s, and the lowest 20 modes of a plate of about 50,000 dofs
+//! ([`plate_modes`]). Each case runs `repeat` times; the fastest run is reported (the others measure
+//! the machine's noise, not the code).
+
+pub mod plate_modes;
 
 use std::time::Instant;
 
@@ -23,9 +26,11 @@ pub enum BenchCase {
     SliderCrank,
     /// 20 links on spherical joints falling under gravity for 5 s.
     Chain20,
+    /// The lowest 20 modes of a 90 × 90 shell plate (about 49,000 dofs).
+    PlateModes,
 }
 
-const SLIDER_CRANK: &str = include_str!("../../../models/slider_crank.toml");
+const SLIDER_CRANK: &str = include_str!("../../../../models/slider_crank.toml");
 
 /// A chain of `n` slender links (0.1 m, 0.1 kg) on spherical joints, horizontal along x at rest, first
 /// link on a spherical joint to ground; gravity −z.
@@ -88,6 +93,7 @@ fn run_case(model: &Model, t_end: f64, repeat: usize) -> Result<CaseResult, Stri
 /// Runs the chosen cases (all when `None`) and prints a table.
 pub fn run_benchmarks(case: Option<BenchCase>, repeat: usize) -> Result<(), String> {
     let cases: Vec<BenchCase> = match case {
+        Some(BenchCase::PlateModes) => return plate_modes::run(repeat),
         Some(c) => vec![c],
         None => vec![BenchCase::SliderCrank, BenchCase::Chain20],
     };
@@ -102,6 +108,7 @@ pub fn run_benchmarks(case: Option<BenchCase>, repeat: usize) -> Result<(), Stri
                 ("slider-crank", loaded.model, 10.0)
             }
             BenchCase::Chain20 => ("chain-20", spherical_chain(20), 5.0),
+            BenchCase::PlateModes => unreachable!("run on its own above"),
         };
         let r = run_case(&model, t_end, repeat)?;
         let s = &r.report.stats;
@@ -118,5 +125,9 @@ pub fn run_benchmarks(case: Option<BenchCase>, repeat: usize) -> Result<(), Stri
         );
     }
     println!("(best of {repeat} runs each; wall time includes assembly and the 0.01 s output frames)");
+    if case.is_none() {
+        println!();
+        plate_modes::run(repeat)?;
+    }
     Ok(())
 }

@@ -1,0 +1,143 @@
+//! `flexmb modes`: reduce a flexible body's FE model to a mode set, print the frequencies of the FE
+//! model and of the reduced model, the mass properties and the warnings, and write the
+//! flexible-body file (and the mode shapes for ParaView).
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use flexmb_fem::modes::{EigenSettings, EigenSolver};
+use flexmb_fem::reduction::{reduce, Basis, ModeKind, ModeSet, Reduction, ReductionSettings};
+use flexmb_fem::ElementKind;
+
+use crate::fe_model_file::{load_fe_model, LoadedFeModel};
+use crate::run::CliError;
+
+/// What `flexmb modes` was asked to do.
+#[derive(Clone, Debug, Default)]
+pub struct ModesOptions {
+    /// The mode set (`--modes`), else the file's `[modes] set`.
+    pub mode_set: Option<String>,
+    /// The basis (`--basis`), else the file's `[modes] basis`, else orthonormal.
+    pub basis: Option<Basis>,
+    /// Where to write the flexible-body file; default `out/NAME.json`.
+    pub out: Option<PathBuf>,
+    /// Directory for the mode shapes as VTK.
+    pub vtk: Option<PathBuf>,
+    pub solver: EigenSolver,
+}
+
+/// Runs `flexmb modes` on the FE model at `path`; returns the printed report.
+pub fn run_modes(path: &Path, options: &ModesOptions) -> Result<String, CliError> {
+    let loaded = load_fe_model(path).map_err(|e| CliError(e.to_string()))?;
+    let mode_set = match &options.mode_set {
+        Some(text) => text.parse::<ModeSet>().map_err(|e| CliError(format!("--modes: {e}")))?,
+        None => loaded.defaults.mode_set.clone().ok_or_else(|| {
+            CliError(format!(
+                "{}: no mode set: give --modes (e.g. 6N, 5S or 4N5S) or `set` in the file's [modes] table",
+                path.display()
+            ))
+        })?,
+    };
+    let basis = options.basis.or(loaded.defaults.basis).unwrap_or_default();
+    let settings = ReductionSettings {
+        mode_set,
+        basis,
+        eigen: EigenSettings { solver: options.solver, ..Default::default() },
+    };
+    let started = std::time::Instant::now();
+    let reduction = reduce(&loaded.model, &loaded.name, &settings).map_err(|e| CliError(format!("{}: {e}", path.display())))?;
+    let seconds = started.elapsed().as_secs_f64();
+    let out = options.out.clone().unwrap_or_else(|| PathBuf::from("out").join(format!("{}.json", loaded.name)));
+    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| CliError(format!("cannot create {}: {e}", dir.display())))?;
+    }
+    reduction.body.write(&out).map_err(|e| CliError(e.to_string()))?;
+    let mut report = describe(path, &loaded, &reduction, seconds);
+    let _ = writeln!(report, "wrote {}", out.display());
+    if let Some(dir) = &options.vtk {
+        let file = crate::vtk::write_mode_shapes(&reduction.body, dir).map_err(CliError)?;
+        let _ = writeln!(report, "wrote {} (mode shapes for ParaView: Warp By Vector on a mode's translation)", file.display());
+    }
+    Ok(report)
+}
+
+/// The report of a reduction: model size, mass properties, eigensolver checks, the frequency table and
+/// the warnings.
+pub fn describe(path: &Path, loaded: &LoadedFeModel, reduction: &Reduction, seconds: f64) -> String {
+    let mesh = &loaded.model.mesh;
+    let body = &reduction.body;
+    let beams = mesh.elements.iter().filter(|e| matches!(e.kind, ElementKind::Beam { .. })).count();
+    let shells = mesh.elements.len() - beams;
+    let supported: usize = loaded.model.supports.iter().map(|s| s.dofs.iter().count()).sum();
+    let mut s = String::new();
+    let _ = writeln!(s, "FE model {} ({})", loaded.name, path.display());
+    let _ = writeln!(
+        s,
+        "  {} nodes, {} elements ({beams} beam, {shells} shell), {} point masses, {} dofs of which {supported} supported",
+        mesh.nodes.len(),
+        mesh.elements.len(),
+        mesh.point_masses.len(),
+        6 * mesh.nodes.len()
+    );
+    let p = &body.mass_properties;
+    let c = p.center_of_mass;
+    let _ = writeln!(s, "  mass {:.6e} kg, centre of mass [{:.6}, {:.6}, {:.6}] m", p.mass, c.x, c.y, c.z);
+    let i = p.inertia;
+    let _ = writeln!(
+        s,
+        "  inertia about the centre of mass [kg m²]: Ixx {:.6e}, Iyy {:.6e}, Izz {:.6e}, Ixy {:.3e}, Iyz {:.3e}, Izx {:.3e}",
+        i[(0, 0)],
+        i[(1, 1)],
+        i[(2, 2)],
+        i[(0, 1)],
+        i[(1, 2)],
+        i[(2, 0)]
+    );
+    let fe = &reduction.fe_modes;
+    let _ = writeln!(
+        s,
+        "  eigensolver {:?}: {} modes, largest residual {:.1e}, largest M-orthogonality error {:.1e}; {} rigid motion(s) left by the supports; {:.3} s",
+        fe.solver,
+        fe.frequencies_hz.len(),
+        fe.max_residual,
+        fe.max_orthogonality_error,
+        body.rigid_modes,
+        seconds
+    );
+    let _ = writeln!(s, "mode set {} ({} basis), {} modes", body.mode_set, basis_name(body.basis), body.mode_count());
+    let _ = writeln!(s, "  {:>4}  {:<6} {:<12} {:<18} {:>14}  {:>14}", "k", "mode", "kind", "load", "FE f [Hz]", "reduced f [Hz]");
+    for k in 0..body.mode_count() {
+        let mode = &body.modes[k];
+        let kind = match mode.kind {
+            ModeKind::Vibration => "vibration",
+            ModeKind::Static => "static",
+            ModeKind::Orthonormal => "orthonormal",
+        };
+        let fe_f = body.fe_frequencies_hz.get(k).map_or(String::from("-"), |f| format!("{f:.6}"));
+        let _ = writeln!(
+            s,
+            "  {:>4}  {:<6} {:<12} {:<18} {:>14}  {:>14.6}",
+            k + 1,
+            mode.label,
+            kind,
+            mode.load.as_deref().unwrap_or("-"),
+            fe_f,
+            body.reduced_frequencies_hz[k]
+        );
+    }
+    if let Some(statics) = &reduction.static_modes {
+        let _ = writeln!(s, "  static modes solved with relative residual {:.1e}", statics.max_residual);
+    }
+    let _ = writeln!(s, "  basis independence (smallest scaled Gram eigenvalue) {:.2e}", reduction.basis_independence);
+    for w in loaded.warnings.iter().chain(&reduction.warnings) {
+        let _ = writeln!(s, "warning: {w}");
+    }
+    s
+}
+
+fn basis_name(basis: Basis) -> &'static str {
+    match basis {
+        Basis::Raw => "raw",
+        Basis::Orthonormal => "orthonormalized",
+    }
+}
