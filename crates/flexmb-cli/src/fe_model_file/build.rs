@@ -94,7 +94,7 @@ impl<'a> Builder<'a> {
     /// A number of elements: a whole number from 1 to a million.
     pub(crate) fn count(&self, value: &Number, key: &KeyPath) -> Result<usize, ModelFileError> {
         let x = self.ctx.number(value, key)?;
-        if x >= 1.0 && x <= MAX_COUNT && x.fract() == 0.0 {
+        if (1.0..=MAX_COUNT).contains(&x) && x.fract() == 0.0 {
             Ok(x as usize)
         } else {
             Err(self.ctx.invalid(
