@@ -91,6 +91,12 @@ fn unknown_key_names_key_line_and_allowed_keys() {
 }
 
 #[test]
+fn an_unknown_key_ending_in_a_digit_keeps_its_digit() {
+    let text = format!("{BODY}\n[[joint]]\nname = \"j\"\ntype = \"revolute\"\ni = \"base\"\nj = \"pin\"\naxis2 = [0, 0, 1]\n");
+    assert_error(&text, 20, "joint[0].axis2", &["unknown key `axis2`"]);
+}
+
+#[test]
 fn missing_required_key_is_reported_at_its_table() {
     let text = "[model]\nname = \"m\"\n\n[[body]]\nname = \"a\"\nmass = 1.0\ninertia = [1, 1, 1]\n\n[[body]]\nname = \"b\"\ninertia = [1, 1, 1]\n";
     let e = assert_error(text, 9, "body[1].mass", &["missing required key `mass`"]);

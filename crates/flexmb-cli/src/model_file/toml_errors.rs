@@ -53,7 +53,15 @@ pub(crate) fn schema_error(source: &Source, document: &DeTable, error: &toml::de
 /// `bodies[0]` → `bodies`: an unknown array-of-tables key is named without the element index.
 fn without_trailing_indices(key: KeyPath) -> KeyPath {
     let text = key.as_str();
-    let trimmed = text.trim_end_matches(|c: char| c.is_ascii_digit() || c == '[' || c == ']');
+    // Strip whole `[n]` groups only: a key may itself end in a digit (`rh0`).
+    let mut trimmed = text;
+    while let Some(open) = trimmed.strip_suffix(']').and_then(|t| t.rfind('[')) {
+        if trimmed[open + 1..trimmed.len() - 1].chars().all(|c| c.is_ascii_digit()) {
+            trimmed = &trimmed[..open];
+        } else {
+            break;
+        }
+    }
     if trimmed.len() == text.len() {
         key
     } else {

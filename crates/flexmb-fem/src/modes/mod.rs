@@ -34,7 +34,8 @@ pub enum EigenSolver {
 pub struct EigenSettings {
     /// Default [`EigenSolver::Auto`].
     pub solver: EigenSolver,
-    /// Largest model (free dofs) solved densely by `Auto`. Default 1500.
+    /// Largest model (free dofs) solved densely by `Auto`. Default 300: above it the Lanczos path is
+    /// faster (1270 dofs: 0.03 s against 0.3 s) and as accurate.
     pub dense_limit: usize,
     /// Convergence tolerance of the Lanczos iteration (relative). Default 1e-12.
     pub lanczos_tolerance: f64,
@@ -46,7 +47,7 @@ impl Default for EigenSettings {
     fn default() -> Self {
         Self {
             solver: EigenSolver::Auto,
-            dense_limit: 1500,
+            dense_limit: 300,
             lanczos_tolerance: 1e-12,
             residual_tolerance: 1e-6,
         }
