@@ -193,8 +193,7 @@ fn factor_shifted(assembled: &AssembledModel, rigid: &Mat<f64>) -> Result<ShiftI
 /// `Σ K_ii / Σ M_ii` over the dofs with mass: the scale of ω² of the mesh's shortest waves.
 pub(crate) fn stiffness_to_mass_scale(assembled: &AssembledModel) -> f64 {
     let (mut k, mut m) = (0.0, 0.0);
-    for (i, (kd, md)) in diagonal(&assembled.stiffness).into_iter().zip(diagonal(&assembled.mass)).enumerate() {
-        let _ = i;
+    for (kd, md) in diagonal(&assembled.stiffness).into_iter().zip(diagonal(&assembled.mass)) {
         if md > 0.0 {
             k += kd;
             m += md;

@@ -139,11 +139,6 @@ fn mass_square_root(dofs: &DofMap, nodal: &[NodalMass]) -> SparseColMat<usize, f
                 block[(a, b)] = m.rotary_inertia[(a, b)];
             }
         }
-        for a in 0..3 {
-            if !free.iter().any(|&(k, _)| k == a) {
-                block[(a, a)] = 0.0;
-            }
-        }
         let eigen = SymmetricEigen::new(block);
         let roots = eigen.eigenvalues.map(|v| v.max(0.0).sqrt());
         let root = eigen.eigenvectors * Matrix3::from_diagonal(&roots) * eigen.eigenvectors.transpose();

@@ -171,7 +171,7 @@ fn raw_basis(set: &ModeSet, fe: &VibrationModes, statics: Option<&StaticModes>) 
 fn massive_modes(modal_mass: &Mat<f64>, modes: &[ModeInfo]) -> Result<(), FemError> {
     let largest = (0..modal_mass.nrows()).map(|j| modal_mass[(j, j)]).fold(0.0_f64, f64::max);
     for (j, mode) in modes.iter().enumerate() {
-        if !(modal_mass[(j, j)] > 1e-12 * largest) {
+        if modal_mass[(j, j)].is_nan() || modal_mass[(j, j)] <= 1e-12 * largest {
             let what = mode.load.as_ref().map_or(String::new(), |l| format!(" ({l})"));
             return Err(FemError::SingularBasis {
                 message: format!(

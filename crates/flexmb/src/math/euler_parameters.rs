@@ -133,7 +133,7 @@ mod tests {
             (Vec3::new(0.0, 0.0, 1.0), 0.3),
             (Vec3::new(1.0, 0.0, 0.0), 3.1),
             (Vec3::new(0.0, 1.0, 0.0), 3.0),
-            (Vec3::new(0.2, 0.1, 1.0), 3.14),
+            (Vec3::new(0.2, 0.1, 1.0), 3.0),
             (Vec3::new(1.0, 1.0, 1.0), -2.0),
         ] {
             let p = EulerParameters::from_axis_angle(&axis, angle);

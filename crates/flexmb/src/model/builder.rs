@@ -259,7 +259,7 @@ pub(crate) fn check_inertia(j: &Mat3) -> Result<(), String> {
 
 fn check_frame(what: &str, a: &Mat3) -> Result<(), ModelError> {
     let defect = rotation_matrix_defect(a);
-    if !(defect < 1e-6) {
+    if defect.is_nan() || defect >= 1e-6 {
         return Err(ModelError::BadFrame {
             what: what.to_string(),
             problem: format!("axes are not a proper orthonormal frame (defect {defect:.2e})"),

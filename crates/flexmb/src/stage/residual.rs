@@ -47,6 +47,7 @@ impl YLayout {
 
 /// Evaluates all stages at `(t, y, ẏ)` and writes `F` into `res`.
 /// `active[k] == false` switches constraint row `k` off: its rows become `λ_k = 0`, `μ_k = 0`.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn residual(
     model: &Model,
     data: &mut Data,
