@@ -223,3 +223,57 @@ fn a_static_mode_that_moves_no_mass_is_an_error() {
     model.options.rotary_inertia = true;
     assert!(reduce(&model, "arm", &settings("2S", Basis::Raw)).is_ok());
 }
+
+/// A door like the seed's: a plate in the y–z plane framed by beams, supported as in the seed (bottom
+/// hinge fixed in x, y, z; top hinge in x, y), five static correction modes for the five deleted
+/// constraints. The door can still turn about its hinge line; the mode sets reduce all the same.
+#[test]
+fn door_with_the_seeds_supports_reduces_to_the_seeds_mode_sets() {
+    use flexmb_fem::mesh::ShellShape;
+    use flexmb_fem::{BeamSection, Dof, DofSet, Mesh, ShellSection, Support};
+    let (w, h) = (0.8, 2.0);
+    let mut mesh = Mesh {
+        materials: vec![steel()],
+        beam_sections: vec![BeamSection { orientation: Vector3::new(1.0, 0.0, 0.0), ..square_section(0.03) }],
+        shell_sections: vec![ShellSection { name: "panel".into(), material: 0, thickness: 0.003 }],
+        ..Default::default()
+    };
+    mesh.add_rectangular_plate(Vector3::zeros(), Vector3::new(0.0, w, 0.0), Vector3::new(0.0, 0.0, h), 3, 4, 0, ShellShape::Quadrilateral);
+    let corners = [Vector3::zeros(), Vector3::new(0.0, w, 0.0), Vector3::new(0.0, w, h), Vector3::new(0.0, 0.0, h)];
+    for k in 0..4 {
+        mesh.add_beam_line(corners[k], corners[(k + 1) % 4], if k % 2 == 0 { 6 } else { 8 }, 0);
+    }
+    let bottom = mesh.nearest_node(&corners[0]).unwrap().0;
+    let top = mesh.nearest_node(&corners[3]).unwrap().0;
+    let model = FeModel {
+        mesh,
+        supports: vec![
+            Support { node: bottom, dofs: DofSet::TRANSLATIONS },
+            Support { node: top, dofs: DofSet::EMPTY.with(Dof::Ux).with(Dof::Uy) },
+        ],
+        static_loads: vec![
+            torque("bottom_rx", bottom, [1.0, 0.0, 0.0]),
+            torque("bottom_ry", bottom, [0.0, 1.0, 0.0]),
+            torque("top_rx", top, [1.0, 0.0, 0.0]),
+            torque("top_ry", top, [0.0, 1.0, 0.0]),
+            force("top_fz", top, [0.0, 0.0, 1.0]),
+        ],
+        ..Default::default()
+    };
+    for set in ["5S", "5N", "9N", "4N5S"] {
+        let reduction = reduce(&model, "door", &settings(set, Basis::Orthonormal)).unwrap();
+        let body = &reduction.body;
+        assert_eq!(body.rigid_modes, 1, "{set}: the turn about the hinge line");
+        assert!(reduction.warnings.iter().any(|w| w.contains("1 rigid motion")), "{set}: {:?}", reduction.warnings);
+        assert!(!reduction.warnings.iter().any(|w| w.contains("inertia relief")), "{set}: {:?}", reduction.warnings);
+        // Rayleigh–Ritz: every reduced frequency lies at or above the FE frequency of the same rank,
+        // and sets that hold the vibration modes reproduce them.
+        for (k, (r, f)) in body.reduced_frequencies_hz.iter().zip(&body.fe_frequencies_hz).enumerate() {
+            assert!(*r >= f * (1.0 - 1e-9), "{set} mode {}: reduced {r} below FE {f}", k + 1);
+        }
+        let vibration = set.parse::<flexmb_fem::reduction::ModeSet>().unwrap().vibration();
+        for k in 0..vibration {
+            assert!(rel(body.reduced_frequencies_hz[k], body.fe_frequencies_hz[k]) < 1e-8, "{set} mode {}", k + 1);
+        }
+    }
+}

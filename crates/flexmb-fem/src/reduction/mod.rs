@@ -99,7 +99,7 @@ pub fn reduce(model: &FeModel, name: &str, settings: &ReductionSettings) -> Resu
     let (mut basis, mut modes) = raw_basis(set, &fe_modes, static_modes.as_ref());
     let mut modal_mass = basis.transpose() * (&assembled.mass * &basis);
     let mut modal_stiffness = basis.transpose() * (&assembled.stiffness * &basis);
-    massive_modes(&modal_mass, &modes)?;
+    massive_modes(model, assembled, &basis, &modal_mass, &modes)?;
     let basis_independence = scaled_gram_minimum(&modal_mass)?;
     if basis_independence < DEPENDENT {
         return Err(FemError::SingularBasis {
@@ -166,18 +166,32 @@ fn raw_basis(set: &ModeSet, fe: &VibrationModes, statics: Option<&StaticModes>) 
     (Mat::from_fn(n, columns.len(), |i, j| columns[j][i]), modes)
 }
 
-/// Every mode must move mass: a mode without modal mass (a twist of beams without rotary inertia)
-/// would make the mass matrix of the flexible body singular.
-fn massive_modes(modal_mass: &Mat<f64>, modes: &[ModeInfo]) -> Result<(), FemError> {
-    let largest = (0..modal_mass.nrows()).map(|j| modal_mass[(j, j)]).fold(0.0_f64, f64::max);
+/// Every mode must move mass: a mode whose nodes only turn, at nodes without rotary inertia (a beam
+/// twisted about its own axis), has no modal mass and would make the body's mass matrix singular. The
+/// test is scale-free: the mode's mean squared translation of mass `φᵀMφ / m` against its largest
+/// nodal motion `|u|² + (L |θ|)²`, with `L` the size of the mesh.
+fn massive_modes(
+    model: &FeModel,
+    assembled: &AssembledModel,
+    basis: &Mat<f64>,
+    modal_mass: &Mat<f64>,
+    modes: &[ModeInfo],
+) -> Result<(), FemError> {
+    let total_mass: f64 = assembled.nodal_masses.iter().map(|m| m.mass).sum();
+    let size = model.mesh.size();
     for (j, mode) in modes.iter().enumerate() {
-        if modal_mass[(j, j)].is_nan() || modal_mass[(j, j)] <= 1e-12 * largest {
+        let nodal = assembled.dofs.expand(&(0..basis.nrows()).map(|i| basis[(i, j)]).collect::<Vec<_>>());
+        let motion = nodal
+            .chunks(6)
+            .map(|d| d[..3].iter().map(|x| x * x).sum::<f64>() + size * size * d[3..].iter().map(|x| x * x).sum::<f64>())
+            .fold(0.0_f64, f64::max);
+        let mean_square = modal_mass[(j, j)] / total_mass;
+        if mean_square.is_nan() || mean_square <= 1e-12 * motion {
             let what = mode.load.as_ref().map_or(String::new(), |l| format!(" ({l})"));
             return Err(FemError::SingularBasis {
                 message: format!(
-                    "mode {}{what} moves no mass (modal mass {:.1e}): it only turns nodes without rotary inertia; set rotary_inertia = true or drop the mode",
-                    mode.label,
-                    modal_mass[(j, j)]
+                    "mode {}{what} moves no mass: it only turns nodes without rotary inertia; set rotary_inertia = true or drop the mode",
+                    mode.label
                 ),
             });
         }
