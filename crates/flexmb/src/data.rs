@@ -3,13 +3,15 @@
 use crate::joint::EquationTerms;
 use crate::math::{Mat3, Vec3};
 use crate::model::Model;
-use crate::stage::{BodyState, MarkerState};
+use crate::stage::{BodyState, MarkerState, ModalState};
 
 /// Per-evaluation scratch data. Each field says which stage fills it.
 #[derive(Clone, Debug)]
 pub struct Data {
     /// Rotation and angular velocity of each body (kinematics).
     pub(crate) bodies: Vec<BodyState>,
+    /// Modal coordinates and invariant expansions of each body (kinematics; empty for rigid bodies).
+    pub(crate) modal: Vec<ModalState>,
     /// Global kinematics of each marker (kinematics).
     pub(crate) markers: Vec<MarkerState>,
     /// Current value of each named measure (measures).
@@ -32,6 +34,7 @@ impl Data {
         let nv = model.layout.nv;
         Self {
             bodies: vec![BodyState::default(); model.bodies.len()],
+            modal: (0..model.bodies.len()).map(|b| ModalState::new(model.layout.modes[b])).collect(),
             markers: vec![MarkerState::default(); model.markers.len()],
             measures: vec![0.0; model.measures.len()],
             angle_reference: vec![0.0; model.joints.len()],

@@ -10,12 +10,13 @@
 use crate::data::Data;
 use crate::linalg::{SingularMatrix, SparseLu};
 use crate::model::Model;
-use crate::stage::{applied_forces, body_mass_matrix, constraint_equations, inertia_forces, jacobian_entries, kinematics, measures};
+use crate::model::BodyId;
+use crate::stage::{applied_forces, body_mass_entries, constraint_equations, inertia_forces, jacobian_entries, kinematics, measures};
 
 /// Result of an acceleration solve.
 #[derive(Clone, Debug)]
 pub struct Accelerations {
-    /// `v̇ = [R̈, ω̄̇]` per body.
+    /// `v̇ = [R̈, ω̄̇, ä]` per body.
     pub vdot: Vec<f64>,
     /// Multipliers, one per constraint row.
     pub lambda: Vec<f64>,
@@ -35,20 +36,19 @@ impl AccelerationSolver {
         let n = l.nv + l.nc;
         let mut entries = Vec::new();
         for b in 0..model.bodies.len() {
-            let vo = l.v_offset[b];
-            for r in 0..6 {
-                for c in 0..6 {
-                    entries.push((vo + r, vo + c));
+            let range = l.v_range(BodyId(b));
+            for r in range.clone() {
+                for c in range.clone() {
+                    entries.push((r, c));
                 }
             }
         }
         for (j, joint) in model.joints.iter().enumerate() {
             for b in model.joint_bodies(joint).into_iter().flatten() {
-                let vo = l.v_offset[b.0];
                 for row in l.joint_rows[j].clone() {
-                    for k in 0..6 {
-                        entries.push((l.nv + row, vo + k));
-                        entries.push((vo + k, l.nv + row));
+                    for k in l.v_range(b) {
+                        entries.push((l.nv + row, k));
+                        entries.push((k, l.nv + row));
                     }
                 }
             }
@@ -80,12 +80,8 @@ impl AccelerationSolver {
         self.lu.clear();
         for b in 0..model.bodies.len() {
             let vo = l.v_offset[b];
-            let m = body_mass_matrix(model, data, b);
-            for r in 0..6 {
-                for c in 0..6 {
-                    self.lu.add(vo + r, vo + c, m[(r, c)]);
-                }
-            }
+            let lu = &mut self.lu;
+            body_mass_entries(model, data, b, |r, c, m| lu.add(vo + r, vo + c, m));
         }
         let nv = l.nv;
         let lu = &mut self.lu;

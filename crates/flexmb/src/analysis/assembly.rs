@@ -18,11 +18,14 @@ pub struct AssemblySettings {
     /// Largest absolute constraint residual accepted (m for point equations, dimensionless for dot-1).
     pub tolerance: f64,
     pub max_iterations: usize,
+    /// Let the assembly change the modal coordinates of flexible bodies (default false: they stay at
+    /// their initial values and only the reference frames move).
+    pub free_modal_coordinates: bool,
 }
 
 impl Default for AssemblySettings {
     fn default() -> Self {
-        Self { tolerance: 1e-10, max_iterations: 50 }
+        Self { tolerance: 1e-10, max_iterations: 50, free_modal_coordinates: false }
     }
 }
 
@@ -119,7 +122,7 @@ fn newton(model: &Model, data: &mut Data, state: &mut State, settings: AssemblyS
         if it == settings.max_iterations {
             break;
         }
-        let gq = position_jacobian(model, data, state, &active_rows);
+        let gq = position_jacobian(model, data, state, &active_rows, settings.free_modal_coordinates);
         let a = &gq * gq.transpose();
         let lu = a.partial_piv_lu();
         let mut z = Mat::from_fn(m, 1, |i, _| phi[i]);
@@ -152,8 +155,9 @@ fn newton(model: &Model, data: &mut Data, state: &mut State, settings: AssemblyS
     Err(AssemblyError::NotConverged { iterations: settings.max_iterations, residual, worst })
 }
 
-/// Dense `Φ̂_q` in positions: `Φ_R = B_Ṙ`, `Φ_p = B_ω̄ 2G(p)`, `(pᵀp)_p = 2pᵀ` (after `constraint_values`).
-pub(crate) fn position_jacobian(model: &Model, data: &Data, state: &State, active_rows: &[usize]) -> Mat<f64> {
+/// Dense `Φ̂_q` in positions: `Φ_R = B_Ṙ`, `Φ_p = B_ω̄ 2G(p)`, `(pᵀp)_p = 2pᵀ`, and `Φ_a = B_ȧ` when
+/// the modal coordinates may move (else zero columns, which hold them) (after `constraint_values`).
+pub(crate) fn position_jacobian(model: &Model, data: &Data, state: &State, active_rows: &[usize], modal: bool) -> Mat<f64> {
     let l = &model.layout;
     let m = active_rows.len() + model.bodies.len();
     let mut row_of = vec![usize::MAX; l.nc];
@@ -181,6 +185,13 @@ pub(crate) fn position_jacobian(model: &Model, data: &Data, state: &State, activ
         }
         for c in 0..4 {
             gq[(active_rows.len() + b, qo + 3 + c)] = 2.0 * p[c];
+        }
+        if modal {
+            for r in 0..active_rows.len() {
+                for k in 0..l.modes[b] {
+                    gq[(r, qo + 7 + k)] = b_dense[(r, vo + 6 + k)];
+                }
+            }
         }
     }
     gq

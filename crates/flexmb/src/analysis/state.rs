@@ -14,8 +14,8 @@ pub struct State {
 }
 
 impl State {
-    /// The initial state written in the model (before assembly): poses, and the given velocities
-    /// (zero where none is given).
+    /// The initial state written in the model (before assembly): poses, the given velocities (zero
+    /// where none is given), and the initial modal coordinates and rates of flexible bodies.
     pub fn initial(model: &Model) -> Self {
         let l = &model.layout;
         let mut q = vec![0.0; l.nq];
@@ -30,6 +30,11 @@ impl State {
             v[vo..vo + 3].copy_from_slice(vel.as_slice());
             let w_bar = init.orientation.rotation_matrix().transpose() * init.angular_velocity.unwrap_or_else(Vec3::zeros);
             v[vo + 3..vo + 6].copy_from_slice(w_bar.as_slice());
+            if let Some(modal) = &model.modal[b] {
+                let m = modal.modes();
+                q[qo + 7..qo + 7 + m].copy_from_slice(modal.initial_coordinates.as_slice());
+                v[vo + 6..vo + 6 + m].copy_from_slice(modal.initial_rates.as_slice());
+            }
         }
         Self { t: 0.0, q, v, active: vec![true; l.nc] }
     }

@@ -32,6 +32,9 @@ pub fn velocity_analysis(model: &Model, data: &mut Data, state: &mut State) -> R
         if body.initial.angular_velocity.is_some() {
             weight[vo + 3..vo + 6].fill(GIVEN_WEIGHT);
         }
+        // Modal rates are always given (zero by default).
+        let m = l.modes[b];
+        weight[vo + 6..vo + 6 + m].fill(GIVEN_WEIGHT);
     }
     let v0 = state.v.clone();
     let rows: Vec<usize> = (0..l.nc).filter(|r| state.active[*r]).collect();

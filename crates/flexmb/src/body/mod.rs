@@ -1,7 +1,10 @@
-//! Bodies and the markers fixed on them.
+//! Bodies and the markers fixed on them: rigid bodies, and flexible bodies in modal form (a rigid
+//! body whose frame carries modal coordinates).
 
 mod marker;
+mod modal;
 mod rigid;
 
 pub use marker::Marker;
+pub use modal::{ModalBody, ModalDamping, ModalInvariants, ModalNode};
 pub use rigid::{InitialState, RigidBody};

@@ -92,6 +92,8 @@ impl<'m> Bdf<'m> {
             let w = Vec3::from_column_slice(&state.v[vo + 3..vo + 6]);
             let p_rate = 0.5 * g_matrix(&p).transpose() * w;
             yp0[qo + 3..qo + 7].copy_from_slice(p_rate.as_slice());
+            let m = model.layout.modes[b];
+            yp0[qo + 7..qo + 7 + m].copy_from_slice(&state.v[vo + 6..vo + 6 + m]);
         }
         if !y0.iter().chain(&yp0).all(|x| x.is_finite()) {
             return Err(IntegrationError::InitialConditions {
@@ -526,15 +528,18 @@ enum AttemptFailure {
 /// Names row `row` of the residual.
 fn describe_y_row(model: &Model, yl: &YLayout, row: usize) -> String {
     let l = &model.layout;
-    let body_of = |offsets: &[usize], local: usize, width: usize| {
-        offsets.iter().position(|o| local >= *o && local < o + width).unwrap_or(0)
-    };
     if yl.q.contains(&row) {
-        let b = body_of(&l.q_offset, row - yl.q.start, 7);
-        format!("the kinematic equations of body '{}'", model.bodies[b].name)
+        let b = l.body_of_position(row - yl.q.start);
+        format!("the kinematic equations of body '{}'", model.bodies[b.0].name)
     } else if yl.v.contains(&row) {
-        let b = body_of(&l.v_offset, row - yl.v.start, 6);
-        format!("the equations of motion of body '{}'", model.bodies[b].name)
+        let b = l.body_of_velocity(row - yl.v.start);
+        let local = row - yl.v.start - l.v_offset[b.0];
+        if local >= 6 {
+            let label = model.modal[b.0].as_ref().map_or(String::new(), |m| m.mode_labels[local - 6].clone());
+            format!("the modal equation of mode {label} of body '{}'", model.bodies[b.0].name)
+        } else {
+            format!("the equations of motion of body '{}'", model.bodies[b.0].name)
+        }
     } else if yl.lambda.contains(&row) {
         format!("the velocity constraint of {}", model.describe_constraint_row(row - yl.lambda.start))
     } else if row - yl.mu.start < l.nc {

@@ -12,7 +12,7 @@ use std::ops::Range;
 use crate::data::Data;
 use crate::linalg::{SingularMatrix, SparseLu};
 use crate::model::{BodyId, Model};
-use crate::stage::{body_mass_matrix, residual, YLayout};
+use crate::stage::{body_mass_entries, residual, YLayout};
 
 /// A set of columns (or rows) belonging to one body or joint.
 #[derive(Clone, Debug)]
@@ -39,8 +39,14 @@ impl IterationMatrix {
         let nb = model.bodies.len();
         let nj = model.joints.len();
         // Row blocks: Fq_b, Fv_b, λ_k, μ_k, normalization_b.
-        let fq = |b: usize| yl.q.start + l.q_offset[b]..yl.q.start + l.q_offset[b] + 7;
-        let fv = |b: usize| yl.v.start + l.v_offset[b]..yl.v.start + l.v_offset[b] + 6;
+        let fq = |b: usize| {
+            let r = l.q_range(BodyId(b));
+            yl.q.start + r.start..yl.q.start + r.end
+        };
+        let fv = |b: usize| {
+            let r = l.v_range(BodyId(b));
+            yl.v.start + r.start..yl.v.start + r.end
+        };
         let lam = |k: usize| yl.lambda.start + l.joint_rows[k].start..yl.lambda.start + l.joint_rows[k].end;
         let mu = |k: usize| yl.mu.start + l.joint_rows[k].start..yl.mu.start + l.joint_rows[k].end;
         let norm = |b: usize| yl.mu.start + l.nc + b..yl.mu.start + l.nc + b + 1;
@@ -179,19 +185,16 @@ impl IterationMatrix {
         // F_ẏ at the base point (the stages still hold its kinematics).
         self.f_yp.fill(0.0);
         for b in 0..model.bodies.len() {
-            let q0 = yl.q.start + model.layout.q_offset[b];
-            for k in 0..7 {
-                let s = self.lu.slot(q0 + k, q0 + k).expect("diagonal is in the pattern");
+            for k in model.layout.q_range(BodyId(b)) {
+                let s = self.lu.slot(yl.q.start + k, yl.q.start + k).expect("diagonal is in the pattern");
                 self.f_yp[s] = 1.0;
             }
             let v0 = yl.v.start + model.layout.v_offset[b];
-            let m = body_mass_matrix(model, data, b);
-            for r in 0..6 {
-                for c in 0..6 {
-                    let s = self.lu.slot(v0 + r, v0 + c).expect("mass block is in the pattern");
-                    self.f_yp[s] = m[(r, c)];
-                }
-            }
+            let (lu, f_yp) = (&self.lu, &mut self.f_yp);
+            body_mass_entries(model, data, b, |r, c, m| {
+                let s = lu.slot(v0 + r, v0 + c).expect("mass block is in the pattern");
+                f_yp[s] += m;
+            });
         }
         self.y_work.copy_from_slice(y);
         self.f_y.fill(0.0);

@@ -6,7 +6,7 @@ use super::{
     BodyId, BodyRef, ForceId, JointId, Layout, MarkerId, MeasureId, Model, ModelError, OutputKind,
     OutputRequest,
 };
-use crate::body::{Marker, RigidBody};
+use crate::body::{InitialState, Marker, ModalBody, RigidBody};
 use crate::force::{ForceElement, ForceKind};
 use crate::joint::Joint;
 use crate::math::{euler_parameters::rotation_matrix_defect, Mat3, Vec3};
@@ -19,7 +19,9 @@ pub struct ModelBuilder {
     name: String,
     gravity: Vec3,
     bodies: Vec<RigidBody>,
+    modal: Vec<Option<ModalBody>>,
     markers: Vec<Marker>,
+    marker_node: Vec<Option<usize>>,
     joints: Vec<Joint>,
     forces: Vec<ForceElement>,
     measures: Vec<Measure>,
@@ -43,12 +45,43 @@ impl ModelBuilder {
 
     pub fn add_body(&mut self, body: RigidBody) -> BodyId {
         self.bodies.push(body);
+        self.modal.push(None);
+        BodyId(self.bodies.len() - 1)
+    }
+
+    /// Adds a flexible body. Its rigid properties (mass, centre of mass, inertia about it) are those
+    /// of the undeformed FE model, from the invariants.
+    pub fn add_flexible_body(&mut self, name: impl Into<String>, initial: InitialState, modal: ModalBody) -> BodyId {
+        let inv = &modal.invariants;
+        let mass = inv.mass;
+        let com = if mass > 0.0 { inv.c1 / mass } else { Vec3::zeros() };
+        let inertia = inv.undeformed_inertia() - mass * (Mat3::identity() * com.norm_squared() - com * com.transpose());
+        self.bodies.push(RigidBody { name: name.into(), mass, center_of_mass: com, inertia, initial });
+        self.modal.push(Some(modal));
         BodyId(self.bodies.len() - 1)
     }
 
     pub fn add_marker(&mut self, marker: Marker) -> MarkerId {
         self.markers.push(marker);
+        self.marker_node.push(None);
         MarkerId(self.markers.len() - 1)
+    }
+
+    /// Adds a marker at node `node` (index into the body's nodes) of flexible body `body`, with `axes`
+    /// in the body frame. It moves and turns with the node's elastic deformation.
+    pub fn add_node_marker(&mut self, name: impl Into<String>, body: BodyId, node: usize, axes: Mat3) -> MarkerId {
+        let origin = self.modal[body.0]
+            .as_ref()
+            .and_then(|m| m.nodes.get(node))
+            .map_or(Vec3::zeros(), |n| n.position);
+        self.markers.push(Marker { name: name.into(), body: BodyRef::Body(body), origin, axes });
+        self.marker_node.push(Some(node));
+        MarkerId(self.markers.len() - 1)
+    }
+
+    /// The modal description of a flexible body added so far.
+    pub fn modal_body(&self, body: BodyId) -> Option<&ModalBody> {
+        self.modal[body.0].as_ref()
     }
 
     pub fn add_joint(&mut self, joint: Joint) -> JointId {
@@ -96,7 +129,13 @@ impl ModelBuilder {
             BodyRef::Ground => marker.origin,
             BodyRef::Body(b) => {
                 let init = &self.bodies[b.0].initial;
-                init.position + init.orientation.rotation_matrix() * marker.origin
+                let mut origin = marker.origin;
+                if let (Some(node), Some(modal)) = (self.marker_node[m.0], &self.modal[b.0]) {
+                    if let Some(n) = modal.nodes.get(node) {
+                        origin = n.position + &n.psi * &modal.initial_coordinates;
+                    }
+                }
+                init.position + init.orientation.rotation_matrix() * origin
             }
         }
     }
@@ -114,10 +153,14 @@ impl ModelBuilder {
         unique_names("force", self.forces.iter().map(|f| f.name.as_str()))?;
         unique_names("measure", self.measures.iter().map(|m| m.name.as_str()))?;
         unique_names("output", self.outputs.iter().map(|o| o.name.as_str()))?;
-        for b in &self.bodies {
-            check_body(b)?;
+        for (b, modal) in self.bodies.iter().zip(&self.modal) {
+            match modal {
+                None => check_body(b)?,
+                Some(modal) => super::flexible_checks::check_flexible_body(b, modal)?,
+            }
         }
-        for m in &self.markers {
+        for (k, m) in self.markers.iter().enumerate() {
+            super::flexible_checks::check_marker_node(m, self.marker_node[k], &self.modal)?;
             check_frame(&format!("marker '{}'", m.name), &m.axes)?;
             if !m.origin.iter().all(|x| x.is_finite()) {
                 return Err(ModelError::BadFrame {
@@ -173,12 +216,15 @@ impl ModelBuilder {
             }
         }
         let equations: Vec<_> = self.joints.iter().map(|j| j.kind.equations()).collect();
-        let layout = Layout::new(self.bodies.len(), &equations);
+        let modes: Vec<usize> = self.modal.iter().map(|m| m.as_ref().map_or(0, ModalBody::modes)).collect();
+        let layout = Layout::new(&modes, &equations);
         Ok(Model {
             name: self.name,
             gravity: self.gravity,
             bodies: self.bodies,
+            modal: self.modal,
             markers: self.markers,
+            marker_node: self.marker_node,
             joints: self.joints,
             forces: self.forces,
             measures: self.measures,
@@ -213,7 +259,7 @@ fn unique_names<'a>(kind: &'static str, names: impl Iterator<Item = &'a str>) ->
     Ok(())
 }
 
-fn check_body(b: &RigidBody) -> Result<(), ModelError> {
+pub(super) fn check_body(b: &RigidBody) -> Result<(), ModelError> {
     if !(b.mass.is_finite() && b.mass > 0.0) {
         return Err(ModelError::NonPositiveMass { body: b.name.clone(), mass: b.mass });
     }
@@ -257,7 +303,7 @@ pub(crate) fn check_inertia(j: &Mat3) -> Result<(), String> {
     Ok(())
 }
 
-fn check_frame(what: &str, a: &Mat3) -> Result<(), ModelError> {
+pub(super) fn check_frame(what: &str, a: &Mat3) -> Result<(), ModelError> {
     let defect = rotation_matrix_defect(a);
     if defect.is_nan() || defect >= 1e-6 {
         return Err(ModelError::BadFrame {

@@ -1,6 +1,7 @@
 //! Where each body's coordinates and each joint's equations sit in the global vectors.
 //!
-//! Per rigid body: positions `q_b = [R (3), p (4)]`, velocities `v_b = [Ṙ (3, global), ω̄ (3, body)]`.
+//! Per body: positions `q_b = [R (3), p (4), a (m)]`, velocities `v_b = [Ṙ (3, global), ω̄ (3, body),
+//! ȧ (m)]`, with `m` modal coordinates for a flexible body and none for a rigid one.
 //! Constraint rows are numbered joint by joint. The integrator's unknown vector is
 //! `y = [q, v, λ, μ]` with `λ` the joint multipliers (one per constraint row) and `μ` the stabilizing
 //! multipliers of the position constraints (one per joint row, then one per body for `pᵀp = 1`).
@@ -13,22 +14,31 @@ use crate::model::{BodyId, JointId};
 /// The coordinate and equation layout of a model.
 #[derive(Clone, Debug)]
 pub struct Layout {
-    /// Number of position coordinates (7 per rigid body).
+    /// Number of position coordinates (7 + m per body).
     pub nq: usize,
-    /// Number of velocity coordinates (6 per rigid body).
+    /// Number of velocity coordinates (6 + m per body).
     pub nv: usize,
     /// Number of constraint equations (rows of `Φ`).
     pub nc: usize,
     pub(crate) q_offset: Vec<usize>,
     pub(crate) v_offset: Vec<usize>,
+    /// Number of modal coordinates of each body (0 for a rigid body).
+    pub(crate) modes: Vec<usize>,
     pub(crate) joint_rows: Vec<Range<usize>>,
     pub(crate) equations: Vec<(JointId, Equation)>,
 }
 
 impl Layout {
-    pub(crate) fn new(n_bodies: usize, joint_equations: &[Vec<Equation>]) -> Self {
-        let q_offset = (0..n_bodies).map(|b| 7 * b).collect();
-        let v_offset = (0..n_bodies).map(|b| 6 * b).collect();
+    pub(crate) fn new(modes: &[usize], joint_equations: &[Vec<Equation>]) -> Self {
+        let mut q_offset = Vec::with_capacity(modes.len());
+        let mut v_offset = Vec::with_capacity(modes.len());
+        let (mut nq, mut nv) = (0, 0);
+        for &m in modes {
+            q_offset.push(nq);
+            v_offset.push(nv);
+            nq += 7 + m;
+            nv += 6 + m;
+        }
         let mut joint_rows = Vec::with_capacity(joint_equations.len());
         let mut equations = Vec::new();
         for (j, eqs) in joint_equations.iter().enumerate() {
@@ -37,11 +47,12 @@ impl Layout {
             joint_rows.push(start..equations.len());
         }
         Self {
-            nq: 7 * n_bodies,
-            nv: 6 * n_bodies,
+            nq,
+            nv,
             nc: equations.len(),
             q_offset,
             v_offset,
+            modes: modes.to_vec(),
             joint_rows,
             equations,
         }
@@ -51,13 +62,33 @@ impl Layout {
     pub fn n_bodies(&self) -> usize {
         self.q_offset.len()
     }
-    /// Position coordinates of body `b`.
+    /// Position coordinates of body `b` (`R`, `p`, then its modal coordinates).
     pub fn q_range(&self, b: BodyId) -> Range<usize> {
-        self.q_offset[b.0]..self.q_offset[b.0] + 7
+        self.q_offset[b.0]..self.q_offset[b.0] + 7 + self.modes[b.0]
     }
-    /// Velocity coordinates of body `b`.
+    /// Velocity coordinates of body `b` (`Ṙ`, `ω̄`, then its modal rates).
     pub fn v_range(&self, b: BodyId) -> Range<usize> {
-        self.v_offset[b.0]..self.v_offset[b.0] + 6
+        self.v_offset[b.0]..self.v_offset[b.0] + 6 + self.modes[b.0]
+    }
+    /// Number of modal coordinates of body `b` (0 for a rigid body).
+    pub fn modes(&self, b: BodyId) -> usize {
+        self.modes[b.0]
+    }
+    /// The modal coordinates `a` of body `b` within `q`.
+    pub fn modal_q_range(&self, b: BodyId) -> Range<usize> {
+        self.q_offset[b.0] + 7..self.q_offset[b.0] + 7 + self.modes[b.0]
+    }
+    /// The modal rates `ȧ` of body `b` within `v`.
+    pub fn modal_v_range(&self, b: BodyId) -> Range<usize> {
+        self.v_offset[b.0] + 6..self.v_offset[b.0] + 6 + self.modes[b.0]
+    }
+    /// The body whose velocity coordinates hold index `k` of `v`.
+    pub fn body_of_velocity(&self, k: usize) -> BodyId {
+        BodyId(self.v_offset.partition_point(|&o| o <= k) - 1)
+    }
+    /// The body whose position coordinates hold index `k` of `q`.
+    pub fn body_of_position(&self, k: usize) -> BodyId {
+        BodyId(self.q_offset.partition_point(|&o| o <= k) - 1)
     }
     /// Constraint rows of joint `j`.
     pub fn joint_rows(&self, j: JointId) -> Range<usize> {

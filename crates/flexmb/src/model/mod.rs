@@ -3,6 +3,7 @@
 
 mod builder;
 mod error;
+mod flexible_checks;
 mod ids;
 mod layout;
 mod output;
@@ -13,7 +14,7 @@ pub use ids::{BodyId, BodyRef, ForceId, JointId, MarkerId, MeasureId};
 pub use layout::Layout;
 pub use output::OutputKind;
 
-use crate::body::{Marker, RigidBody};
+use crate::body::{Marker, ModalBody, RigidBody};
 use crate::force::ForceElement;
 use crate::joint::Joint;
 use crate::math::Vec3;
@@ -31,8 +32,14 @@ pub struct OutputRequest {
 pub struct Model {
     pub(crate) name: String,
     pub(crate) gravity: Vec3,
+    /// Every body's rigid properties and initial state; for a flexible body, those of its undeformed
+    /// FE model.
     pub(crate) bodies: Vec<RigidBody>,
+    /// The modal description of each flexible body (`None` for a rigid body), by body index.
+    pub(crate) modal: Vec<Option<ModalBody>>,
     pub(crate) markers: Vec<Marker>,
+    /// The node a marker of a flexible body sits at (`None` for markers on rigid bodies and ground).
+    pub(crate) marker_node: Vec<Option<usize>>,
     pub(crate) joints: Vec<Joint>,
     pub(crate) forces: Vec<ForceElement>,
     pub(crate) measures: Vec<Measure>,
@@ -70,6 +77,14 @@ impl Model {
     }
     pub fn body(&self, id: BodyId) -> &RigidBody {
         &self.bodies[id.0]
+    }
+    /// The modal description of a flexible body, `None` for a rigid one.
+    pub fn modal_body(&self, id: BodyId) -> Option<&ModalBody> {
+        self.modal[id.0].as_ref()
+    }
+    /// The node of a flexible body a marker sits at.
+    pub fn marker_node(&self, id: MarkerId) -> Option<usize> {
+        self.marker_node[id.0]
     }
     pub fn marker(&self, id: MarkerId) -> &Marker {
         &self.markers[id.0]

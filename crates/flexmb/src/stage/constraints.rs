@@ -1,11 +1,12 @@
 //! Constraint stage: every joint row's `Φ`, `Φ_t`, Jacobian coefficients and acceleration bias, and the
-//! products with the velocity Jacobian `B = Φ_q T` (columns `[Ṙ, ω̄]` of each body).
+//! products with the velocity Jacobian `B = Φ_q T` (columns `[Ṙ, ω̄, ȧ]` of each body; the modal
+//! columns of a marker at a node of a flexible body are `Ψᵀ Aᵀ c_r + Θᵀ Jᵀ Aᵀ c_θ`).
 
 use crate::data::Data;
 use crate::joint::EquationTerms;
 use crate::math::Vec6;
 use crate::model::{BodyId, Model};
-use crate::stage::MarkerState;
+use crate::stage::{modal_row, MarkerState};
 
 /// Fills `data.equations` at time `t` (after the kinematics stage).
 pub(crate) fn constraint_equations(model: &Model, data: &mut Data, t: f64) {
@@ -40,6 +41,24 @@ pub(crate) fn row_sides(model: &Model, data: &Data, row: usize) -> [Option<(Body
     ]
 }
 
+/// Calls `f(v_column, value)` for the modal entries of constraint row `row` (markers at nodes).
+#[inline]
+fn modal_entries(model: &Model, data: &Data, row: usize, mut f: impl FnMut(usize, f64)) {
+    let (j, _) = model.layout.equations[row];
+    let joint = &model.joints[j.0];
+    let terms = &data.equations[row];
+    for (marker, d_point, d_rot) in [
+        (joint.marker_i, &terms.d_point_i, &terms.d_rot_i),
+        (joint.marker_j, &terms.d_point_j, &terms.d_rot_j),
+    ] {
+        let m = &data.markers[marker.0];
+        if let (Some(_), Some(b)) = (m.node, m.body) {
+            let o = model.layout.v_offset[b.0] + 6;
+            modal_row(model, m, d_point, d_rot, |k, x| f(o + k, x));
+        }
+    }
+}
+
 /// `out += Bᵀ w` for a vector `w` over constraint rows.
 pub(crate) fn add_jacobian_transpose(model: &Model, data: &Data, w: &[f64], out: &mut [f64]) {
     for (row, &wk) in w.iter().enumerate() {
@@ -52,6 +71,7 @@ pub(crate) fn add_jacobian_transpose(model: &Model, data: &Data, w: &[f64], out:
                 out[o + k] += wk * r[k];
             }
         }
+        modal_entries(model, data, row, |c, x| out[c] += wk * x);
     }
 }
 
@@ -65,5 +85,6 @@ pub(crate) fn jacobian_entries(model: &Model, data: &Data, mut f: impl FnMut(usi
                 f(row, o + k, r[k]);
             }
         }
+        modal_entries(model, data, row, |c, x| f(row, c, x));
     }
 }

@@ -1,25 +1,43 @@
-//! Forces stage: generalized applied forces `Q = [F; N̄]` per body (gravity and force elements).
-//! Conventions are those of [`crate::force`]. Run after kinematics and measures.
+//! Forces stage: generalized applied forces `Q = [F; N̄; Q_a]` per body (gravity, force elements,
+//! and a flexible body's modal stiffness and damping). Conventions are those of [`crate::force`]. Run
+//! after kinematics and measures.
 
 use crate::data::Data;
 use crate::force::{ForceFrame, ForceKind};
 use crate::joint::Equation;
 use crate::math::{Mat3, Vec3};
 use crate::model::{MarkerId, Model};
-use crate::stage::MarkerState;
+use crate::stage::{modal_row, MarkerState};
 
 /// Fills `data.applied` with `Q(q, v, t)`.
 pub(crate) fn applied_forces(model: &Model, data: &mut Data, t: f64) {
-    let Data { bodies, markers, measures, angle_reference, applied, .. } = data;
+    let Data { bodies, markers, measures, angle_reference, applied, modal: modal_states, .. } = data;
     applied.fill(0.0);
     let g = model.gravity;
     for (b, body) in model.bodies.iter().enumerate() {
         let o = model.layout.v_offset[b];
+        let g_bar = bodies[b].rotation.transpose() * g;
         let f = body.mass * g;
-        let n = body.first_moment().cross(&(bodies[b].rotation.transpose() * g));
+        let first_moment = match &model.modal[b] {
+            Some(_) => modal_states[b].first_moment,
+            None => body.first_moment(),
+        };
+        let n = first_moment.cross(&g_bar);
         for k in 0..3 {
             applied[o + k] += f[k];
             applied[o + 3 + k] += n[k];
+        }
+        if let Some(modal) = &model.modal[b] {
+            // Gravity C2ᵀ Aᵀ g, strain −K a, damping −D ȧ (formulation.md §4).
+            let state = &modal_states[b];
+            let inv = &modal.invariants;
+            for j in 0..modal.modes() {
+                let mut q = inv.c2.column(j).dot(&g_bar);
+                for k in 0..modal.modes() {
+                    q -= modal.stiffness[(j, k)] * state.a[k] + modal.damping[(j, k)] * state.a_dot[k];
+                }
+                applied[o + 6 + j] += q;
+            }
         }
     }
     for force in &model.forces {
@@ -87,7 +105,8 @@ fn in_global(
     axes * local
 }
 
-/// Adds a global force at a marker origin and a global torque to the marker's body.
+/// Adds a global force at a marker origin and a global torque to the marker's body (and, at a node
+/// of a flexible body, to its modal forces).
 #[inline]
 fn add_at(model: &Model, applied: &mut [f64], m: &MarkerState, f: &Vec3, tau: &Vec3) {
     if let Some(b) = m.body {
@@ -96,5 +115,6 @@ fn add_at(model: &Model, applied: &mut [f64], m: &MarkerState, f: &Vec3, tau: &V
         for k in 0..6 {
             applied[o + k] += q[k];
         }
+        modal_row(model, m, f, tau, |j, x| applied[o + 6 + j] += x);
     }
 }

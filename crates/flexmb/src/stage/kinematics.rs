@@ -44,6 +44,13 @@ pub struct MarkerState {
     pub jac_point: Mat3x6,
     /// `δθ = J_θ δv_b`: `[0, A]` (global virtual rotation).
     pub jac_rotation: Mat3x6,
+    /// The node of a flexible body the marker sits at; its modal Jacobian columns are
+    /// `A Ψ` (point) and `A J Θ` (rotation), see [`modal_row`](super::modal::modal_row).
+    pub node: Option<usize>,
+    /// `A` of the marker's body (for the modal columns).
+    pub body_rotation: Mat3,
+    /// `J(θ)`, the tangent of the node's elastic rotation (identity off nodes).
+    pub elastic_tangent: Mat3,
 }
 
 impl Default for MarkerState {
@@ -58,13 +65,17 @@ impl Default for MarkerState {
             angular_accel_bias: Vec3::zeros(),
             jac_point: Mat3x6::zeros(),
             jac_rotation: Mat3x6::zeros(),
+            node: None,
+            body_rotation: Mat3::identity(),
+            elastic_tangent: Mat3::identity(),
         }
     }
 }
 
 impl MarkerState {
     /// Generalized force on the marker's body `[F; N̄]` of a global force `f` at the origin and a
-    /// global torque `tau`: `J_rᵀ f + J_θᵀ τ`.
+    /// global torque `tau`: `J_rᵀ f + J_θᵀ τ` (the modal part, at a node of a flexible body, is
+    /// [`modal_row`](super::modal::modal_row)).
     #[inline]
     pub fn generalized_force(&self, f: &Vec3, tau: &Vec3) -> nalgebra::Vector6<f64> {
         self.jac_point.transpose() * f + self.jac_rotation.transpose() * tau
@@ -82,11 +93,31 @@ pub(crate) fn kinematics(model: &Model, data: &mut Data, q: &[f64], v: &[f64]) {
         state.rotation = rotation_matrix(&p);
         state.omega_bar = Vec3::new(v[vo + 3], v[vo + 4], v[vo + 5]);
         state.omega = state.rotation * state.omega_bar;
+        if let Some(modal) = &model.modal[b] {
+            let m = modal.modes();
+            data.modal[b].update(modal, &q[qo + 7..qo + 7 + m], &v[vo + 6..vo + 6 + m]);
+        }
     }
-    for (marker, state) in model.markers.iter().zip(data.markers.iter_mut()) {
+    for ((marker, state), node) in model.markers.iter().zip(data.markers.iter_mut()).zip(&model.marker_node) {
         match marker.body {
             BodyRef::Ground => {
                 *state = MarkerState { position: marker.origin, axes: marker.axes, ..MarkerState::default() };
+            }
+            BodyRef::Body(b) if node.is_some() => {
+                let body = &data.bodies[b.0];
+                let (qo, vo) = (layout.q_offset[b.0], layout.v_offset[b.0]);
+                let modal = model.modal[b.0].as_ref().expect("node markers are on flexible bodies");
+                *state = super::modal::node_marker_state(
+                    b,
+                    modal,
+                    &data.modal[b.0],
+                    node.expect("checked"),
+                    &marker.axes,
+                    &Vec3::new(q[qo], q[qo + 1], q[qo + 2]),
+                    &body.rotation,
+                    &body.omega_bar,
+                    &Vec3::new(v[vo], v[vo + 1], v[vo + 2]),
+                );
             }
             BodyRef::Body(b) => {
                 let body = &data.bodies[b.0];
@@ -111,6 +142,7 @@ pub(crate) fn kinematics(model: &Model, data: &mut Data, q: &[f64], v: &[f64]) {
                     angular_accel_bias: Vec3::zeros(),
                     jac_point,
                     jac_rotation,
+                    ..MarkerState::default()
                 };
             }
         }

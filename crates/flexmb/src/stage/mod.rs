@@ -8,14 +8,17 @@ mod forces;
 mod inertia;
 mod kinematics;
 mod measures;
+mod modal;
 mod residual;
 
 pub(crate) use constraints::{add_jacobian_transpose, constraint_equations, jacobian_entries};
 pub use energy::Energy;
 pub(crate) use energy::energy;
 pub(crate) use forces::applied_forces;
-pub(crate) use inertia::{body_mass_matrix, inertia_forces};
+pub(crate) use inertia::{body_mass_entries, inertia_forces};
 pub use kinematics::{BodyState, MarkerState};
 pub(crate) use kinematics::kinematics;
 pub(crate) use measures::{measure_value, measures, update_angle_references};
+pub use modal::ModalState;
+pub(crate) use modal::modal_row;
 pub(crate) use residual::{residual, YLayout};

@@ -2,8 +2,8 @@
 //! with `y = [q, v, λ, μ]`:
 //!
 //! ```text
-//! F_q = q̇ − T(q) v − Φ̂_qᵀ μ           T(q) v = [Ṙ; ½ Gᵀ ω̄]          (kinematic, 7 per body)
-//! F_v = M(q) v̇ + h(q, v) − Q + Bᵀ λ                                  (dynamic, 6 per body)
+//! F_q = q̇ − T(q) v − Φ̂_qᵀ μ           T(q) v = [Ṙ; ½ Gᵀ ω̄; ȧ]       (kinematic, 7 + m per body)
+//! F_v = M(q) v̇ + h(q, v) − Q + Bᵀ λ                                  (dynamic, 6 + m per body)
 //! F_λ = B v + Φ_t                                                     (velocity constraints)
 //! F_μ = [Φ(q, t); pᵀp − 1]                                            (position constraints)
 //! ```
@@ -95,6 +95,10 @@ pub(crate) fn residual(
         }
         for k in 0..4 {
             res[qo + 3 + k] = qp[qo + 3 + k] - p_rate[k];
+        }
+        // Modal coordinates: ȧ = v_a, with Φ_a = B_a (T is the identity there).
+        for k in 0..model.layout.modes[b] {
+            res[qo + 7 + k] = qp[qo + 7 + k] - v[vo + 6 + k] - bt[vo + 6 + k];
         }
     }
 

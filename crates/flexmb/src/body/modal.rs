@@ -1,0 +1,140 @@
+//! A flexible body in modal form (formulation.md §2–§4): reference frame `R, p` plus modal coordinates
+//! `a`, with the inertia invariants of its lumped-mass FE model, its modal stiffness and damping, and
+//! the nodes where markers attach.
+//!
+//! The engine never reads files: the `flexmb-fem` preprocessor computes everything here and the
+//! program layer converts it.
+
+use nalgebra::{DMatrix, DVector, Matrix3xX};
+
+use crate::math::{Mat3, Vec3};
+
+/// The inertia invariants of a flexible body (formulation.md §3), with `m` modes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ModalInvariants {
+    /// `m = Σ mᵢ`.
+    pub mass: f64,
+    /// `C1 = Σ mᵢ s̄ᵢ`.
+    pub c1: Vec3,
+    /// `C2 = Σ mᵢ Ψᵢ` (3×m).
+    pub c2: Matrix3xX<f64>,
+    /// `C3 = Σ mᵢ s̄̃ᵢ s̄̃ᵢ`.
+    pub c3: Mat3,
+    /// `C4(j) = Σ mᵢ s̄̃ᵢ ψ̃ᵢʲ` (m).
+    pub c4: Vec<Mat3>,
+    /// `C5(j,k) = Σ mᵢ ψ̃ᵢʲ ψ̃ᵢᵏ`, stored row-major: `c5[j * m + k]`.
+    pub c5: Vec<Mat3>,
+    /// `C6 = Σ mᵢ s̄̃ᵢ Ψᵢ` (3×m).
+    pub c6: Matrix3xX<f64>,
+    /// `C7(k) = Σ mᵢ ψ̃ᵢᵏ Ψᵢ` (m of 3×m).
+    pub c7: Vec<Matrix3xX<f64>>,
+    /// `C9 = Σ mᵢ Ψᵢᵀ Ψᵢ` (m×m).
+    pub c9: DMatrix<f64>,
+    /// `Σ Jᵢ`, the nodes' own rotary inertia (zero without it).
+    pub rotary_inertia: Mat3,
+    /// `Σ Jᵢ Θᵢ` (3×m).
+    pub rotary_coupling: Matrix3xX<f64>,
+    /// `Σ Θᵢᵀ Jᵢ Θᵢ` (m×m).
+    pub rotary_modal_mass: DMatrix<f64>,
+}
+
+impl ModalInvariants {
+    /// Number of modes.
+    pub fn modes(&self) -> usize {
+        self.c9.nrows()
+    }
+
+    /// `C5(j, k)`.
+    #[inline]
+    pub fn c5(&self, j: usize, k: usize) -> &Mat3 {
+        &self.c5[j * self.modes() + k]
+    }
+
+    /// The modal mass `Φᵀ M Φ = C9 + Σ Θᵢᵀ Jᵢ Θᵢ`.
+    pub fn modal_mass(&self) -> DMatrix<f64> {
+        &self.c9 + &self.rotary_modal_mass
+    }
+
+    /// Inertia about the frame origin of the undeformed body, rotary inertia included: `−C3 + Σ Jᵢ`.
+    pub fn undeformed_inertia(&self) -> Mat3 {
+        -self.c3 + self.rotary_inertia
+    }
+}
+
+/// A node of a flexible body: undeformed position in the body frame, and its translational and
+/// rotational mode matrices `Ψᵢ`, `Θᵢ` (3×m).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ModalNode {
+    /// The node's label in the FE model, for messages and outputs.
+    pub label: u64,
+    pub position: Vec3,
+    pub psi: Matrix3xX<f64>,
+    pub theta: Matrix3xX<f64>,
+}
+
+/// Modal damping of a flexible body.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ModalDamping {
+    /// No damping.
+    None,
+    /// A damping ratio ζ for every natural mode of the reduced model (one value for all, or one per
+    /// mode): `D = M X diag(2 ζⱼ ωⱼ) Xᵀ M` with `X` the mass-normalized eigenvectors of `(K, M)`.
+    Ratios(Vec<f64>),
+    /// Rayleigh damping `D = α M + β K`.
+    Rayleigh { alpha: f64, beta: f64 },
+}
+
+/// A flexible body's modal description.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ModalBody {
+    pub invariants: ModalInvariants,
+    /// Modal stiffness `K_aa` (m×m).
+    pub stiffness: DMatrix<f64>,
+    /// Modal damping `D_aa` (m×m), from [`ModalDamping`] by [`ModalBody::damping_matrix`].
+    pub damping: DMatrix<f64>,
+    /// All nodes of the FE model (markers attach at nodes; outputs read them).
+    pub nodes: Vec<ModalNode>,
+    /// Mode labels (`N1`, `S2`, `O3`, …), for outputs.
+    pub mode_labels: Vec<String>,
+    /// Initial modal coordinates `a(0)` (default zero).
+    pub initial_coordinates: DVector<f64>,
+    /// Initial modal rates `ȧ(0)` (default zero).
+    pub initial_rates: DVector<f64>,
+}
+
+impl ModalBody {
+    /// Number of modes.
+    pub fn modes(&self) -> usize {
+        self.invariants.modes()
+    }
+
+    /// The damping matrix of `damping` for this body's modal mass and stiffness; `None` if the modal
+    /// mass is not positive definite or a ratio list has the wrong length.
+    pub fn damping_matrix(&self, damping: &ModalDamping) -> Result<DMatrix<f64>, String> {
+        let m = self.modes();
+        let mass = self.invariants.modal_mass();
+        match damping {
+            ModalDamping::None => Ok(DMatrix::zeros(m, m)),
+            ModalDamping::Rayleigh { alpha, beta } => Ok(*alpha * &mass + *beta * &self.stiffness),
+            ModalDamping::Ratios(ratios) => {
+                if ratios.len() != 1 && ratios.len() != m {
+                    return Err(format!("{} damping ratios for {m} modes; give one for all or one per mode", ratios.len()));
+                }
+                let chol = nalgebra::Cholesky::new(mass.clone()).ok_or("the modal mass is not positive definite")?;
+                let l_inv = chol.l().try_inverse().ok_or("the modal mass is singular")?;
+                let reduced = &l_inv * &self.stiffness * l_inv.transpose();
+                let reduced = 0.5 * (&reduced + reduced.transpose());
+                let eigen = nalgebra::SymmetricEigen::new(reduced);
+                // X = L⁻ᵀ Y, mass-normalized; D = M X diag(2ζω) Xᵀ M.
+                let x = l_inv.transpose() * &eigen.eigenvectors;
+                let mut diag = DMatrix::zeros(m, m);
+                for k in 0..m {
+                    let zeta = if ratios.len() == 1 { ratios[0] } else { ratios[k] };
+                    diag[(k, k)] = 2.0 * zeta * eigen.eigenvalues[k].max(0.0).sqrt();
+                }
+                let mx = &mass * &x;
+                Ok(&mx * diag * mx.transpose())
+            }
+        }
+    }
+}

@@ -1,0 +1,108 @@
+//! Validation of flexible bodies and of markers at their nodes.
+
+use nalgebra::DMatrix;
+
+use super::{BodyRef, ModelError};
+use crate::body::{Marker, ModalBody, RigidBody};
+use crate::math::skew;
+
+fn bad(name: &str, problem: String) -> ModelError {
+    ModelError::BadValue { element: "body", name: name.to_string(), problem }
+}
+
+/// Sizes agree, values are finite, and the mass matrix of the undeformed body is positive definite.
+pub(super) fn check_flexible_body(body: &RigidBody, modal: &ModalBody) -> Result<(), ModelError> {
+    let name = &body.name;
+    let inv = &modal.invariants;
+    let m = modal.modes();
+    let sizes = [
+        ("C2 columns", inv.c2.ncols()),
+        ("C4 entries", inv.c4.len()),
+        ("C5 entries", if m == 0 { 0 } else { inv.c5.len() / m }),
+        ("C6 columns", inv.c6.ncols()),
+        ("C7 entries", inv.c7.len()),
+        ("rotary coupling columns", inv.rotary_coupling.ncols()),
+        ("modal stiffness size", modal.stiffness.nrows()),
+        ("modal damping size", modal.damping.nrows()),
+        ("initial modal coordinates", modal.initial_coordinates.len()),
+        ("initial modal rates", modal.initial_rates.len()),
+        ("mode labels", modal.mode_labels.len()),
+    ];
+    for (what, n) in sizes {
+        if n != m {
+            return Err(bad(name, format!("{what}: {n}, expected {m} (one per mode)")));
+        }
+    }
+    if inv.c5.len() != m * m || modal.stiffness.ncols() != m || modal.damping.ncols() != m || inv.rotary_modal_mass.nrows() != m {
+        return Err(bad(name, format!("C5, the modal stiffness, damping and rotary modal mass must be {m}×{m}")));
+    }
+    if let Some(k) = modal.nodes.iter().position(|n| n.psi.ncols() != m || n.theta.ncols() != m) {
+        return Err(bad(name, format!("node {} has mode shapes of the wrong size", modal.nodes[k].label)));
+    }
+    if !(inv.mass.is_finite() && inv.mass > 0.0) {
+        return Err(ModelError::NonPositiveMass { body: name.clone(), mass: inv.mass });
+    }
+    super::builder::check_frame(&format!("body '{name}' initial orientation"), &body.initial.orientation.rotation_matrix())?;
+    let mass = undeformed_mass_matrix(modal);
+    if !mass.iter().all(|x| x.is_finite()) || !modal.stiffness.iter().all(|x| x.is_finite()) {
+        return Err(bad(name, "the invariants or the modal stiffness are not finite".into()));
+    }
+    if nalgebra::Cholesky::new(mass).is_none() {
+        return Err(bad(
+            name,
+            "the mass matrix of the undeformed body is not positive definite: some motion (a spin about a beam's axis, \
+             a mode that only turns nodes) carries no mass; lump rotary inertia in the FE model"
+                .into(),
+        ));
+    }
+    Ok(())
+}
+
+/// The `(6 + m)`-square mass matrix at `a = 0` in the body frame (`A = I`).
+fn undeformed_mass_matrix(modal: &ModalBody) -> DMatrix<f64> {
+    let inv = &modal.invariants;
+    let m = modal.modes();
+    let n = 6 + m;
+    let mut mass = DMatrix::zeros(n, n);
+    let s_tilde = skew(&inv.c1);
+    let j = inv.undeformed_inertia();
+    let coupling = &inv.c6 + &inv.rotary_coupling;
+    let modal_mass = inv.modal_mass();
+    for r in 0..3 {
+        mass[(r, r)] = inv.mass;
+        for c in 0..3 {
+            mass[(r, 3 + c)] = -s_tilde[(r, c)];
+            mass[(3 + c, r)] = -s_tilde[(r, c)];
+            mass[(3 + r, 3 + c)] = j[(r, c)];
+        }
+        for k in 0..m {
+            mass[(r, 6 + k)] = inv.c2[(r, k)];
+            mass[(6 + k, r)] = inv.c2[(r, k)];
+            mass[(3 + r, 6 + k)] = coupling[(r, k)];
+            mass[(6 + k, 3 + r)] = coupling[(r, k)];
+        }
+    }
+    for a in 0..m {
+        for b in 0..m {
+            mass[(6 + a, 6 + b)] = modal_mass[(a, b)];
+        }
+    }
+    mass
+}
+
+/// A marker on a flexible body sits at one of its nodes; a marker on a rigid body does not name one.
+pub(super) fn check_marker_node(marker: &Marker, node: Option<usize>, modal: &[Option<ModalBody>]) -> Result<(), ModelError> {
+    let problem = |p: String| Err(ModelError::BadValue { element: "marker", name: marker.name.clone(), problem: p });
+    match (marker.body, node) {
+        (BodyRef::Body(b), None) if modal[b.0].is_some() => {
+            problem("is on a flexible body: it must sit at one of the body's nodes".into())
+        }
+        (BodyRef::Body(b), Some(k)) => match &modal[b.0] {
+            None => problem("names a node, but its body is rigid".into()),
+            Some(m) if k >= m.nodes.len() => problem(format!("node index {k} is beyond the body's {} nodes", m.nodes.len())),
+            Some(_) => Ok(()),
+        },
+        (BodyRef::Ground, Some(_)) => problem("names a node, but is on ground".into()),
+        _ => Ok(()),
+    }
+}
