@@ -27,6 +27,8 @@ pub mod math;
 pub mod measure;
 pub mod model;
 pub mod stage;
+#[cfg(test)]
+mod test_support;
 
 pub use data::Data;
 pub use model::{Model, ModelBuilder};

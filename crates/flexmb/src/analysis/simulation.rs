@@ -30,6 +30,10 @@ pub struct OutputFrame<'a> {
     pub t: f64,
     /// One value per [`output_columns`] entry.
     pub values: &'a [f64],
+    /// The positions `q` (per body `R, p, a`) at `t`.
+    pub q: &'a [f64],
+    /// The velocities `v` (per body `Ṙ, ω̄, ȧ`) at `t`.
+    pub v: &'a [f64],
 }
 
 /// Everything a run reports, also for a run that failed midway.
@@ -130,7 +134,7 @@ fn run(
         }
         report.energy_final = e;
         report.output_frames += 1;
-        observer(&OutputFrame { t, values });
+        observer(&OutputFrame { t, values, q, v });
         Ok::<(), SimulationFailure>(())
     };
 

@@ -8,3 +8,6 @@ mod rigid;
 pub use marker::Marker;
 pub use modal::{ModalBody, ModalDamping, ModalInvariants, ModalNode};
 pub use rigid::{InitialState, RigidBody};
+
+#[cfg(test)]
+mod modal_tests;
