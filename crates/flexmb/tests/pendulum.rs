@@ -29,7 +29,7 @@ fn period_matches_elliptic_integral_and_energy_is_conserved() {
     let report = simulate(&model, &settings, &mut |f| {
         t.push(f.t);
         x.push(f.values[0]);
-        e.push(f.values[5]);
+        e.push(f.values[6]);
     })
     .unwrap();
     // Zero crossings of x going downward-to-upward: successive crossings in the same direction are one period apart.

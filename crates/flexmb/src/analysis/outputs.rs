@@ -34,7 +34,20 @@ pub fn output_columns(model: &Model) -> Vec<OutputColumn> {
                 push3(&mut cols, &o.name, ["tx", "ty", "tz"], "N m");
             }
             OutputKind::Measure(m) => cols.push(OutputColumn { name: o.name.clone(), unit: measure_unit(model, m) }),
-            OutputKind::Energy => push3(&mut cols, &o.name, ["kinetic", "potential", "total"], "J"),
+            OutputKind::Energy => {
+                for part in ["kinetic", "potential", "strain", "total"] {
+                    cols.push(OutputColumn { name: format!("{}.{part}", o.name), unit: "J" });
+                }
+            }
+            OutputKind::ModalCoordinates(b) => {
+                for label in model.modal[b.0].iter().flat_map(|m| &m.mode_labels) {
+                    cols.push(OutputColumn { name: format!("{}.{label}", o.name), unit: "-" });
+                }
+            }
+            OutputKind::NodePosition(..) | OutputKind::NodeDeformation(..) => push3(&mut cols, &o.name, XYZ, "m"),
+            OutputKind::NodeVelocity(..) => push3(&mut cols, &o.name, XYZ, "m/s"),
+            OutputKind::NodeAcceleration(..) => push3(&mut cols, &o.name, XYZ, "m/s^2"),
+            OutputKind::StrainEnergy(_) => cols.push(OutputColumn { name: o.name.clone(), unit: "J" }),
             OutputKind::ConstraintResidual => {
                 cols.push(OutputColumn { name: format!("{}.position", o.name), unit: "-" });
                 cols.push(OutputColumn { name: format!("{}.velocity", o.name), unit: "-" });
@@ -96,6 +109,11 @@ pub(crate) fn evaluate_outputs(
                     let vo = model.layout.v_offset[b.0];
                     let vdot = nalgebra::Vector6::from_column_slice(&acc.vdot[vo..vo + 6]);
                     a += ms.jac_point * vdot;
+                    if let (Some(node), Some(modal)) = (ms.node, &model.modal[b.0]) {
+                        let m = modal.modes();
+                        let add = nalgebra::DVectorView::from_slice(&acc.vdot[vo + 6..vo + 6 + m], m);
+                        a += ms.body_rotation * (&modal.nodes[node].psi * add);
+                    }
                 }
                 a.iter().for_each(|x| put(out, *x));
             }
@@ -115,7 +133,25 @@ pub(crate) fn evaluate_outputs(
                 let e = energy(model, data, q, v);
                 put(out, e.kinetic);
                 put(out, e.potential);
+                put(out, e.strain);
                 put(out, e.total());
+            }
+            OutputKind::ModalCoordinates(b) => data.modal[b.0].a.iter().for_each(|x| put(out, *x)),
+            OutputKind::NodePosition(b, node) => node_motion(model, data, q, v, &acc.vdot, b, node).0.iter().for_each(|x| put(out, *x)),
+            OutputKind::NodeVelocity(b, node) => node_motion(model, data, q, v, &acc.vdot, b, node).1.iter().for_each(|x| put(out, *x)),
+            OutputKind::NodeAcceleration(b, node) => {
+                node_motion(model, data, q, v, &acc.vdot, b, node).2.iter().for_each(|x| put(out, *x))
+            }
+            OutputKind::NodeDeformation(b, node) => {
+                let u = model.modal[b.0].as_ref().map_or(Vec3::zeros(), |m| &m.nodes[node].psi * &data.modal[b.0].a);
+                u.iter().for_each(|x| put(out, *x));
+            }
+            OutputKind::StrainEnergy(b) => {
+                let strain = model.modal[b.0].as_ref().map_or(0.0, |m| {
+                    let a = &data.modal[b.0].a;
+                    0.5 * a.dot(&(&m.stiffness * a))
+                });
+                put(out, strain);
             }
             OutputKind::ConstraintResidual => {
                 let (p, vel) = constraint_residuals(model, data, active);
@@ -124,4 +160,26 @@ pub(crate) fn evaluate_outputs(
             }
         }
     }
+}
+
+/// Global position, velocity and acceleration of node `node` of flexible body `b` (formulation.md §2):
+/// `R + A r̄`, `Ṙ + A (ω̄ × r̄ + Ψ ȧ)`, `R̈ + A (ω̄̇ × r̄ + Ψ ä + ω̄ × (ω̄ × r̄) + 2 ω̄ × Ψ ȧ)`.
+fn node_motion(model: &Model, data: &Data, q: &[f64], v: &[f64], vdot: &[f64], b: crate::model::BodyId, node: usize) -> (Vec3, Vec3, Vec3) {
+    let Some(modal) = &model.modal[b.0] else { return (Vec3::zeros(), Vec3::zeros(), Vec3::zeros()) };
+    let (qo, vo) = (model.layout.q_offset[b.0], model.layout.v_offset[b.0]);
+    let m = modal.modes();
+    let n = &modal.nodes[node];
+    let state = &data.modal[b.0];
+    let a_mat = data.bodies[b.0].rotation;
+    let w = data.bodies[b.0].omega_bar;
+    let r_bar: Vec3 = n.position + &n.psi * &state.a;
+    let u_dot: Vec3 = &n.psi * &state.a_dot;
+    let add = nalgebra::DVectorView::from_slice(&vdot[vo + 6..vo + 6 + m], m);
+    let u_ddot: Vec3 = &n.psi * add;
+    let wd = Vec3::from_column_slice(&vdot[vo + 3..vo + 6]);
+    let position = Vec3::from_column_slice(&q[qo..qo + 3]) + a_mat * r_bar;
+    let velocity = Vec3::from_column_slice(&v[vo..vo + 3]) + a_mat * (w.cross(&r_bar) + u_dot);
+    let acceleration = Vec3::from_column_slice(&vdot[vo..vo + 3])
+        + a_mat * (wd.cross(&r_bar) + u_ddot + w.cross(&w.cross(&r_bar)) + 2.0 * w.cross(&u_dot));
+    (position, velocity, acceleration)
 }

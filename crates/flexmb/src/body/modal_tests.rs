@@ -491,7 +491,7 @@ fn a_free_undamped_flexible_body_keeps_momentum_and_energy() {
     let model = b.build().unwrap();
     let _ = body;
     let mut states: Vec<(Vec<f64>, Vec<f64>, f64)> = Vec::new();
-    let report = simulate(&model, &settings(2.0, 0.1, 1e-9), &mut |f| states.push((f.q.to_vec(), f.v.to_vec(), f.values[2]))).unwrap();
+    let report = simulate(&model, &settings(2.0, 0.1, 1e-9), &mut |f| states.push((f.q.to_vec(), f.v.to_vec(), f.values[3]))).unwrap();
     assert!(report.t_reached >= 2.0 - 1e-12);
     let (l0, h0) = momentum(&nodes, m, &states[0].0, &states[0].1);
     let e0 = states[0].2;
