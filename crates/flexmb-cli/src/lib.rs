@@ -4,6 +4,7 @@
 pub mod bench;
 pub mod check;
 pub mod fe_model_file;
+pub mod flexible_body;
 pub mod model_file;
 pub mod modes;
 pub mod results;
