@@ -5,7 +5,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 use flexmb_cli::bench::{run_benchmarks, BenchCase};
-use flexmb_cli::check::{check_model, describe};
+use flexmb_cli::check::{check_model, describe, describe_flexible_bodies};
 use flexmb_cli::modes::{run_modes, ModesOptions};
 use flexmb_cli::run::{run_model, RunOptions};
 use flexmb_fem::modes::EigenSolver;
@@ -106,6 +106,7 @@ fn main() -> ExitCode {
         Command::Check { model } => flexmb_cli::load_model(&model)
             .map_err(|e| e.to_string())
             .and_then(|loaded| {
+                print!("{}", describe_flexible_bodies(&loaded));
                 check_model(&loaded.model)
                     .map(|report| print!("{}", describe(&loaded.model, &report)))
                     .map_err(|e| format!("{}: {e}", model.display()))

@@ -5,7 +5,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::ops::Range;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use flexmb_fem::{ElementKind, FeModel};
 
@@ -45,6 +45,8 @@ pub(crate) struct Builder<'a> {
     pub orientation_lines: BTreeMap<usize, usize>,
     /// The mesh file's name as shown in messages, if there is one.
     pub mesh_file: Option<String>,
+    /// The mesh file and the files it includes.
+    pub sources: Vec<PathBuf>,
     pub warnings: Vec<String>,
 }
 
@@ -63,6 +65,7 @@ impl<'a> Builder<'a> {
             support_origins: Vec::new(),
             orientation_lines: BTreeMap::new(),
             mesh_file: None,
+            sources: Vec::new(),
             warnings: Vec::new(),
         }
     }
@@ -137,7 +140,7 @@ pub(crate) fn build<'a>(
     static_loads::add_static_loads(&mut b, &file.static_load)?;
     let defaults: ModesDefaults = options::modes_defaults(&b, file.modes.as_ref())?;
     warn_unused(&mut b);
-    Ok(LoadedFeModel { name, model: b.model, defaults, warnings: b.warnings })
+    Ok(LoadedFeModel { name, model: b.model, defaults, warnings: b.warnings, sources: b.sources })
 }
 
 /// A model without elements has nothing to analyse.

@@ -35,7 +35,59 @@ pub(crate) fn add_mesh(b: &mut Builder, mesh: &Name, base_dir: &Path) -> Result<
     b.support_origins = vec![None; mesh_model.supports.len()];
     b.model = mesh_model;
     b.mesh_file = Some(shown);
+    b.sources.extend(deck_files(&path));
     Ok(())
+}
+
+/// How deep `*INCLUDE`s are followed (the deck reader's own limit).
+const MAX_INCLUDE_DEPTH: usize = 16;
+
+/// The deck at `path` and every file it `*INCLUDE`s (relative to the including file, as the deck
+/// reader finds them), each once, in the order met. Files that cannot be read are listed but not
+/// followed: the deck reader has already reported them.
+pub(crate) fn deck_files(path: &Path) -> Vec<PathBuf> {
+    let mut files = Vec::new();
+    collect_deck_files(path, 0, &mut files);
+    files
+}
+
+fn collect_deck_files(path: &Path, depth: usize, files: &mut Vec<PathBuf>) {
+    if files.iter().any(|f| f == path) {
+        return;
+    }
+    files.push(path.to_path_buf());
+    if depth >= MAX_INCLUDE_DEPTH {
+        return;
+    }
+    let Ok(bytes) = std::fs::read(path) else { return };
+    let text = String::from_utf8_lossy(&bytes);
+    for line in text.lines() {
+        if let Some(input) = include_input(line) {
+            let input = Path::new(&input);
+            let included = match path.parent() {
+                Some(dir) if input.is_relative() => dir.join(input),
+                _ => input.to_path_buf(),
+            };
+            collect_deck_files(&included, depth + 1, files);
+        }
+    }
+}
+
+/// The `INPUT=` file of an `*INCLUDE` keyword line.
+fn include_input(line: &str) -> Option<String> {
+    let text = line.trim_start();
+    if !text.starts_with('*') || text.starts_with("**") {
+        return None;
+    }
+    let mut parts = text[1..].split(',');
+    let keyword: String = parts.next()?.split_whitespace().collect::<Vec<_>>().join(" ");
+    if !keyword.eq_ignore_ascii_case("INCLUDE") {
+        return None;
+    }
+    parts.find_map(|p| {
+        let (key, value) = p.split_once('=')?;
+        key.trim().eq_ignore_ascii_case("INPUT").then(|| value.trim().trim_matches('"').trim().to_string())
+    })
 }
 
 /// `mesh` relative to `base_dir`, unless it is absolute.

@@ -9,13 +9,13 @@
 
 mod build;
 mod elements;
-mod format;
+pub(crate) mod format;
 mod generators;
 mod masses;
 mod materials;
 mod mesh_file;
 mod names;
-mod node_ref;
+pub(crate) mod node_ref;
 mod nodes;
 mod options;
 mod schema;
@@ -24,7 +24,7 @@ mod static_loads;
 mod supports;
 mod value;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 use toml::de::DeTable;
@@ -48,6 +48,10 @@ pub struct LoadedFeModel {
     /// Things worth knowing that do not stop the model from being built (a definition nothing uses,
     /// a skipped keyword of the mesh file), each `file:line: …`.
     pub warnings: Vec<String>,
+    /// The files the model was read from: for [`load_fe_model`], the FE model file first; then the
+    /// mesh file (`[fe_model] mesh`) and the files it `*INCLUDE`s. What a cache of the reduced body
+    /// depends on.
+    pub sources: Vec<PathBuf>,
 }
 
 /// `[modes]`: what `flexmb modes` uses unless told otherwise; `None` where the file says nothing.
@@ -70,6 +74,7 @@ pub fn load_fe_model(path: &Path) -> Result<LoadedFeModel, ModelFileError> {
             model: inp.model,
             defaults: ModesDefaults::default(),
             warnings: inp.warnings,
+            sources: mesh_file::deck_files(path),
         });
     }
     let io_error = |message: String| ModelFileError {
@@ -82,11 +87,14 @@ pub fn load_fe_model(path: &Path) -> Result<LoadedFeModel, ModelFileError> {
     let bytes = std::fs::read(path).map_err(|e| io_error(format!("cannot read the FE model file: {e}")))?;
     let text = String::from_utf8(bytes).map_err(|e| io_error(format!("the FE model file is not UTF-8 text: {e}")))?;
     let base_dir = path.parent().unwrap_or(Path::new(""));
-    parse_fe_model(&text, &file, base_dir)
+    let mut loaded = parse_fe_model(&text, &file, base_dir)?;
+    loaded.sources.insert(0, path.to_path_buf());
+    Ok(loaded)
 }
 
 /// Builds an FE model from the text of an FE model file. `file_name` is used in error messages and its
-/// stem is the model's default name; a relative `[fe_model] mesh` path starts at `base_dir`.
+/// stem is the model's default name; a relative `[fe_model] mesh` path starts at `base_dir`. The
+/// model's `sources` are the mesh file and its includes (the text itself has no file).
 pub fn parse_fe_model(text: &str, file_name: &str, base_dir: &Path) -> Result<LoadedFeModel, ModelFileError> {
     let source = Source::new(file_name, text);
     let (document, syntax_errors) = DeTable::parse_recoverable(text);

@@ -18,6 +18,8 @@ use std::path::Path;
 use serde::Deserialize;
 use toml::de::DeTable;
 
+pub use build::body_cache::CACHE_DIR;
+pub use build::flexible_bodies::{FlexibleBodyInfo, FlexibleBodyOrigin};
 pub use error::{ErrorKind, ModelFileError};
 
 use schema::ModelFile;
@@ -28,6 +30,9 @@ use source::Source;
 pub struct LoadedModel {
     pub model: flexmb::Model,
     pub simulation: SimulationDefaults,
+    /// The flexible bodies, in the order of their `[[flexible_body]]` tables: mode set, frequencies,
+    /// and whether each was reduced now, read from the cache or read from a flexible-body file.
+    pub flexible_bodies: Vec<FlexibleBodyInfo>,
 }
 
 /// `[simulation]`: what `flexmb run` uses unless told otherwise.
@@ -64,9 +69,16 @@ pub fn load_model(path: &Path) -> Result<LoadedModel, ModelFileError> {
     parse_model(&text, &file)
 }
 
-/// Builds a model from the text of a model file; `file_name` is used in error messages and its stem is
-/// the model's default name.
+/// Builds a model from the text of a model file; `file_name` is used in error messages, its stem is
+/// the model's default name, and its directory is where the paths of flexible bodies' files start.
 pub fn parse_model(text: &str, file_name: &str) -> Result<LoadedModel, ModelFileError> {
+    let base_dir = Path::new(file_name).parent().unwrap_or(Path::new(""));
+    parse_model_in(text, file_name, base_dir)
+}
+
+/// [`parse_model`] with the paths of flexible bodies' files (`fe_model`, `body_file`) relative to
+/// `base_dir`.
+pub fn parse_model_in(text: &str, file_name: &str, base_dir: &Path) -> Result<LoadedModel, ModelFileError> {
     let source = Source::new(file_name, text);
     let (document, syntax_errors) = DeTable::parse_recoverable(text);
     if let Some(error) = syntax_errors.first() {
@@ -75,5 +87,5 @@ pub fn parse_model(text: &str, file_name: &str) -> Result<LoadedModel, ModelFile
     let file = ModelFile::deserialize(toml::de::Deserializer::from(document.clone()))
         .map_err(|e| toml_errors::schema_error(&source, document.get_ref(), &e))?;
     let default_name = Path::new(file_name).file_stem().and_then(|s| s.to_str()).unwrap_or("model");
-    build::build(&file, &source, default_name)
+    build::build(&file, &source, default_name, base_dir)
 }

@@ -8,6 +8,7 @@ use serde::Deserialize;
 use toml::Spanned;
 
 use super::value::{InertiaInput, NumberOrExpression};
+use crate::fe_model_file::node_ref::NodeRef;
 
 /// A number or an expression, with its span.
 pub(crate) type Number = Spanned<NumberOrExpression>;
@@ -26,6 +27,8 @@ pub(crate) struct ModelFile {
     pub parameters: BTreeMap<Name, Number>,
     #[serde(default)]
     pub body: Vec<Spanned<BodySection>>,
+    #[serde(default)]
+    pub flexible_body: Vec<Spanned<FlexibleBodySection>>,
     #[serde(default)]
     pub marker: Vec<Spanned<MarkerSection>>,
     #[serde(default)]
@@ -72,6 +75,34 @@ pub(crate) struct BodySection {
     pub angular_velocity: Option<Vector>,
 }
 
+/// `[[flexible_body]]`: a flexible body reduced from an FE model file, or read from a flexible-body
+/// file.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct FlexibleBodySection {
+    pub name: Name,
+    pub fe_model: Option<Name>,
+    pub body_file: Option<Name>,
+    pub modes: Option<Name>,
+    pub basis: Option<Name>,
+    pub damping: Option<Spanned<DampingSection>>,
+    pub position: Option<Vector>,
+    pub orientation: Option<Spanned<OrientationSection>>,
+    pub velocity: Option<Vector>,
+    pub angular_velocity: Option<Vector>,
+    pub modal_coordinates: Option<Vector>,
+    pub modal_rates: Option<Vector>,
+}
+
+/// The modal damping of a flexible body: one ratio for all modes, one per mode, or Rayleigh's.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct DampingSection {
+    pub ratio: Option<Number>,
+    pub ratios: Option<Vector>,
+    pub rayleigh: Option<Vector>,
+}
+
 /// An orientation: axis and angle, a rotation matrix, or Euler parameters.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -89,6 +120,7 @@ pub(crate) struct OrientationSection {
 pub(crate) struct MarkerSection {
     pub name: Name,
     pub body: Name,
+    pub node: Option<Spanned<NodeRef>>,
     pub origin: Option<Vector>,
     pub orientation: Option<Spanned<OrientationSection>>,
     pub z_axis: Option<Vector>,
@@ -164,6 +196,8 @@ pub(crate) struct OutputSection {
     pub marker: Option<Name>,
     pub joint: Option<Name>,
     pub measure: Option<Name>,
+    pub body: Option<Name>,
+    pub node: Option<Spanned<NodeRef>>,
 }
 
 /// The span of an optional value, if present.
@@ -205,8 +239,14 @@ impl ForceSection {
 
 impl OutputSection {
     /// The optional element keys present, for rejecting those an output type does not use.
-    pub(crate) fn optional_keys(&self) -> [(&'static str, Option<Range<usize>>); 3] {
-        [("marker", span_of(&self.marker)), ("joint", span_of(&self.joint)), ("measure", span_of(&self.measure))]
+    pub(crate) fn optional_keys(&self) -> [(&'static str, Option<Range<usize>>); 5] {
+        [
+            ("marker", span_of(&self.marker)),
+            ("joint", span_of(&self.joint)),
+            ("measure", span_of(&self.measure)),
+            ("body", span_of(&self.body)),
+            ("node", span_of(&self.node)),
+        ]
     }
 }
 

@@ -18,6 +18,11 @@ impl<'a> Source<'a> {
         Self { file, text, line_starts }
     }
 
+    /// The file name as shown in messages.
+    pub(crate) fn file(&self) -> &'a str {
+        self.file
+    }
+
     pub(crate) fn text(&self) -> &'a str {
         self.text
     }

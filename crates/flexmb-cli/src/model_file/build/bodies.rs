@@ -13,7 +13,7 @@ use super::names::NameTable;
 use super::orientation::orientation;
 use crate::model_file::error::ModelFileError;
 use crate::model_file::key_path::KeyPath;
-use crate::model_file::schema::BodySection;
+use crate::model_file::schema::{BodySection, OrientationSection, Vector};
 
 /// The name markers use for the inertial frame.
 pub(crate) const GROUND: &str = "ground";
@@ -52,21 +52,45 @@ fn rigid_body(ctx: &Context, b: &BodySection, element: &KeyPath) -> Result<Rigid
             format!("mass must be positive and finite, got {mass}"),
         ));
     }
-    let orientation = match &b.orientation {
-        Some(o) => orientation(ctx, o, &element.key("orientation"))?,
-        None => EulerParameters::identity(),
+    let keys = InitialKeys {
+        position: &b.position,
+        orientation: &b.orientation,
+        velocity: &b.velocity,
+        angular_velocity: &b.angular_velocity,
     };
     Ok(RigidBody {
         name: b.name.get_ref().clone(),
         mass,
         center_of_mass: ctx.vector_or_zero(&b.center_of_mass, &element.key("center_of_mass"))?,
         inertia: inertia(ctx, &b.inertia, &element.key("inertia"))?,
-        initial: InitialState {
-            position: ctx.vector_or_zero(&b.position, &element.key("position"))?,
-            orientation,
-            velocity: ctx.optional_vector(&b.velocity, &element.key("velocity"))?,
-            angular_velocity: ctx.optional_vector(&b.angular_velocity, &element.key("angular_velocity"))?,
-        },
+        initial: initial_state(ctx, &keys, element)?,
+    })
+}
+
+/// The keys of a body table that give its initial pose and velocity.
+pub(crate) struct InitialKeys<'a> {
+    pub position: &'a Option<Vector>,
+    pub orientation: &'a Option<Spanned<OrientationSection>>,
+    pub velocity: &'a Option<Vector>,
+    pub angular_velocity: &'a Option<Vector>,
+}
+
+/// The initial state of a body frame (rigid or flexible): position and orientation (default: the
+/// global frame), and the velocities if given.
+pub(crate) fn initial_state(
+    ctx: &Context,
+    keys: &InitialKeys,
+    element: &KeyPath,
+) -> Result<InitialState, ModelFileError> {
+    let orientation = match keys.orientation {
+        Some(o) => orientation(ctx, o, &element.key("orientation"))?,
+        None => EulerParameters::identity(),
+    };
+    Ok(InitialState {
+        position: ctx.vector_or_zero(keys.position, &element.key("position"))?,
+        orientation,
+        velocity: ctx.optional_vector(keys.velocity, &element.key("velocity"))?,
+        angular_velocity: ctx.optional_vector(keys.angular_velocity, &element.key("angular_velocity"))?,
     })
 }
 

@@ -1,4 +1,5 @@
-//! `[[marker]]` → [`Marker`]: a frame on a body or on ground.
+//! `[[marker]]` → [`Marker`]: a frame on a body or on ground; on a flexible body, a frame at one of
+//! its nodes (`node`), which moves and turns with the node.
 
 use flexmb::body::Marker;
 use flexmb::math::Mat3;
@@ -9,8 +10,9 @@ use toml::Spanned;
 use super::bodies::GROUND;
 use super::context::Context;
 use super::names::NameTable;
+use super::nodes::{resolve_node, FlexibleNodes};
 use super::orientation::{axes_from_z, orientation};
-use crate::model_file::error::ModelFileError;
+use crate::model_file::error::{ErrorKind, ModelFileError};
 use crate::model_file::key_path::KeyPath;
 use crate::model_file::schema::MarkerSection;
 
@@ -18,6 +20,7 @@ pub(crate) fn add_markers(
     ctx: &Context,
     sections: &[Spanned<MarkerSection>],
     bodies: &NameTable<BodyId>,
+    flexible: &FlexibleNodes,
     builder: &mut ModelBuilder,
     names: &mut NameTable<MarkerId>,
 ) -> Result<(), ModelFileError> {
@@ -33,13 +36,53 @@ pub(crate) fn add_markers(
                 .ok_or_else(|| bodies.unknown(&m.body, &element.key("body"), ctx.source, &[GROUND]))?;
             BodyRef::Body(id)
         };
-        let marker = Marker {
-            name: m.name.get_ref().clone(),
-            body,
-            origin: ctx.vector_or_zero(&m.origin, &element.key("origin"))?,
-            axes: axes(ctx, m, &element)?,
+        let axes = axes(ctx, m, &element)?;
+        let on_flexible = body.body().and_then(|id| flexible.get(id).map(|nodes| (id, nodes)));
+        let id = match (on_flexible, &m.node) {
+            (Some((body_id, nodes)), Some(node)) => {
+                if let Some(origin) = &m.origin {
+                    return Err(ctx.invalid(
+                        &origin.span(),
+                        &element.key("origin"),
+                        "`origin` does not go with `node`: a marker at a node has its origin at the node",
+                    ));
+                }
+                let node = resolve_node(ctx, nodes, node, &element.key("node"))?;
+                builder.add_node_marker(m.name.get_ref().clone(), body_id, node.index, axes)
+            }
+            (Some((_, nodes)), None) => {
+                return Err(ctx.source.error(
+                    ErrorKind::Schema,
+                    &section.span(),
+                    &element.key("node"),
+                    format!(
+                        "missing required key `node`: `{}` is a flexible body, and a marker on it sits at one of its \
+                         nodes: `node = <label>` or `node = [x, y, z]` (body frame)",
+                        nodes.body
+                    ),
+                ))
+            }
+            (None, Some(node)) => {
+                let what = match body {
+                    BodyRef::Ground => "ground".to_string(),
+                    BodyRef::Body(_) => format!("`{}`, a rigid body", m.body.get_ref()),
+                };
+                return Err(ctx.invalid(
+                    &node.span(),
+                    &element.key("node"),
+                    format!(
+                        "`node` applies to markers on flexible bodies only, and this marker is on {what}; give its \
+                         `origin` instead"
+                    ),
+                ));
+            }
+            (None, None) => builder.add_marker(Marker {
+                name: m.name.get_ref().clone(),
+                body,
+                origin: ctx.vector_or_zero(&m.origin, &element.key("origin"))?,
+                axes,
+            }),
         };
-        let id = builder.add_marker(marker);
         names.define(&m.name, &element, id);
     }
     Ok(())

@@ -1,13 +1,14 @@
 //! `[[output]]` → output requests. An output without a name is named after its element and type, e.g.
-//! `crank_pin.position`, `pivot.reaction`, `energy`.
+//! `crank_pin.position`, `pivot.reaction`, `energy`, `beam.modal_coordinates`, `beam.node21.position`.
 
-use flexmb::model::{JointId, MarkerId, MeasureId, OutputKind};
+use flexmb::model::{BodyId, JointId, MarkerId, MeasureId, OutputKind};
 use flexmb::ModelBuilder;
 use toml::Spanned;
 
 use super::context::Context;
 use super::names::NameTable;
-use crate::model_file::error::ModelFileError;
+use super::nodes::{resolve_node, BodyNodes, FlexibleNodes};
+use crate::model_file::error::{ErrorKind, ModelFileError};
 use crate::model_file::key_path::KeyPath;
 use crate::model_file::schema::{Name, OutputSection};
 
@@ -21,6 +22,12 @@ enum OutputType {
     Measure,
     Energy,
     ConstraintResidual,
+    ModalCoordinates,
+    NodePosition,
+    NodeVelocity,
+    NodeAcceleration,
+    NodeDeformation,
+    StrainEnergy,
 }
 
 const OUTPUT_TYPES: &[(&str, OutputType)] = &[
@@ -32,6 +39,12 @@ const OUTPUT_TYPES: &[(&str, OutputType)] = &[
     ("measure", OutputType::Measure),
     ("energy", OutputType::Energy),
     ("constraint_residual", OutputType::ConstraintResidual),
+    ("modal_coordinates", OutputType::ModalCoordinates),
+    ("node_position", OutputType::NodePosition),
+    ("node_velocity", OutputType::NodeVelocity),
+    ("node_acceleration", OutputType::NodeAcceleration),
+    ("node_deformation", OutputType::NodeDeformation),
+    ("strain_energy", OutputType::StrainEnergy),
 ];
 
 /// The names an output refers to.
@@ -39,6 +52,8 @@ pub(crate) struct OutputReferences<'a> {
     pub markers: &'a NameTable<MarkerId>,
     pub joints: &'a NameTable<JointId>,
     pub measures: &'a NameTable<MeasureId>,
+    pub bodies: &'a NameTable<BodyId>,
+    pub flexible: &'a FlexibleNodes,
 }
 
 pub(crate) fn add_outputs(
@@ -86,6 +101,11 @@ fn output_kind<'a>(
         OutputType::JointReaction => &["joint"],
         OutputType::Measure => &["measure"],
         OutputType::Energy | OutputType::ConstraintResidual => &[],
+        OutputType::ModalCoordinates | OutputType::StrainEnergy => &["body"],
+        OutputType::NodePosition
+        | OutputType::NodeVelocity
+        | OutputType::NodeAcceleration
+        | OutputType::NodeDeformation => &["body", "node"],
     };
     ctx.reject_unused_keys(element, &description, &o.optional_keys(), used)?;
     let reference = |value: &'a Option<Name>, key: &str| -> Result<&'a Name, ModelFileError> {
@@ -95,7 +115,60 @@ fn output_kind<'a>(
         let name = reference(&o.marker, "marker")?;
         Ok((references.markers.resolve(name, &element.key("marker"), ctx.source)?, name.get_ref().clone()))
     };
+    let flexible_body = || -> Result<(BodyId, &BodyNodes), ModelFileError> {
+        let name = reference(&o.body, "body")?;
+        let key = element.key("body");
+        let id = references.bodies.resolve(name, &key, ctx.source)?;
+        let nodes = references.flexible.get(id).ok_or_else(|| {
+            ctx.invalid(
+                &name.span(),
+                &key,
+                format!(
+                    "`{}` is a rigid body; {description} reads a flexible body ([[flexible_body]])",
+                    name.get_ref()
+                ),
+            )
+        })?;
+        Ok((id, nodes))
+    };
+    let node = || -> Result<(BodyId, usize, String), ModelFileError> {
+        let (id, nodes) = flexible_body()?;
+        let node = o.node.as_ref().ok_or_else(|| {
+            ctx.source.error(
+                ErrorKind::Schema,
+                element_span,
+                &element.key("node"),
+                format!("missing required key `node` for {description}: a node label, or a position [x, y, z]"),
+            )
+        })?;
+        let node = resolve_node(ctx, nodes, node, &element.key("node"))?;
+        Ok((id, node.index, format!("{}.node{}", nodes.body, node.label)))
+    };
     Ok(match output_type {
+        OutputType::ModalCoordinates => {
+            let (id, nodes) = flexible_body()?;
+            (OutputKind::ModalCoordinates(id), format!("{}.modal_coordinates", nodes.body))
+        }
+        OutputType::StrainEnergy => {
+            let (id, nodes) = flexible_body()?;
+            (OutputKind::StrainEnergy(id), format!("{}.strain_energy", nodes.body))
+        }
+        OutputType::NodePosition => {
+            let (id, index, base) = node()?;
+            (OutputKind::NodePosition(id, index), format!("{base}.position"))
+        }
+        OutputType::NodeVelocity => {
+            let (id, index, base) = node()?;
+            (OutputKind::NodeVelocity(id, index), format!("{base}.velocity"))
+        }
+        OutputType::NodeAcceleration => {
+            let (id, index, base) = node()?;
+            (OutputKind::NodeAcceleration(id, index), format!("{base}.acceleration"))
+        }
+        OutputType::NodeDeformation => {
+            let (id, index, base) = node()?;
+            (OutputKind::NodeDeformation(id, index), format!("{base}.deformation"))
+        }
         OutputType::MarkerPosition => {
             let (m, name) = marker()?;
             (OutputKind::MarkerPosition(m), format!("{name}.position"))

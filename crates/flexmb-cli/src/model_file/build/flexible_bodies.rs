@@ -1,0 +1,421 @@
+//! `[[flexible_body]]` → the engine's modal body: reduced from an FE model file (`fe_model`, through
+//! the cache next to it) or read from a flexible-body file written by `flexmb modes` (`body_file`),
+//! with its modal damping, initial pose and velocity, and initial modal coordinates and rates. Errors
+//! of the FE model file are reported at its own file and line, with the table that referred to it.
+
+use std::collections::BTreeMap;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+use std::str::FromStr;
+
+use flexmb::body::{InitialState, ModalBody, ModalDamping};
+use flexmb::model::{BodyId, ModelError};
+use flexmb::ModelBuilder;
+use flexmb_fem::reduction::{Basis, FlexibleBody, ModeSet};
+use nalgebra::DVector;
+use toml::Spanned;
+
+use super::bodies::{initial_state, InitialKeys, GROUND};
+use super::body_cache::{basis_name, reduced_body};
+use super::context::Context;
+use super::names::NameTable;
+use super::nodes::{BodyNodes, FlexibleNodes};
+use crate::fe_model_file::{load_fe_model, LoadedFeModel};
+use crate::flexible_body::modal_body;
+use crate::model_file::error::{ErrorKind, ModelFileError};
+use crate::model_file::key_path::KeyPath;
+use crate::model_file::schema::{DampingSection, FlexibleBodySection, Name, Vector};
+
+/// Where a flexible body of a model file came from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum FlexibleBodyOrigin {
+    /// Read from a flexible-body file (`body_file`).
+    BodyFile { path: PathBuf },
+    /// Reduced from the FE model file now, in `seconds`; `cache` is the file it was saved to (`None`
+    /// if the cache directory could not be written).
+    Reduced { fe_model: PathBuf, cache: Option<PathBuf>, seconds: f64 },
+    /// Read from the cache of an earlier reduction of the same FE model file, mode set and basis.
+    Cached { fe_model: PathBuf, cache: PathBuf },
+}
+
+/// A flexible body of a model file, as loaded: for reports.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FlexibleBodyInfo {
+    /// The body's name in the model.
+    pub name: String,
+    /// The mode set, e.g. `4N2S`.
+    pub mode_set: String,
+    pub basis: Basis,
+    /// The mode labels (`N1`, `S1`, `O1`, …), in basis order.
+    pub mode_labels: Vec<String>,
+    /// Natural frequencies of the reduced body (Hz), ascending.
+    pub frequencies_hz: Vec<f64>,
+    /// Number of nodes.
+    pub nodes: usize,
+    pub origin: FlexibleBodyOrigin,
+    /// The FE model file's warnings, and the reduction's if it was reduced now.
+    pub warnings: Vec<String>,
+}
+
+/// Everything the tables refer to, and where relative paths start.
+pub(crate) struct FlexibleTables<'a> {
+    pub sections: &'a [Spanned<FlexibleBodySection>],
+    /// The model file's directory: `fe_model` and `body_file` paths are relative to it.
+    pub base_dir: &'a Path,
+}
+
+pub(crate) fn add_flexible_bodies(
+    ctx: &Context,
+    tables: &FlexibleTables,
+    builder: &mut ModelBuilder,
+    names: &mut NameTable<BodyId>,
+    nodes: &mut FlexibleNodes,
+) -> Result<Vec<FlexibleBodyInfo>, ModelFileError> {
+    let mut infos = Vec::new();
+    for (index, section) in tables.sections.iter().enumerate() {
+        let element = KeyPath::root().key("flexible_body").index(index);
+        let f = section.get_ref();
+        names.check_new(&f.name, &element, ctx.source)?;
+        if f.name.get_ref() == GROUND {
+            return Err(ctx.invalid(
+                &f.name.span(),
+                &element.key("name"),
+                "`ground` is the inertial frame and cannot name a body",
+            ));
+        }
+        let table = Table { ctx, f, element: &element, span: section.span() };
+        let obtained = table.obtain(tables.base_dir)?;
+        let modal = table.modal(&obtained.body)?;
+        let keys = InitialKeys {
+            position: &f.position,
+            orientation: &f.orientation,
+            velocity: &f.velocity,
+            angular_velocity: &f.angular_velocity,
+        };
+        let initial = initial_state(ctx, &keys, &element)?;
+        table.check_with_engine(&initial, &modal)?;
+        let name = f.name.get_ref().clone();
+        let id = builder.add_flexible_body(name.clone(), initial, modal);
+        // Engine errors about the body are reported at the table's header.
+        names.define(&Spanned::new(section.span(), name.clone()), &element, id);
+        let body = &obtained.body;
+        nodes.insert(
+            id,
+            BodyNodes {
+                body: name.clone(),
+                labels: body.nodes.iter().map(|n| n.label).collect(),
+                positions: body.nodes.iter().map(|n| n.position).collect(),
+                sets: obtained.sets,
+            },
+        );
+        infos.push(FlexibleBodyInfo {
+            name,
+            mode_set: body.mode_set.clone(),
+            basis: body.basis,
+            mode_labels: body.modes.iter().map(|m| m.label.clone()).collect(),
+            frequencies_hz: body.reduced_frequencies_hz.clone(),
+            nodes: body.nodes.len(),
+            origin: obtained.origin,
+            warnings: obtained.warnings,
+        });
+    }
+    Ok(infos)
+}
+
+/// A reduced body, where it came from, and the FE model's node sets (by label) if there was one.
+struct Obtained {
+    body: FlexibleBody,
+    origin: FlexibleBodyOrigin,
+    sets: Option<BTreeMap<String, Vec<u64>>>,
+    warnings: Vec<String>,
+}
+
+/// One `[[flexible_body]]` table being built.
+struct Table<'a> {
+    ctx: &'a Context<'a>,
+    f: &'a FlexibleBodySection,
+    element: &'a KeyPath,
+    /// The table's span (its header line).
+    span: Range<usize>,
+}
+
+impl Table<'_> {
+    fn key(&self, name: &str) -> KeyPath {
+        self.element.key(name)
+    }
+
+    /// The reduced body, from `fe_model` or `body_file` (exactly one).
+    fn obtain(&self, base_dir: &Path) -> Result<Obtained, ModelFileError> {
+        match (&self.f.fe_model, &self.f.body_file) {
+            (Some(fe_model), None) => self.reduce_fe_model(fe_model, base_dir),
+            (None, Some(body_file)) => self.read_body_file(body_file, base_dir),
+            (Some(_), Some(body_file)) => Err(self.ctx.invalid(
+                &body_file.span(),
+                &self.key("body_file"),
+                "give either `fe_model` (an FE model file to reduce) or `body_file` (a flexible-body file written by \
+                 `flexmb modes`), not both",
+            )),
+            (None, None) => Err(self.ctx.source.error(
+                ErrorKind::Schema,
+                &self.span,
+                self.element,
+                "a flexible body needs `fe_model = \"….toml\"` (an FE model file, reduced here) or `body_file = \
+                 \"….json\"` (a flexible-body file written by `flexmb modes`)",
+            )),
+        }
+    }
+
+    /// `path` relative to `base_dir`, unless absolute; an empty path is an error.
+    fn path(&self, value: &Name, key: &KeyPath, base_dir: &Path, what: &str) -> Result<PathBuf, ModelFileError> {
+        let text = value.get_ref();
+        if text.trim().is_empty() {
+            return Err(self.ctx.invalid(
+                &value.span(),
+                key,
+                format!("expected the path of {what}, got an empty string"),
+            ));
+        }
+        let path = Path::new(text);
+        let path = if path.is_absolute() { path.to_path_buf() } else { base_dir.join(path) };
+        if let Err(e) = std::fs::File::open(&path) {
+            return Err(self.ctx.invalid(&value.span(), key, format!("cannot read {what} `{}`: {e}", path.display())));
+        }
+        Ok(path)
+    }
+
+    fn reduce_fe_model(&self, fe_model: &Name, base_dir: &Path) -> Result<Obtained, ModelFileError> {
+        let key = self.key("fe_model");
+        let path = self.path(fe_model, &key, base_dir, "the FE model file")?;
+        let loaded = load_fe_model(&path).map_err(|e| self.fe_model_error(e, fe_model, &key, &path))?;
+        let set = self.mode_set(&loaded, &path)?;
+        let basis = match &self.f.basis {
+            Some(word) => self.ctx.keyword(
+                word,
+                &self.key("basis"),
+                "basis",
+                &[("orthonormal", Basis::Orthonormal), ("raw", Basis::Raw)],
+            )?,
+            None => loaded.defaults.basis.unwrap_or_default(),
+        };
+        let obtained = reduced_body(&loaded, &path, &set, basis).map_err(|e| {
+            let (span, key) = match &self.f.modes {
+                Some(modes) => (modes.span(), self.key("modes")),
+                None => (fe_model.span(), key.clone()),
+            };
+            self.ctx.invalid(
+                &span,
+                &key,
+                format!("cannot reduce the FE model `{}` to {set} ({} basis): {e}", path.display(), basis_name(basis)),
+            )
+        })?;
+        let mesh = &loaded.model.mesh;
+        let sets = mesh
+            .node_sets
+            .iter()
+            .map(|(name, members)| (name.clone(), members.iter().map(|&k| mesh.nodes[k].label).collect()))
+            .collect();
+        let mut warnings = loaded.warnings.clone();
+        warnings.extend(obtained.warnings);
+        Ok(Obtained { body: obtained.body, origin: obtained.origin, sets: Some(sets), warnings })
+    }
+
+    /// An error of the FE model file: at its own file and line, with the reference appended; an error
+    /// of the file as a whole (it cannot be read), at the reference.
+    fn fe_model_error(&self, e: ModelFileError, fe_model: &Name, key: &KeyPath, path: &Path) -> ModelFileError {
+        if e.line.is_none() && e.file == path.display().to_string() {
+            return self.ctx.invalid(&fe_model.span(), key, format!("FE model file `{}`: {}", e.file, e.message));
+        }
+        let line = self.ctx.source.line(fe_model.span().start);
+        ModelFileError {
+            message: format!("{} (in the FE model of {key}, {}:{line})", e.message, self.ctx.source.file()),
+            ..e
+        }
+    }
+
+    /// `modes`, else the FE model file's `[modes] set`; not more static modes than it has loads.
+    fn mode_set(&self, loaded: &LoadedFeModel, path: &Path) -> Result<ModeSet, ModelFileError> {
+        let key = self.key("modes");
+        let Some(text) = &self.f.modes else {
+            return loaded.defaults.mode_set.clone().ok_or_else(|| {
+                self.ctx.source.error(
+                    ErrorKind::Schema,
+                    &self.span,
+                    &key,
+                    format!(
+                        "missing required key `modes`: the FE model file `{}` has no `[modes] set`; give the mode set, \
+                         e.g. `modes = \"4N2S\"` (4 vibration, then 2 static correction modes)",
+                        path.display()
+                    ),
+                )
+            });
+        };
+        let set = ModeSet::from_str(text.get_ref()).map_err(|e| self.ctx.invalid(&text.span(), &key, e.to_string()))?;
+        let loads = loaded.model.static_loads.len();
+        if set.statics() > loads {
+            return Err(self.ctx.invalid(
+                &text.span(),
+                &key,
+                format!(
+                    "mode set `{set}` asks for {} static correction mode(s) but the FE model `{}` has {loads} static \
+                     load(s) ([[static_load]] tables)",
+                    set.statics(),
+                    path.display()
+                ),
+            ));
+        }
+        Ok(set)
+    }
+
+    fn read_body_file(&self, body_file: &Name, base_dir: &Path) -> Result<Obtained, ModelFileError> {
+        for (name, value) in [("modes", &self.f.modes), ("basis", &self.f.basis)] {
+            if let Some(value) = value {
+                return Err(self.ctx.invalid(
+                    &value.span(),
+                    &self.key(name),
+                    format!(
+                        "`{name}` goes with `fe_model` only: a flexible-body file holds a body already reduced, with \
+                         its own mode set and basis"
+                    ),
+                ));
+            }
+        }
+        let key = self.key("body_file");
+        let path = self.path(body_file, &key, base_dir, "the flexible-body file")?;
+        let body = FlexibleBody::read(&path).map_err(|e| {
+            self.ctx.invalid(&body_file.span(), &key, format!("cannot read the flexible-body file: {e}"))
+        })?;
+        Ok(Obtained { body, origin: FlexibleBodyOrigin::BodyFile { path }, sets: None, warnings: Vec::new() })
+    }
+
+    /// The engine's modal body with the table's damping and initial modal coordinates and rates.
+    fn modal(&self, body: &FlexibleBody) -> Result<ModalBody, ModelFileError> {
+        let labels: Vec<&str> = body.modes.iter().map(|m| m.label.as_str()).collect();
+        let damping = self.damping(&labels)?;
+        let mut modal = modal_body(body, &damping).map_err(|message| match &self.f.damping {
+            Some(d) => self.ctx.invalid(&d.span(), &self.key("damping"), message),
+            None => self.ctx.invalid(&self.span, self.element, message),
+        })?;
+        modal.initial_coordinates = self.modal_vector(&self.f.modal_coordinates, "modal_coordinates", &labels)?;
+        modal.initial_rates = self.modal_vector(&self.f.modal_rates, "modal_rates", &labels)?;
+        Ok(modal)
+    }
+
+    /// `damping = { ratio = ζ }`, `{ ratios = [ζ₁, …] }` or `{ rayleigh = [α, β] }`; none by default.
+    fn damping(&self, labels: &[&str]) -> Result<ModalDamping, ModelFileError> {
+        let Some(section) = &self.f.damping else { return Ok(ModalDamping::None) };
+        let key = self.key("damping");
+        let d: &DampingSection = section.get_ref();
+        let expected = "expected one of { ratio = ζ } (the damping ratio of every mode), { ratios = [ζ1, ζ2, …] } \
+                        (one per mode) or { rayleigh = [alpha, beta] } (D = alpha M + beta K)";
+        match [d.ratio.is_some(), d.ratios.is_some(), d.rayleigh.is_some()].iter().filter(|x| **x).count() {
+            0 => return Err(self.ctx.invalid(&section.span(), &key, format!("damping is not given; {expected}"))),
+            1 => {}
+            _ => {
+                return Err(self.ctx.invalid(
+                    &section.span(),
+                    &key,
+                    format!("damping is given in more than one form; {expected}"),
+                ))
+            }
+        }
+        if let Some(ratio) = &d.ratio {
+            let zeta = self.non_negative(ratio, &key.key("ratio"), "a damping ratio")?;
+            Ok(ModalDamping::Ratios(vec![zeta]))
+        } else if let Some(ratios) = &d.ratios {
+            let key = key.key("ratios");
+            self.check_length(ratios, &key, labels, "damping ratios")?;
+            let values = ratios
+                .get_ref()
+                .iter()
+                .enumerate()
+                .map(|(k, r)| self.non_negative(r, &key.index(k), "a damping ratio"))
+                .collect::<Result<Vec<_>, _>>()?;
+            Ok(ModalDamping::Ratios(values))
+        } else if let Some(rayleigh) = &d.rayleigh {
+            let key = key.key("rayleigh");
+            let [alpha, beta] = self.ctx.numbers::<2>(rayleigh, &key, "Rayleigh coefficients [alpha, beta]")?;
+            for (k, (name, value)) in [("alpha", alpha), ("beta", beta)].into_iter().enumerate() {
+                if value < 0.0 {
+                    return Err(self.ctx.invalid(
+                        &rayleigh.get_ref()[k].span(),
+                        &key.index(k),
+                        format!("the Rayleigh coefficient {name} must not be negative, got {value}"),
+                    ));
+                }
+            }
+            Ok(ModalDamping::Rayleigh { alpha, beta })
+        } else {
+            Err(self.ctx.invalid(&section.span(), &key, expected))
+        }
+    }
+
+    fn non_negative(
+        &self,
+        value: &crate::model_file::schema::Number,
+        key: &KeyPath,
+        what: &str,
+    ) -> Result<f64, ModelFileError> {
+        let x = self.ctx.number(value, key)?;
+        if x < 0.0 {
+            return Err(self.ctx.invalid(&value.span(), key, format!("{what} must not be negative, got {x}")));
+        }
+        Ok(x)
+    }
+
+    /// An array with one value per mode.
+    fn check_length(&self, value: &Vector, key: &KeyPath, labels: &[&str], what: &str) -> Result<(), ModelFileError> {
+        let n = value.get_ref().len();
+        if n == labels.len() {
+            return Ok(());
+        }
+        Err(self.ctx.invalid(
+            &value.span(),
+            key,
+            format!("expected {} {what}, one per mode ({}), got {n}", labels.len(), mode_list(labels)),
+        ))
+    }
+
+    /// Initial modal coordinates or rates: zero by default, else one per mode.
+    fn modal_vector(
+        &self,
+        value: &Option<Vector>,
+        name: &str,
+        labels: &[&str],
+    ) -> Result<DVector<f64>, ModelFileError> {
+        let Some(value) = value else { return Ok(DVector::zeros(labels.len())) };
+        let key = self.key(name);
+        let what = name.replace('_', " ");
+        self.check_length(value, &key, labels, &what)?;
+        let values = value
+            .get_ref()
+            .iter()
+            .enumerate()
+            .map(|(k, x)| self.ctx.number(x, &key.index(k)))
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(DVector::from_vec(values))
+    }
+
+    /// The engine's checks of a flexible body (sizes, a positive definite mass matrix, a proper
+    /// orientation) on this body alone, so that a problem is reported at this table.
+    fn check_with_engine(&self, initial: &InitialState, modal: &ModalBody) -> Result<(), ModelFileError> {
+        let mut alone = ModelBuilder::new("flexible body check");
+        alone.add_flexible_body(self.f.name.get_ref().clone(), initial.clone(), modal.clone());
+        let Err(error) = alone.build() else { return Ok(()) };
+        let (span, key, message) = match (&error, &self.f.orientation) {
+            (ModelError::BadFrame { problem, .. }, Some(o)) => (o.span(), self.key("orientation"), problem.clone()),
+            (ModelError::BadValue { problem, .. }, _) => (self.span.clone(), self.element.clone(), problem.clone()),
+            (other, _) => (self.span.clone(), self.element.clone(), other.to_string()),
+        };
+        Err(self.ctx.invalid(&span, &key, message))
+    }
+}
+
+/// `O1, O2, …, O6` (all of them when there are few).
+fn mode_list(labels: &[&str]) -> String {
+    match labels {
+        [] => "no modes".to_string(),
+        _ if labels.len() <= 6 => labels.join(", "),
+        [first, second, .., last] => format!("{first}, {second}, …, {last}"),
+        _ => labels.join(", "),
+    }
+}
