@@ -6,7 +6,7 @@ use flexmb::analysis::{output_columns, simulate, AssemblySettings, SimulationSet
 use flexmb::integrate::BdfConfig;
 use indicatif::{ProgressBar, ProgressStyle};
 
-use crate::check::{check_model, describe};
+use crate::check::{check_model, describe, describe_flexible_bodies};
 use crate::model_file::load_model;
 use crate::results::{summary_json, summary_text, CsvWriter, RunRequest};
 
@@ -50,6 +50,9 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
     let rtol = positive("--rtol", options.rtol.unwrap_or(d.rtol))?;
     let atol = positive("--atol", options.atol.unwrap_or(d.atol))?;
 
+    if !options.quiet {
+        print!("{}", describe_flexible_bodies(&loaded));
+    }
     let check = check_model(model).map_err(|e| CliError(format!("{}: {e}", path.display())))?;
     if !options.quiet {
         print!("{}", describe(model, &check));
