@@ -278,7 +278,9 @@ impl<'m> Bdf<'m> {
                 self.y_pred[k] = yp;
                 self.psi[k] = psi / alpha;
             }
-            for k in 0..self.n_diff {
+            // Weights of every component: the error test uses those of q and v, the Newton
+            // convergence test all of them (as IDA does), so that the multipliers converge too.
+            for k in 0..n {
                 self.scale[k] = self.config.atol + self.config.rtol * self.y_pred[k].abs();
             }
             let c = h / alpha;
@@ -400,7 +402,7 @@ impl<'m> Bdf<'m> {
                 self.rhs.iter_mut().for_each(|x| *x *= increment_scale);
             }
             self.stats.newton_iterations += 1;
-            let dy_norm = self.rms_norm(&self.rhs, 1.0);
+            let dy_norm = self.newton_norm(&self.rhs, c);
             let rate = dy_norm_old.map(|old| dy_norm / old);
             if let Some(rate) = rate {
                 if rate >= 1.0
@@ -419,6 +421,22 @@ impl<'m> Bdf<'m> {
             dy_norm_old = Some(dy_norm);
         }
         (false, NEWTON_MAXITER)
+    }
+
+    /// Weighted RMS norm of a Newton increment over all components, multipliers included: a chord
+    /// iteration with an old iteration matrix can converge in `q`, `v` while the multipliers diverge
+    /// (seen on a flexible pendulum whose spin about the beam axis has little inertia), so they must
+    /// be tested too. The multipliers of this index-2 form enter the solution through `c = h/α`
+    /// (their impulse over the step), so their increments are weighted by `c` (Hairer and Wanner's
+    /// scaling of index-2 components).
+    fn newton_norm(&self, x: &[f64], c: f64) -> f64 {
+        let sum: f64 = (0..self.n)
+            .map(|k| {
+                let weight = if k < self.n_diff { 1.0 } else { c };
+                (weight * x[k] / self.scale[k]).powi(2)
+            })
+            .sum();
+        (sum / self.n.max(1) as f64).sqrt()
     }
 
     /// Weighted RMS norm of `factor · x` over the differential components.
