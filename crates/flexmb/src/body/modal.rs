@@ -38,7 +38,64 @@ pub struct ModalInvariants {
     pub rotary_modal_mass: DMatrix<f64>,
 }
 
+/// One lumped-mass node, for [`ModalInvariants::from_lumped_nodes`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct LumpedNode {
+    /// Undeformed position `s̄ᵢ` in the body frame.
+    pub position: Vec3,
+    /// Mass `mᵢ`.
+    pub mass: f64,
+    /// Rotary inertia `Jᵢ` about the node, body axes (zero if none).
+    pub rotary_inertia: Mat3,
+    /// Translational mode matrix `Ψᵢ` (3×m).
+    pub psi: Matrix3xX<f64>,
+    /// Rotational mode matrix `Θᵢ` (3×m).
+    pub theta: Matrix3xX<f64>,
+}
+
 impl ModalInvariants {
+    /// The invariants of formulation.md §3 summed over lumped-mass nodes with `modes` modes (for a
+    /// modal body from another FE code's nodal masses and mode shapes).
+    pub fn from_lumped_nodes(nodes: &[LumpedNode], modes: usize) -> ModalInvariants {
+        let m = modes;
+        let column = |p: &Matrix3xX<f64>, j: usize| Vec3::new(p[(0, j)], p[(1, j)], p[(2, j)]);
+        let mut inv = ModalInvariants {
+            mass: 0.0,
+            c1: Vec3::zeros(),
+            c2: Matrix3xX::zeros(m),
+            c3: Mat3::zeros(),
+            c4: vec![Mat3::zeros(); m],
+            c5: vec![Mat3::zeros(); m * m],
+            c6: Matrix3xX::zeros(m),
+            c7: vec![Matrix3xX::zeros(m); m],
+            c9: DMatrix::zeros(m, m),
+            rotary_inertia: Mat3::zeros(),
+            rotary_coupling: Matrix3xX::zeros(m),
+            rotary_modal_mass: DMatrix::zeros(m, m),
+        };
+        for n in nodes {
+            let s = n.position.cross_matrix();
+            inv.mass += n.mass;
+            inv.c1 += n.mass * n.position;
+            inv.c2 += n.mass * &n.psi;
+            inv.c3 += n.mass * s * s;
+            inv.c6 += n.mass * s * &n.psi;
+            inv.c9 += n.mass * n.psi.transpose() * &n.psi;
+            inv.rotary_inertia += n.rotary_inertia;
+            inv.rotary_coupling += n.rotary_inertia * &n.theta;
+            inv.rotary_modal_mass += n.theta.transpose() * n.rotary_inertia * &n.theta;
+            for j in 0..m {
+                let pj = column(&n.psi, j).cross_matrix();
+                inv.c4[j] += n.mass * s * pj;
+                inv.c7[j] += n.mass * pj * &n.psi;
+                for k in 0..m {
+                    inv.c5[j * m + k] += n.mass * pj * column(&n.psi, k).cross_matrix();
+                }
+            }
+        }
+        inv
+    }
+
     /// Number of modes.
     pub fn modes(&self) -> usize {
         self.c9.nrows()

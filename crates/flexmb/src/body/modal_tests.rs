@@ -1,5 +1,5 @@
-//! Identity tests of flexible bodies (formulation.md §9) on random lumped-mass bodies whose invariants
-//! are summed here node by node, independently of the preprocessor:
+//! Identity tests of flexible bodies (formulation.md §9) on random lumped-mass bodies, checked against
+//! node-by-node kinematics computed here:
 //!
 //! - the mass matrix from the invariants equals `Σ mᵢ Jᵢᵀ Jᵢ` (plus the nodes' rotary inertia);
 //! - `M v̇ + h(q, v)` equals `Tᵀ (d/dt ∂L/∂q̇ − ∂L/∂q)` of `L = ½ Σ mᵢ |Ṙᵢ|² + ½ Σ Ωᵢᵀ Jᵢ Ωᵢ`, by
@@ -12,7 +12,7 @@
 use nalgebra::{DMatrix, DVector, Matrix3xX};
 
 use crate::analysis::{simulate, SimulationSettings};
-use crate::body::{InitialState, Marker, ModalBody, ModalInvariants, ModalNode, RigidBody};
+use crate::body::{InitialState, LumpedNode, Marker, ModalBody, ModalInvariants, ModalNode, RigidBody};
 use crate::data::Data;
 use crate::integrate::BdfConfig;
 use crate::joint::{Joint, JointKind};
@@ -22,15 +22,6 @@ use crate::model::{BodyId, BodyRef, Model, ModelBuilder, OutputKind};
 use crate::stage::{body_mass_entries, constraint_equations, inertia_forces, jacobian_entries, kinematics};
 use crate::test_support::Lcg;
 
-/// Nodes of a random lumped body: position, mass, rotary inertia, Ψ, Θ.
-struct LumpedNode {
-    position: Vec3,
-    mass: f64,
-    rotary: Mat3,
-    psi: Matrix3xX<f64>,
-    theta: Matrix3xX<f64>,
-}
-
 fn random_nodes(rng: &mut Lcg, n: usize, m: usize, rotary: bool) -> Vec<LumpedNode> {
     (0..n)
         .map(|_| {
@@ -39,7 +30,7 @@ fn random_nodes(rng: &mut Lcg, n: usize, m: usize, rotary: bool) -> Vec<LumpedNo
             LumpedNode {
                 position: rng.vec3(0.5),
                 mass: rng.range(0.1, 1.0),
-                rotary,
+                rotary_inertia: rotary,
                 psi: Matrix3xX::from_fn(m, |_, _| rng.range(-0.3, 0.3)),
                 theta: Matrix3xX::from_fn(m, |_, _| rng.range(-0.5, 0.5)),
             }
@@ -47,51 +38,11 @@ fn random_nodes(rng: &mut Lcg, n: usize, m: usize, rotary: bool) -> Vec<LumpedNo
         .collect()
 }
 
-/// The invariants of formulation.md §3, summed node by node.
-fn invariants(nodes: &[LumpedNode], m: usize) -> ModalInvariants {
-    let column = |p: &Matrix3xX<f64>, j: usize| Vec3::new(p[(0, j)], p[(1, j)], p[(2, j)]);
-    let mut inv = ModalInvariants {
-        mass: 0.0,
-        c1: Vec3::zeros(),
-        c2: Matrix3xX::zeros(m),
-        c3: Mat3::zeros(),
-        c4: vec![Mat3::zeros(); m],
-        c5: vec![Mat3::zeros(); m * m],
-        c6: Matrix3xX::zeros(m),
-        c7: vec![Matrix3xX::zeros(m); m],
-        c9: DMatrix::zeros(m, m),
-        rotary_inertia: Mat3::zeros(),
-        rotary_coupling: Matrix3xX::zeros(m),
-        rotary_modal_mass: DMatrix::zeros(m, m),
-    };
-    for n in nodes {
-        let s = skew(&n.position);
-        inv.mass += n.mass;
-        inv.c1 += n.mass * n.position;
-        inv.c2 += n.mass * &n.psi;
-        inv.c3 += n.mass * s * s;
-        inv.c6 += n.mass * s * &n.psi;
-        inv.c9 += n.mass * n.psi.transpose() * &n.psi;
-        inv.rotary_inertia += n.rotary;
-        inv.rotary_coupling += n.rotary * &n.theta;
-        inv.rotary_modal_mass += n.theta.transpose() * n.rotary * &n.theta;
-        for j in 0..m {
-            let pj = skew(&column(&n.psi, j));
-            inv.c4[j] += n.mass * s * pj;
-            inv.c7[j] += n.mass * pj * &n.psi;
-            for k in 0..m {
-                inv.c5[j * m + k] += n.mass * pj * skew(&column(&n.psi, k));
-            }
-        }
-    }
-    inv
-}
-
 fn modal_body(nodes: &[LumpedNode], m: usize, rng: &mut Lcg) -> ModalBody {
     let r = DMatrix::from_fn(m, m, |_, _| rng.range(-1.0, 1.0));
     let stiffness = &r * r.transpose() * 50.0 + DMatrix::identity(m, m) * 200.0;
     ModalBody {
-        invariants: invariants(nodes, m),
+        invariants: ModalInvariants::from_lumped_nodes(nodes, m),
         stiffness,
         damping: DMatrix::zeros(m, m),
         nodes: nodes
@@ -145,7 +96,7 @@ fn kinetic_energy(nodes: &[LumpedNode], m: usize, q: &[f64], qd: &[f64]) -> f64 
             let u_dot: Vec3 = &n.psi * &ad;
             let vel = r_dot + a_mat * (w.cross(&r_bar) + u_dot);
             let omega: Vec3 = w + &n.theta * &ad;
-            0.5 * n.mass * vel.norm_squared() + 0.5 * omega.dot(&(n.rotary * omega))
+            0.5 * n.mass * vel.norm_squared() + 0.5 * omega.dot(&(n.rotary_inertia * omega))
         })
         .sum()
 }
@@ -176,7 +127,7 @@ fn mass_matrix_from_invariants_equals_the_node_sum() {
             let mut jr = DMatrix::zeros(3, n);
             jr.view_mut((0, 3), (3, 3)).copy_from(&Mat3::identity());
             jr.view_mut((0, 6), (3, m)).copy_from(&node.theta);
-            let rot = DMatrix::from_fn(3, 3, |r, c| node.rotary[(r, c)]);
+            let rot = DMatrix::from_fn(3, 3, |r, c| node.rotary_inertia[(r, c)]);
             reference += jr.transpose() * rot * &jr;
         }
         let error = (&mass - &reference).amax() / reference.amax();
@@ -466,7 +417,7 @@ fn momentum(nodes: &[LumpedNode], m: usize, q: &[f64], v: &[f64]) -> (Vec3, Vec3
         let pos = r0 + a_mat * r_bar;
         let omega: Vec3 = w + &n.theta * &ad;
         lin += n.mass * vel;
-        ang += n.mass * pos.cross(&vel) + a_mat * (n.rotary * omega);
+        ang += n.mass * pos.cross(&vel) + a_mat * (n.rotary_inertia * omega);
     }
     (lin, ang)
 }
