@@ -297,7 +297,6 @@ node = 1
 /// with the k-th eigenpair of `nalgebra::SymmetricEigen`, whose eigenvalues are not sorted (here the
 /// ratios land on O3, O1, O4, O2).
 #[test]
-#[ignore = "engine: ModalBody::damping_matrix applies per-mode ratios in SymmetricEigen's unsorted order"]
 fn per_mode_damping_ratios_follow_the_orthonormal_modes() {
     let scratch = Scratch::new("ratios");
     let text = "[[flexible_body]]\nname = \"arm\"\nfe_model = \"fe/arm.toml\"\nmodes = \"4N\"\n\

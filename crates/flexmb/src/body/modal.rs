@@ -182,11 +182,14 @@ impl ModalBody {
                 let reduced = &l_inv * &self.stiffness * l_inv.transpose();
                 let reduced = 0.5 * (&reduced + reduced.transpose());
                 let eigen = nalgebra::SymmetricEigen::new(reduced);
-                // X = L⁻ᵀ Y, mass-normalized; D = M X diag(2ζω) Xᵀ M.
+                // X = L⁻ᵀ Y, mass-normalized; D = M X diag(2ζω) Xᵀ M. The k-th ratio goes to the mode
+                // of k-th lowest frequency (nalgebra does not sort the eigenvalues).
                 let x = l_inv.transpose() * &eigen.eigenvectors;
+                let mut order: Vec<usize> = (0..m).collect();
+                order.sort_by(|&a, &b| eigen.eigenvalues[a].total_cmp(&eigen.eigenvalues[b]));
                 let mut diag = DMatrix::zeros(m, m);
-                for k in 0..m {
-                    let zeta = if ratios.len() == 1 { ratios[0] } else { ratios[k] };
+                for (rank, &k) in order.iter().enumerate() {
+                    let zeta = if ratios.len() == 1 { ratios[0] } else { ratios[rank] };
                     diag[(k, k)] = 2.0 * zeta * eigen.eigenvalues[k].max(0.0).sqrt();
                 }
                 let mx = &mass * &x;

@@ -457,3 +457,26 @@ fn a_free_undamped_flexible_body_keeps_momentum_and_energy() {
     assert!(dl < 1e-6 && dh < 1e-6 && de < 1e-6, "drifts {dl:.1e} {dh:.1e} {de:.1e}");
     let _ = BodyId(0);
 }
+
+#[test]
+fn damping_ratios_go_to_the_modes_in_order_of_frequency() {
+    let mut rng = Lcg(0xf1e5_0005);
+    let m = 3;
+    let nodes = random_nodes(&mut rng, 6, m, false);
+    let body = modal_body(&nodes, m, &mut rng);
+    let ratios = [0.01, 0.05, 0.2];
+    let damping = body.damping_matrix(&crate::body::ModalDamping::Ratios(ratios.to_vec())).unwrap();
+    // The natural modes of (K, M), ascending: Xᵀ M X = I, Xᵀ K X = diag(ω²), and Xᵀ D X = diag(2 ζ ω).
+    let mass = body.invariants.modal_mass();
+    let chol = nalgebra::Cholesky::new(mass).unwrap();
+    let l_inv = chol.l().try_inverse().unwrap();
+    let eigen = nalgebra::SymmetricEigen::new(&l_inv * &body.stiffness * l_inv.transpose());
+    let mut order: Vec<usize> = (0..m).collect();
+    order.sort_by(|&a, &b| eigen.eigenvalues[a].total_cmp(&eigen.eigenvalues[b]));
+    let x = l_inv.transpose() * &eigen.eigenvectors;
+    let modal_damping = x.transpose() * &damping * &x;
+    for (rank, &k) in order.iter().enumerate() {
+        let omega = eigen.eigenvalues[k].sqrt();
+        assert!((modal_damping[(k, k)] - 2.0 * ratios[rank] * omega).abs() < 1e-9 * omega, "mode {rank}");
+    }
+}

@@ -18,7 +18,7 @@ pub(super) fn check_flexible_body(body: &RigidBody, modal: &ModalBody) -> Result
     let sizes = [
         ("C2 columns", inv.c2.ncols()),
         ("C4 entries", inv.c4.len()),
-        ("C5 entries", if m == 0 { 0 } else { inv.c5.len() / m }),
+        ("C5 entries", inv.c5.len().checked_div(m).unwrap_or(0)),
         ("C6 columns", inv.c6.ncols()),
         ("C7 entries", inv.c7.len()),
         ("rotary coupling columns", inv.rotary_coupling.ncols()),
