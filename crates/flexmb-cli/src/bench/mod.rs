@@ -1,10 +1,11 @@
 //! `flexmb bench`: performance cases, reported as cost per step and per simulated second.
 //!
 //! Cases: the shipped slider-crank for 10 s, a spatial chain of 20 bodies on spherical joints falling
-//! under gravity for 5 s, and the lowest 20 modes of a plate of about 50,000 dofs
-//! ([`plate_modes`]). Each case runs `repeat` times; the fastest run is reported (the others measure
+//! under gravity for 5 s, the shipped flexible pendulum for 2 s with 4 and 10 modes and made rigid
+//! ([`pendulums`]), and the lowest 20 modes of a plate of about 50,000 dofs ([`plate_modes`]). Each case runs `repeat` times; the fastest run is reported (the others measure
 //! the machine's noise, not the code).
 
+pub mod pendulums;
 pub mod plate_modes;
 
 use std::time::Instant;
@@ -26,6 +27,12 @@ pub enum BenchCase {
     SliderCrank,
     /// 20 links on spherical joints falling under gravity for 5 s.
     Chain20,
+    /// models/flexible_pendulum.toml (4 modes) for 2 s.
+    FlexiblePendulum,
+    /// The same with 10 modes.
+    FlexiblePendulum10n,
+    /// The same strip made rigid, for 2 s.
+    RigidPendulum,
     /// The lowest 20 modes of a 90 × 90 shell plate (about 49,000 dofs).
     PlateModes,
 }
@@ -95,10 +102,16 @@ pub fn run_benchmarks(case: Option<BenchCase>, repeat: usize) -> Result<(), Stri
     let cases: Vec<BenchCase> = match case {
         Some(BenchCase::PlateModes) => return plate_modes::run(repeat),
         Some(c) => vec![c],
-        None => vec![BenchCase::SliderCrank, BenchCase::Chain20],
+        None => vec![
+            BenchCase::SliderCrank,
+            BenchCase::Chain20,
+            BenchCase::RigidPendulum,
+            BenchCase::FlexiblePendulum,
+            BenchCase::FlexiblePendulum10n,
+        ],
     };
     println!(
-        "{:<14} {:>6} {:>7} {:>9} {:>10} {:>11} {:>12} {:>13}",
+        "{:<15} {:>6} {:>7} {:>9} {:>10} {:>11} {:>12} {:>13}",
         "case", "t_end", "steps", "rms h", "wall [s]", "us/step", "res.ev/step", "wall/sim [-]"
     );
     for c in cases {
@@ -108,12 +121,15 @@ pub fn run_benchmarks(case: Option<BenchCase>, repeat: usize) -> Result<(), Stri
                 ("slider-crank", loaded.model, 10.0)
             }
             BenchCase::Chain20 => ("chain-20", spherical_chain(20), 5.0),
+            BenchCase::RigidPendulum => ("rigid-pend.", pendulums::rigid_pendulum()?, 2.0),
+            BenchCase::FlexiblePendulum => ("flex-pend. 4N", pendulums::flexible_pendulum(None)?, 2.0),
+            BenchCase::FlexiblePendulum10n => ("flex-pend. 10N", pendulums::flexible_pendulum(Some("10N"))?, 2.0),
             BenchCase::PlateModes => unreachable!("run on its own above"),
         };
         let r = run_case(&model, t_end, repeat)?;
         let s = &r.report.stats;
         println!(
-            "{:<14} {:>6.1} {:>7} {:>9.3e} {:>10.4} {:>11.1} {:>12.1} {:>13.4}",
+            "{:<15} {:>6.1} {:>7} {:>9.3e} {:>10.4} {:>11.1} {:>12.1} {:>13.4}",
             name,
             r.t_end,
             s.steps,
