@@ -15,10 +15,10 @@ pub struct CheckReport {
 }
 
 /// Assembles the model and runs the velocity analysis.
-pub fn check_model(model: &Model) -> Result<CheckReport, flexmb::analysis::AssemblyError> {
+pub fn check_model(model: &Model, settings: AssemblySettings) -> Result<CheckReport, flexmb::analysis::AssemblyError> {
     let mut data = Data::new(model);
     let mut state = State::initial(model);
-    let assembly = assemble(model, &mut data, &mut state, AssemblySettings::default())?;
+    let assembly = assemble(model, &mut data, &mut state, settings)?;
     let velocity = velocity_analysis(model, &mut data, &mut state)?;
     Ok(CheckReport { assembly, velocity })
 }

@@ -107,7 +107,7 @@ fn main() -> ExitCode {
             .map_err(|e| e.to_string())
             .and_then(|loaded| {
                 print!("{}", describe_flexible_bodies(&loaded));
-                check_model(&loaded.model)
+                check_model(&loaded.model, loaded.simulation.assembly())
                     .map(|report| print!("{}", describe(&loaded.model, &report)))
                     .map_err(|e| format!("{}: {e}", model.display()))
             })

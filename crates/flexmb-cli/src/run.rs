@@ -2,7 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
-use flexmb::analysis::{output_columns, simulate, AssemblySettings, SimulationSettings};
+use flexmb::analysis::{output_columns, simulate, SimulationSettings};
 use flexmb::integrate::BdfConfig;
 use indicatif::{ProgressBar, ProgressStyle};
 
@@ -53,7 +53,7 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
     if !options.quiet {
         print!("{}", describe_flexible_bodies(&loaded));
     }
-    let check = check_model(model).map_err(|e| CliError(format!("{}: {e}", path.display())))?;
+    let check = check_model(model, d.assembly()).map_err(|e| CliError(format!("{}: {e}", path.display())))?;
     if !options.quiet {
         print!("{}", describe(model, &check));
     }
@@ -71,7 +71,7 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
         t_end,
         output_step,
         integrator: BdfConfig { rtol, atol, ..Default::default() },
-        assembly: AssemblySettings::default(),
+        assembly: d.assembly(),
     };
     let bar = if options.quiet { ProgressBar::hidden() } else { ProgressBar::new(1000) };
     bar.set_style(

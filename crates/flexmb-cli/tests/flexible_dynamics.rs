@@ -163,3 +163,40 @@ fn a_flexible_pendulum_converges_as_modes_are_added() {
     assert!(errors[2] < errors[0] && errors[3] < errors[1], "{errors:?}");
     assert!(errors[3] < 0.05 * rigid, "6N within 5 % of the rigid–flexible difference: {errors:?}");
 }
+
+/// The assembly holds the modal coordinates unless asked otherwise: a clamped arm whose tip is pinned
+/// to a ground point 1 mm off its undeformed position cannot be assembled rigidly, and assembles by
+/// bending when the modal coordinates may move (the tip then sits on the point).
+#[test]
+fn assembly_moves_modal_coordinates_only_when_asked() {
+    use flexmb::analysis::{assemble, AssemblySettings, State};
+    let mut fe = beam(1.0, 12, 0.03, 0.01);
+    let tip = fe.mesh.nodes.len() - 1;
+    fe.supports.push(Support { node: 0, dofs: DofSet::ALL });
+    fe.static_loads.push(StaticLoad { name: "tip_fz".into(), node: tip, kind: StaticLoadKind::Force(Vec3::z()) });
+    let settings = ReductionSettings { mode_set: "2N1S".parse().unwrap(), basis: Basis::Orthonormal, eigen: Default::default() };
+    let reduced = reduce(&fe, "arm", &settings).unwrap();
+    let modal = modal_body(&reduced.body, &ModalDamping::None).unwrap();
+    let mut b = ModelBuilder::new("pinned arm");
+    let arm = b.add_flexible_body("arm", InitialState::default(), modal);
+    let root = b.add_node_marker("root", arm, 0, Mat3::identity());
+    let tip_marker = b.add_node_marker("tip", arm, tip, Mat3::identity());
+    let wall = b.add_marker(Marker { name: "wall".into(), body: BodyRef::Ground, origin: Vec3::zeros(), axes: Mat3::identity() });
+    let target = Vec3::new(1.0, 0.0, 1e-3);
+    let pin = b.add_marker(Marker { name: "pin".into(), body: BodyRef::Ground, origin: target, axes: Mat3::identity() });
+    b.add_joint(Joint { name: "clamp".into(), kind: JointKind::Fixed, marker_i: wall, marker_j: root });
+    b.add_joint(Joint { name: "tip_pin".into(), kind: JointKind::Spherical, marker_i: pin, marker_j: tip_marker });
+    let model = b.build().unwrap();
+    let mut data = flexmb::Data::new(&model);
+    let mut held = State::initial(&model);
+    assert!(assemble(&model, &mut data, &mut held, AssemblySettings::default()).is_err(), "rigid frames alone cannot reach the pin");
+    let mut free = State::initial(&model);
+    let report = assemble(&model, &mut data, &mut free, AssemblySettings { free_modal_coordinates: true, ..Default::default() }).unwrap();
+    assert!(report.residual < 1e-10);
+    let a = &free.q[7..10];
+    assert!(a.iter().any(|x| x.abs() > 0.0), "the arm bent: a = {a:?}");
+    let initial = State::initial(&model);
+    for k in 0..7 {
+        assert!((free.q[k] - initial.q[k]).abs() < 1e-9, "the clamped frame stayed: q[{k}] = {}", free.q[k]);
+    }
+}

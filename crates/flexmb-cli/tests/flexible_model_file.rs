@@ -255,7 +255,7 @@ fn a_flexible_body_from_an_fe_model_with_markers_at_nodes_and_outputs() {
     assert!(info.frequencies_hz.windows(2).all(|w| w[0] <= w[1]));
     assert!(matches!(info.origin, FlexibleBodyOrigin::Reduced { cache: Some(_), .. }));
 
-    let check = flexmb_cli::check::check_model(model).unwrap_or_else(|e| panic!("{e}"));
+    let check = flexmb_cli::check::check_model(model, Default::default()).unwrap_or_else(|e| panic!("{e}"));
     let text = flexmb_cli::check::describe(model, &check);
     assert!(text.contains("flexible body 'arm': 6 modes (O1 "), "{text}");
     assert!(text.contains("degrees of freedom: 7"), "the bearing's rotation and 6 modes: {text}");

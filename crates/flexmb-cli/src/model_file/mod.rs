@@ -46,11 +46,24 @@ pub struct SimulationDefaults {
     pub rtol: f64,
     /// Absolute error tolerance of the integrator. Default 1e-6.
     pub atol: f64,
+    /// Let the assembly change the modal coordinates of flexible bodies (`assemble_modal_coordinates`).
+    /// Default false: they stay at their initial values and only the reference frames move.
+    pub assemble_modal_coordinates: bool,
 }
 
 impl Default for SimulationDefaults {
     fn default() -> Self {
-        Self { t_end: 1.0, output_step: 0.01, rtol: 1e-6, atol: 1e-6 }
+        Self { t_end: 1.0, output_step: 0.01, rtol: 1e-6, atol: 1e-6, assemble_modal_coordinates: false }
+    }
+}
+
+impl SimulationDefaults {
+    /// The assembly settings these defaults ask for.
+    pub fn assembly(&self) -> flexmb::analysis::AssemblySettings {
+        flexmb::analysis::AssemblySettings {
+            free_modal_coordinates: self.assemble_modal_coordinates,
+            ..Default::default()
+        }
     }
 }
 

@@ -59,6 +59,7 @@ pub(crate) struct SimulationSection {
     pub output_step: Option<Number>,
     pub rtol: Option<Number>,
     pub atol: Option<Number>,
+    pub assemble_modal_coordinates: Option<Spanned<bool>>,
 }
 
 /// `[[body]]`: a rigid body.

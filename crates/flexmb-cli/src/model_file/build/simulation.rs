@@ -51,5 +51,6 @@ pub(crate) fn simulation_defaults(
         output_step: positive(&s.output_step, "output_step", defaults.output_step)?,
         rtol: positive(&s.rtol, "rtol", defaults.rtol)?,
         atol: positive(&s.atol, "atol", defaults.atol)?,
+        assemble_modal_coordinates: s.assemble_modal_coordinates.as_ref().is_some_and(|b| *b.get_ref()),
     })
 }
