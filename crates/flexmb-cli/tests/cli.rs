@@ -250,3 +250,26 @@ type = "revolute"
 i = "k1"
 j = "r1"
 "#;
+
+/// The README's main job: the flexible pendulum swings through the bottom to the other side while its
+/// strip rings in its first bending mode, and the CSV holds every output time.
+#[test]
+fn the_readme_main_job_runs_the_flexible_pendulum() {
+    let out = scratch("readme");
+    let o = flexmb(&["run", "models/flexible_pendulum.toml", "--out", out.to_str().unwrap()]);
+    let stdout = text(&o.stdout);
+    assert!(o.status.success(), "stdout:\n{stdout}\nstderr:\n{}", text(&o.stderr));
+    assert!(stdout.contains("run completed") && stdout.contains("18.21 Hz"), "{stdout}");
+    let csv = std::fs::read_to_string(out.join("flexible_pendulum.csv")).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let column = |name: &str| header.iter().position(|h| h.starts_with(name)).unwrap_or_else(|| panic!("no column {name} in {header:?}"));
+    let (tip_x, tip_y, mode_1) = (column("beam.node21.position.x"), column("beam.node21.position.y"), column("beam.modal_coordinates.O1"));
+    let rows: Vec<Vec<f64>> = lines.map(|l| l.split(',').map(|x| x.parse().unwrap()).collect()).collect();
+    assert_eq!(rows.len(), 1001, "2 s at 0.002 s");
+    let lowest = rows.iter().map(|r| r[tip_y]).fold(f64::INFINITY, f64::min);
+    let leftmost = rows.iter().map(|r| r[tip_x]).fold(f64::INFINITY, f64::min);
+    assert!(lowest < -0.99 && leftmost < -0.99, "the 1 m strip swings down and up to the other side: lowest y {lowest}, leftmost x {leftmost}");
+    let bending = rows.iter().map(|r| r[mode_1].abs()).fold(0.0, f64::max);
+    assert!(bending > 0.0, "the first bending mode is excited");
+}
