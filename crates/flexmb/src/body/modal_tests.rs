@@ -211,9 +211,10 @@ fn inertia_forces_equal_lagranges_equations_of_the_node_kinetic_energy() {
     }
 }
 
-/// A flexible body hanging from ground by a spherical joint at one node, a revolute joint from another
-/// node to a rigid body, and a distance joint from a third node: joint equations at nodes, both
-/// translational and rotational.
+/// A flexible body held at its nodes by a spherical joint to ground, a revolute to a rigid body, a
+/// cylindrical and a universal joint to ground, a distance joint to the rigid body and an angle driver:
+/// joint equations at nodes, translational and rotational (the model is over-constrained, which does
+/// not matter for the identities).
 fn jointed_model(rng: &mut Lcg) -> Model {
     let m = 3;
     let nodes = random_nodes(rng, 6, m, true);
@@ -238,6 +239,12 @@ fn jointed_model(rng: &mut Lcg) -> Model {
     b.add_joint(Joint { name: "hinge".into(), kind: JointKind::Revolute, marker_i: n1, marker_j: on_link });
     b.add_joint(Joint { name: "slide".into(), kind: JointKind::Cylindrical, marker_i: ground2, marker_j: n2 });
     b.add_joint(Joint { name: "cross".into(), kind: JointKind::Universal, marker_i: n3, marker_j: ground });
+    let n4 = b.add_node_marker("n4", flex, 4, axes(rng));
+    let n5 = b.add_node_marker("n5", flex, 5, axes(rng));
+    let length = crate::function::TimeFunction::parse("0.7").unwrap();
+    b.add_joint(Joint { name: "rod".into(), kind: JointKind::Distance { length }, marker_i: n4, marker_j: on_link });
+    let angle = crate::function::TimeFunction::parse("0.2").unwrap();
+    b.add_joint(Joint { name: "turn".into(), kind: JointKind::AngleDriver { function: angle }, marker_i: ground2, marker_j: n5 });
     b.add_output("tip", OutputKind::MarkerPosition(n3));
     b.build().unwrap()
 }
@@ -479,4 +486,43 @@ fn damping_ratios_go_to_the_modes_in_order_of_frequency() {
         let omega = eigen.eigenvalues[k].sqrt();
         assert!((modal_damping[(k, k)] - 2.0 * ratios[rank] * omega).abs() < 1e-9 * omega, "mode {rank}");
     }
+}
+
+/// A flexible body on a revolute joint at a node, with a rotational spring on that joint and a
+/// translational spring from another node to ground, under gravity, undamped: total energy (kinetic,
+/// gravity, springs, strain) is conserved, so the spring forces at nodes do the work their potentials
+/// say.
+#[test]
+fn springs_at_nodes_conserve_energy() {
+    use crate::force::{ForceElement, ForceKind};
+    let mut rng = Lcg(0xf1e5_0006);
+    let m = 3;
+    let nodes = random_nodes(&mut rng, 6, m, true);
+    let mut modal = modal_body(&nodes, m, &mut rng);
+    modal.initial_rates = DVector::from_vec(vec![0.2, -0.1, 0.3]);
+    let mut b = ModelBuilder::new("sprung flexible body").gravity(Vec3::new(0.0, -9.81, 0.0));
+    let flex = b.add_flexible_body("flex", InitialState { angular_velocity: Some(Vec3::new(0.0, 0.0, 1.5)), ..Default::default() }, modal);
+    let hinge = b.add_node_marker("hinge", flex, 0, Mat3::identity());
+    let far = b.add_node_marker("far", flex, 3, Mat3::identity());
+    let ground = b.add_marker(Marker { name: "g".into(), body: BodyRef::Ground, origin: nodes[0].position, axes: Mat3::identity() });
+    let anchor = b.add_marker(Marker { name: "anchor".into(), body: BodyRef::Ground, origin: Vec3::new(0.8, 0.5, 0.2), axes: Mat3::identity() });
+    let joint = b.add_joint(Joint { name: "hinge".into(), kind: JointKind::Revolute, marker_i: ground, marker_j: hinge });
+    b.add_force(ForceElement {
+        name: "torsion".into(),
+        kind: ForceKind::RotationalSpringDamper { joint, stiffness: 5.0, damping: 0.0, free_angle: 0.3, actuator: None },
+    });
+    b.add_force(ForceElement {
+        name: "spring".into(),
+        kind: ForceKind::TranslationalSpringDamper { marker_i: anchor, marker_j: far, stiffness: 40.0, damping: 0.0, free_length: 0.4, actuator: None },
+    });
+    b.add_output("e", OutputKind::Energy);
+    let model = b.build().unwrap();
+    let mut energy = Vec::new();
+    simulate(&model, &settings(1.0, 0.01, 1e-9), &mut |f| energy.push((f.values[0], f.values[3]))).unwrap();
+    let e0 = energy[0].1;
+    let kinetic_range = energy.iter().map(|e| e.0).fold(0.0_f64, f64::max) - energy.iter().map(|e| e.0).fold(f64::INFINITY, f64::min);
+    let drift = energy.iter().map(|e| (e.1 - e0).abs()).fold(0.0_f64, f64::max);
+    println!("sprung flexible body: kinetic energy range {kinetic_range:.3} J, largest total-energy drift {drift:.1e} J");
+    assert!(kinetic_range > 0.1, "it moves: {kinetic_range}");
+    assert!(drift < 1e-6 * kinetic_range.max(1.0), "energy drift {drift:.2e}");
 }
