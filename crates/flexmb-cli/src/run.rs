@@ -72,6 +72,7 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
         output_step,
         integrator: BdfConfig { rtol, atol, ..Default::default() },
         assembly: d.assembly(),
+        method: Default::default(),
     };
     let bar = if options.quiet { ProgressBar::hidden() } else { ProgressBar::new(1000) };
     bar.set_style(

@@ -22,6 +22,7 @@ fn period_matches_elliptic_integral_and_energy_is_conserved() {
         output_step: 1e-3,
         integrator: BdfConfig { rtol: 1e-9, atol: 1e-9, ..Default::default() },
         assembly: Default::default(),
+        method: Default::default(),
     };
     let mut t = Vec::new();
     let mut x = Vec::new();

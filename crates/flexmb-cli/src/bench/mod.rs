@@ -84,6 +84,7 @@ fn run_case(model: &Model, t_end: f64, repeat: usize) -> Result<CaseResult, Stri
         output_step: 0.01,
         integrator: BdfConfig::default(),
         assembly: AssemblySettings::default(),
+        method: Default::default(),
     };
     let mut best: Option<CaseResult> = None;
     for _ in 0..repeat {

@@ -9,9 +9,9 @@ use super::{
     VelocityReport,
 };
 use crate::data::Data;
-use crate::integrate::{Bdf, BdfConfig, IntegrationError, Stats};
+use crate::integrate::{Bdf, BdfConfig, IntegrationError, Integrator, Method, Stats};
 use crate::model::Model;
-use crate::stage::{constraint_equations, energy, kinematics, YLayout};
+use crate::stage::{constraint_equations, energy, kinematics};
 
 /// What to simulate and how.
 #[derive(Clone, Copy, Debug)]
@@ -20,8 +20,23 @@ pub struct SimulationSettings {
     pub t_end: f64,
     /// Spacing of the output times (s).
     pub output_step: f64,
+    /// Tolerances and step limits (every method reads them; `max_order` is each method's own).
     pub integrator: BdfConfig,
     pub assembly: AssemblySettings,
+    /// The integration method. Default [`Method::Bdf`].
+    pub method: Method,
+}
+
+impl Default for SimulationSettings {
+    fn default() -> Self {
+        Self {
+            t_end: 1.0,
+            output_step: 0.01,
+            integrator: BdfConfig::default(),
+            assembly: AssemblySettings::default(),
+            method: Method::Bdf,
+        }
+    }
 }
 
 /// The outputs at one output time.
@@ -39,6 +54,8 @@ pub struct OutputFrame<'a> {
 /// Everything a run reports, also for a run that failed midway.
 #[derive(Clone, Debug, Default)]
 pub struct SimulationReport {
+    /// The integration method that ran (`bdf`, `adams`, `gen-alpha`).
+    pub method: &'static str,
     pub assembly: Option<AssemblyReport>,
     pub velocity: Option<VelocityReport>,
     pub stats: Stats,
@@ -112,18 +129,19 @@ fn run(
         .solve(model, &mut data, state.t, &state.q, &state.v, &state.active)
         .map_err(|_| SimulationFailure::SingularAccelerations { t: state.t, detail: String::new() })?
         .clone();
-    let mut bdf = Bdf::new(model, &state, &acc, settings.integrator)?;
+    let mut integrator: Box<dyn Integrator + '_> = match settings.method {
+        Method::Bdf => Box::new(Bdf::new(model, &state, &acc, settings.integrator)?),
+    };
+    report.method = integrator.name();
 
-    let yl = YLayout::new(model);
     let n_out = output_columns(model).len();
     let mut values = vec![0.0; n_out];
-    let mut y = vec![0.0; yl.len()];
+    let (nq, nv) = (model.layout.nq, model.layout.nv);
+    let (mut q, mut v) = (vec![0.0; nq], vec![0.0; nv]);
     // The rows in force do not change during a run; copied once so that no step allocates.
-    let active = bdf.active().to_vec();
-    let mut y_step = vec![0.0; yl.len()];
-    let mut frame = |bdf: &mut Bdf, t: f64, y: &[f64], values: &mut [f64], report: &mut SimulationReport| {
-        let (q, v) = (&y[yl.q.clone()], &y[yl.v.clone()]);
-        let data = bdf.data_mut();
+    let active = integrator.active().to_vec();
+    let mut frame = |integrator: &mut dyn Integrator, t: f64, q: &[f64], v: &[f64], values: &mut [f64], report: &mut SimulationReport| {
+        let data = integrator.data_mut();
         let acc = acc_solver
             .solve(model, data, t, q, v, &active)
             .map_err(|_| SimulationFailure::SingularAccelerations { t, detail: String::new() })?;
@@ -138,40 +156,46 @@ fn run(
         Ok::<(), SimulationFailure>(())
     };
 
-    y.copy_from_slice(bdf.y());
-    frame(&mut bdf, 0.0, &y, &mut values, report)?;
+    copy_state(integrator.as_ref(), &mut q, &mut v);
+    frame(integrator.as_mut(), 0.0, &q, &v, &mut values, report)?;
     let n_frames = (settings.t_end / settings.output_step * (1.0 + 1e-12)).floor() as usize;
     let mut next = 1;
     let start = Instant::now();
-    while bdf.t() < settings.t_end {
-        let step = bdf.step(settings.t_end);
-        report.stats = bdf.stats;
-        report.t_reached = bdf.t();
+    while integrator.t() < settings.t_end {
+        let step = integrator.step(settings.t_end);
+        report.stats = *integrator.stats();
+        report.t_reached = integrator.t();
         report.wall_time = start.elapsed().as_secs_f64();
         step?;
-        y_step.copy_from_slice(bdf.y());
-        check_step(model, &mut bdf, &yl, &y_step, &active, report);
-        while next <= n_frames && next as f64 * settings.output_step <= bdf.t() * (1.0 + 1e-12) {
+        copy_state(integrator.as_ref(), &mut q, &mut v);
+        check_step(model, integrator.as_mut(), &q, &v, &active, report);
+        while next <= n_frames && next as f64 * settings.output_step <= integrator.t() * (1.0 + 1e-12) {
             let t_out = next as f64 * settings.output_step;
-            bdf.interpolate(t_out.min(bdf.t()), &mut y);
-            frame(&mut bdf, t_out, &y, &mut values, report)?;
+            let t_eval = t_out.min(integrator.t());
+            integrator.interpolate(t_eval, &mut q, &mut v);
+            frame(integrator.as_mut(), t_out, &q, &v, &mut values, report)?;
             next += 1;
         }
     }
     // The end time itself when it is not on the output grid.
     if (n_frames as f64 * settings.output_step - settings.t_end).abs() > 1e-9 * settings.t_end {
-        y.copy_from_slice(bdf.y());
-        frame(&mut bdf, settings.t_end, &y, &mut values, report)?;
+        copy_state(integrator.as_ref(), &mut q, &mut v);
+        frame(integrator.as_mut(), settings.t_end, &q, &v, &mut values, report)?;
     }
     report.wall_time = start.elapsed().as_secs_f64();
     Ok(())
 }
 
+fn copy_state(integrator: &dyn Integrator, q: &mut [f64], v: &mut [f64]) {
+    let (qi, vi) = integrator.state();
+    q.copy_from_slice(qi);
+    v.copy_from_slice(vi);
+}
+
 /// Records the constraint residuals and the Euler-parameter normalization at an accepted step.
-fn check_step(model: &Model, bdf: &mut Bdf, yl: &YLayout, y: &[f64], active: &[bool], report: &mut SimulationReport) {
-    let t = bdf.t();
-    let (q, v) = (&y[yl.q.clone()], &y[yl.v.clone()]);
-    let data = bdf.data_mut();
+fn check_step(model: &Model, integrator: &mut dyn Integrator, q: &[f64], v: &[f64], active: &[bool], report: &mut SimulationReport) {
+    let t = integrator.t();
+    let data = integrator.data_mut();
     kinematics(model, data, q, v);
     constraint_equations(model, data, t);
     let (p, vel) = constraint_residuals(model, data, active);

@@ -13,7 +13,7 @@
 use crate::analysis::{Accelerations, State};
 use crate::data::Data;
 use crate::integrate::iteration_matrix::IterationMatrix;
-use crate::integrate::{BdfConfig, IntegrationError, Stats};
+use crate::integrate::{BdfConfig, IntegrationError, Integrator, Stats};
 use crate::math::euler_parameters::g_matrix;
 use crate::math::{Vec3, Vec4};
 use crate::model::Model;
@@ -40,6 +40,8 @@ fn error_const(k: usize) -> f64 {
 pub struct Bdf<'m> {
     model: &'m Model,
     data: Data,
+    /// Scratch for [`Integrator::interpolate`].
+    y_interp: Vec<f64>,
     yl: YLayout,
     active: Vec<bool>,
     config: BdfConfig,
@@ -142,6 +144,7 @@ impl<'m> Bdf<'m> {
             change_tmp: vec![0.0; (MAX_ORDER + 1) * n],
             stats: Stats::default(),
             data,
+            y_interp: vec![0.0; n],
         };
         let yp0 = bdf.yp.clone();
         bdf.evaluate_jacobian_at(state.t, &y0, &yp0);
@@ -609,4 +612,36 @@ fn state_angle_references(model: &Model, data: &mut Data, state: &State) -> Vec<
     data.angle_reference.fill(0.0);
     update_angle_references(model, data);
     data.angle_reference.clone()
+}
+
+impl Integrator for Bdf<'_> {
+    fn t(&self) -> f64 {
+        self.t
+    }
+    fn step(&mut self, t_stop: f64) -> Result<(), IntegrationError> {
+        Bdf::step(self, t_stop)
+    }
+    fn state(&self) -> (&[f64], &[f64]) {
+        let y = self.y();
+        (&y[self.yl.q.clone()], &y[self.yl.v.clone()])
+    }
+    fn interpolate(&mut self, t: f64, q: &mut [f64], v: &mut [f64]) {
+        let mut y = std::mem::take(&mut self.y_interp);
+        Bdf::interpolate(self, t, &mut y);
+        q.copy_from_slice(&y[self.yl.q.clone()]);
+        v.copy_from_slice(&y[self.yl.v.clone()]);
+        self.y_interp = y;
+    }
+    fn stats(&self) -> &Stats {
+        &self.stats
+    }
+    fn data_mut(&mut self) -> &mut Data {
+        &mut self.data
+    }
+    fn active(&self) -> &[bool] {
+        &self.active
+    }
+    fn name(&self) -> &'static str {
+        "bdf"
+    }
 }

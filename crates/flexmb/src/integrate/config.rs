@@ -22,3 +22,11 @@ impl Default for BdfConfig {
         Self { rtol: 1e-6, atol: 1e-6, h_max: f64::INFINITY, h_init: None, max_order: 5, max_steps: 10_000_000 }
     }
 }
+
+/// The integration method of a simulation.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Method {
+    /// Variable-order (1–5), variable-step BDF on the stabilized index-2 equations (stiff; default).
+    #[default]
+    Bdf,
+}

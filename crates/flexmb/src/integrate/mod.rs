@@ -14,10 +14,12 @@
 mod bdf;
 mod config;
 mod error;
+mod integrator;
 mod iteration_matrix;
 mod stats;
 
 pub use bdf::Bdf;
-pub use config::BdfConfig;
+pub use config::{BdfConfig, Method};
 pub use error::IntegrationError;
+pub use integrator::Integrator;
 pub use stats::Stats;

@@ -1,0 +1,24 @@
+//! What every time integrator offers the simulation driver: steps, the state, dense output, statistics.
+
+use super::{IntegrationError, Stats};
+use crate::data::Data;
+
+/// A time integrator of a model's equations of motion, started at a consistent state.
+pub trait Integrator {
+    /// Current time (s).
+    fn t(&self) -> f64;
+    /// Takes one accepted step, not passing `t_stop`; a failure says when and why.
+    fn step(&mut self, t_stop: f64) -> Result<(), IntegrationError>;
+    /// Positions `q` and velocities `v` at the current time.
+    fn state(&self) -> (&[f64], &[f64]);
+    /// Positions and velocities at `t` within the last step, from the method's interpolant.
+    fn interpolate(&mut self, t: f64, q: &mut [f64], v: &mut [f64]);
+    /// The statistics so far.
+    fn stats(&self) -> &Stats;
+    /// Scratch data, for evaluating outputs between steps.
+    fn data_mut(&mut self) -> &mut Data;
+    /// The constraint rows in force (redundant rows switched off).
+    fn active(&self) -> &[bool];
+    /// The method's name for reports: `bdf`, `adams`, `gen-alpha`.
+    fn name(&self) -> &'static str;
+}
