@@ -3,6 +3,7 @@
 
 pub mod bench;
 pub mod check;
+pub mod compare;
 pub mod fe_model_file;
 pub mod flexible_body;
 pub mod model_file;

@@ -6,6 +6,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 use flexmb_cli::bench::{run_benchmarks, BenchCase};
 use flexmb_cli::check::{check_model, describe, describe_flexible_bodies};
+use flexmb_cli::compare::{compare_model, CompareOptions};
 use flexmb_cli::modes::{run_modes, ModesOptions};
 use flexmb_cli::run::{run_model, RunOptions};
 use flexmb_fem::modes::EigenSolver;
@@ -72,6 +73,26 @@ enum Command {
         #[arg(long, value_enum, default_value_t = SolverArg::Auto)]
         solver: SolverArg,
     },
+    /// Run a model with several integrators and compare cost and accuracy against a tight reference.
+    Compare {
+        /// Model file (TOML).
+        model: PathBuf,
+        /// Comma-separated integrators, e.g. bdf,adams,gen-alpha.
+        #[arg(long, value_delimiter = ',', default_value = "bdf")]
+        integrators: Vec<String>,
+        /// End time (s); default from the model's [simulation].
+        #[arg(long)]
+        t_end: Option<f64>,
+        /// Relative error tolerance of every integrator.
+        #[arg(long)]
+        rtol: Option<f64>,
+        /// Absolute error tolerance of every integrator.
+        #[arg(long)]
+        atol: Option<f64>,
+        /// Spectral radius at infinity of the generalized-α method (0 to 1).
+        #[arg(long, default_value_t = 0.9)]
+        spectral_radius: f64,
+    },
     /// Run the performance benchmarks and report cost per step and per simulated second.
     Bench {
         /// Which case to run (default: all).
@@ -128,6 +149,10 @@ fn main() -> ExitCode {
                 },
             };
             run_modes(&fe_model, &options).map(|report| print!("{report}"))
+        }
+        Command::Compare { model, integrators, t_end, rtol, atol, spectral_radius } => {
+            let options = CompareOptions { integrators, t_end, rtol, atol, spectral_radius };
+            compare_model(&model, &options).map(|table| print!("{table}"))
         }
         Command::Bench { case, repeat } => run_benchmarks(case, repeat.max(1)).map_err(flexmb_cli::run::CliError),
     };

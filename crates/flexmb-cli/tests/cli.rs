@@ -273,3 +273,18 @@ fn the_readme_main_job_runs_the_flexible_pendulum() {
     let bending = rows.iter().map(|r| r[mode_1].abs()).fold(0.0, f64::max);
     assert!(bending > 0.0, "the first bending mode is excited");
 }
+
+/// `flexmb compare` prints the seed's columns for each integrator and the reference it measured against.
+#[test]
+fn compare_prints_a_row_per_integrator_and_the_reference() {
+    let o = flexmb(&["compare", "models/slider_crank.toml", "--integrators", "bdf", "--t-end", "0.5"]);
+    let stdout = text(&o.stdout);
+    assert!(o.status.success(), "stdout:\n{stdout}\nstderr:\n{}", text(&o.stderr));
+    assert!(stdout.contains("T_end [s]") && stdout.contains("CPU [s]") && stdout.contains("RMS step [s]"), "{stdout}");
+    let row = stdout.lines().find(|l| l.starts_with("bdf")).expect("a bdf row");
+    let error: f64 = row.split_whitespace().nth(7).unwrap().parse().unwrap();
+    assert!(error > 0.0 && error < 1e-5, "bdf at rtol 1e-6 is within 1e-5 m of the reference: {row}");
+    assert!(stdout.contains("reference: bdf at rtol 1e-9"), "{stdout}");
+    let o = flexmb(&["compare", "models/slider_crank.toml", "--integrators", "euler"]);
+    assert!(!o.status.success() && text(&o.stderr).contains("unknown integrator `euler`"), "{}", text(&o.stderr));
+}

@@ -1,0 +1,142 @@
+//! `flexmb compare`: one model run with several integrators, and a table with the seed's columns
+//! (T_end, CPU time, RMS step size) plus steps, rejected steps, right-hand-side evaluations and the
+//! error against a tight-tolerance reference run.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use flexmb::analysis::{output_columns, simulate, OutputColumn, SimulationSettings};
+use flexmb::integrate::{BdfConfig, Method};
+
+use crate::model_file::load_model;
+use crate::run::CliError;
+
+/// What `flexmb compare` was asked to do.
+#[derive(Clone, Debug)]
+pub struct CompareOptions {
+    /// The methods to compare, by name (`bdf`, `adams`, `gen-alpha`).
+    pub integrators: Vec<String>,
+    pub t_end: Option<f64>,
+    pub rtol: Option<f64>,
+    pub atol: Option<f64>,
+    /// Spectral radius ρ∞ of the generalized-α method.
+    pub spectral_radius: f64,
+}
+
+/// The method named `name`.
+pub fn parse_method(name: &str, spectral_radius: f64) -> Result<Method, String> {
+    let _ = spectral_radius;
+    match name {
+        "bdf" => Ok(Method::Bdf),
+        other => Err(format!("unknown integrator `{other}`; expected {}", METHOD_NAMES.join(", "))),
+    }
+}
+
+/// The integrators `parse_method` knows.
+pub const METHOD_NAMES: &[&str] = &["bdf"];
+
+/// One run's outcome.
+struct Run {
+    name: String,
+    t_reached: f64,
+    cpu: f64,
+    rms_step: f64,
+    steps: usize,
+    rejected: usize,
+    evaluations: usize,
+    frames: Vec<Vec<f64>>,
+    failure: Option<String>,
+}
+
+fn run_with(model: &flexmb::Model, settings: &SimulationSettings, name: &str) -> Run {
+    let mut frames = Vec::new();
+    let result = simulate(model, settings, &mut |f| frames.push(f.values.to_vec()));
+    let (report, failure) = match result {
+        Ok(r) => (r, None),
+        Err(e) => ((*e.report).clone(), Some(e.to_string())),
+    };
+    Run {
+        name: name.to_string(),
+        t_reached: report.t_reached,
+        cpu: report.wall_time,
+        rms_step: report.stats.rms_step(),
+        steps: report.stats.steps,
+        rejected: report.stats.rejected_steps(),
+        evaluations: report.stats.residual_evaluations,
+        frames,
+        failure,
+    }
+}
+
+/// Largest difference from the reference over the common output times among the position outputs
+/// (columns in m), with the column it occurs in.
+fn error_against(run: &Run, reference: &Run, columns: &[OutputColumn]) -> (f64, String) {
+    let mut worst = (0.0_f64, String::from("-"));
+    for (c, column) in columns.iter().enumerate().filter(|(_, col)| col.unit == "m") {
+        for (a, b) in run.frames.iter().zip(&reference.frames) {
+            let e = (a[c] - b[c]).abs();
+            if e > worst.0 {
+                worst = (e, column.name.clone());
+            }
+        }
+    }
+    worst
+}
+
+/// Runs the model at `path` with each integrator and a reference; returns the table.
+pub fn compare_model(path: &Path, options: &CompareOptions) -> Result<String, CliError> {
+    let loaded = load_model(path).map_err(|e| CliError(e.to_string()))?;
+    let model = &loaded.model;
+    let d = loaded.simulation;
+    let t_end = options.t_end.unwrap_or(d.t_end);
+    let (rtol, atol) = (options.rtol.unwrap_or(d.rtol), options.atol.unwrap_or(d.atol));
+    let methods: Vec<(String, Method)> = options
+        .integrators
+        .iter()
+        .map(|n| parse_method(n, options.spectral_radius).map(|m| (n.clone(), m)).map_err(|e| CliError(format!("--integrators: {e}"))))
+        .collect::<Result<_, _>>()?;
+    let columns = output_columns(model);
+    if !columns.iter().any(|c| c.unit == "m") {
+        return Err(CliError(format!(
+            "{}: the model requests no position output to compare; add a marker_position or node_position [[output]]",
+            path.display()
+        )));
+    }
+    let settings = |method: Method, rtol: f64, atol: f64| SimulationSettings {
+        t_end,
+        output_step: d.output_step,
+        integrator: BdfConfig { rtol, atol, ..Default::default() },
+        assembly: d.assembly(),
+        method,
+    };
+    let reference_tolerance = (rtol * 1e-3).max(1e-11);
+    let reference = run_with(model, &settings(Method::Bdf, reference_tolerance, (atol * 1e-3).max(1e-11)), "reference");
+    if let Some(f) = &reference.failure {
+        return Err(CliError(format!("{}: the reference run failed: {f}", path.display())));
+    }
+    let mut s = String::new();
+    let _ = writeln!(s, "model {} ({}), t_end {t_end} s, rtol {rtol:.0e}, atol {atol:.0e}", model.name(), path.display());
+    let _ = writeln!(
+        s,
+        "{:<10} {:>9} {:>9} {:>12} {:>8} {:>9} {:>9} {:>11}  {}",
+        "method", "T_end [s]", "CPU [s]", "RMS step [s]", "steps", "rejected", "f-evals", "error [m]", "(largest position difference from the reference, in)"
+    );
+    for (name, method) in methods {
+        let run = run_with(model, &settings(method, rtol, atol), &name);
+        let (error, column) = error_against(&run, &reference, &columns);
+        let _ = writeln!(
+            s,
+            "{:<10} {:>9.4} {:>9.4} {:>12.3e} {:>8} {:>9} {:>9} {:>11.2e}  {}",
+            run.name, run.t_reached, run.cpu, run.rms_step, run.steps, run.rejected, run.evaluations, error, column
+        );
+        if let Some(f) = &run.failure {
+            let _ = writeln!(s, "  {name} stopped: {f}");
+        }
+    }
+    let _ = writeln!(
+        s,
+        "reference: bdf at rtol {reference_tolerance:.0e}: {} steps, {:.4} s; CPU is wall time on this machine",
+        reference.steps, reference.cpu
+    );
+    Ok(s)
+}
