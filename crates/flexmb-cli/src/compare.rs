@@ -105,7 +105,7 @@ pub fn compare_model(path: &Path, options: &CompareOptions) -> Result<String, Cl
     let settings = |method: Method, rtol: f64, atol: f64| SimulationSettings {
         t_end,
         output_step: d.output_step,
-        integrator: BdfConfig { rtol, atol, ..Default::default() },
+        integrator: BdfConfig { rtol, atol, ..BdfConfig::for_model(model) },
         assembly: d.assembly(),
         method,
     };

@@ -70,7 +70,7 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
     let settings = SimulationSettings {
         t_end,
         output_step,
-        integrator: BdfConfig { rtol, atol, ..Default::default() },
+        integrator: BdfConfig { rtol, atol, ..BdfConfig::for_model(model) },
         assembly: d.assembly(),
         method: Default::default(),
     };

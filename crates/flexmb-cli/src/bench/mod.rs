@@ -82,7 +82,7 @@ fn run_case(model: &Model, t_end: f64, repeat: usize) -> Result<CaseResult, Stri
     let settings = SimulationSettings {
         t_end,
         output_step: 0.01,
-        integrator: BdfConfig::default(),
+        integrator: BdfConfig::for_model(model),
         assembly: AssemblySettings::default(),
         method: Default::default(),
     };
