@@ -8,6 +8,7 @@ use std::path::Path;
 use flexmb::analysis::{output_columns, simulate, OutputColumn, SimulationSettings};
 use flexmb::integrate::{BdfConfig, Method};
 
+use crate::integrator_choice::parse_method;
 use crate::model_file::load_model;
 use crate::run::CliError;
 
@@ -22,18 +23,6 @@ pub struct CompareOptions {
     /// Spectral radius ρ∞ of the generalized-α method.
     pub spectral_radius: f64,
 }
-
-/// The method named `name`.
-pub fn parse_method(name: &str, spectral_radius: f64) -> Result<Method, String> {
-    let _ = spectral_radius;
-    match name {
-        "bdf" => Ok(Method::Bdf),
-        other => Err(format!("unknown integrator `{other}`; expected {}", METHOD_NAMES.join(", "))),
-    }
-}
-
-/// The integrators `parse_method` knows.
-pub const METHOD_NAMES: &[&str] = &["bdf"];
 
 /// One run's outcome.
 struct Run {

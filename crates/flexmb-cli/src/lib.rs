@@ -6,6 +6,7 @@ pub mod check;
 pub mod compare;
 pub mod fe_model_file;
 pub mod flexible_body;
+pub mod integrator_choice;
 pub mod model_file;
 pub mod modes;
 pub mod results;

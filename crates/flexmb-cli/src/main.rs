@@ -38,6 +38,12 @@ enum Command {
         /// Absolute error tolerance of the integrator.
         #[arg(long)]
         atol: Option<f64>,
+        /// Integrator: bdf (default; stiff, variable order). Overrides the model's [simulation] integrator.
+        #[arg(long)]
+        integrator: Option<String>,
+        /// Spectral radius at infinity of the generalized-α method (0 to 1).
+        #[arg(long)]
+        spectral_radius: Option<f64>,
         /// Directory for the result files.
         #[arg(long, default_value = "out")]
         out: PathBuf,
@@ -120,8 +126,8 @@ enum SolverArg {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Run { model, t_end, output_step, rtol, atol, out, quiet } => {
-            let options = RunOptions { t_end, output_step, rtol, atol, out_dir: out, quiet };
+        Command::Run { model, t_end, output_step, rtol, atol, integrator, spectral_radius, out, quiet } => {
+            let options = RunOptions { t_end, output_step, rtol, atol, integrator, spectral_radius, out_dir: out, quiet };
             run_model(&model, &options).map(|_| ())
         }
         Command::Check { model } => flexmb_cli::load_model(&model)

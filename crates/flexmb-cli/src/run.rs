@@ -17,6 +17,10 @@ pub struct RunOptions {
     pub output_step: Option<f64>,
     pub rtol: Option<f64>,
     pub atol: Option<f64>,
+    /// Integrator by name (`bdf`, …), overriding the model file's.
+    pub integrator: Option<String>,
+    /// Spectral radius ρ∞ of the generalized-α method.
+    pub spectral_radius: Option<f64>,
     pub out_dir: PathBuf,
     pub quiet: bool,
 }
@@ -49,6 +53,11 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
     let output_step = positive("--output-step", options.output_step.unwrap_or(d.output_step))?;
     let rtol = positive("--rtol", options.rtol.unwrap_or(d.rtol))?;
     let atol = positive("--atol", options.atol.unwrap_or(d.atol))?;
+    let method = match &options.integrator {
+        Some(name) => crate::integrator_choice::parse_method(name, options.spectral_radius.unwrap_or(0.9))
+            .map_err(|e| CliError(format!("--integrator: {e}")))?,
+        None => d.method,
+    };
 
     if !options.quiet {
         print!("{}", describe_flexible_bodies(&loaded));
@@ -72,7 +81,7 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
         output_step,
         integrator: BdfConfig { rtol, atol, ..BdfConfig::for_model(model) },
         assembly: d.assembly(),
-        method: Default::default(),
+        method,
     };
     let bar = if options.quiet { ProgressBar::hidden() } else { ProgressBar::new(1000) };
     bar.set_style(
@@ -93,6 +102,10 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
         return Err(CliError(format!("cannot write {}: {e}", csv_path.display())));
     }
     let file_name = path.display().to_string();
+    let (report, error) = match &result {
+        Ok(r) => (r.clone(), None),
+        Err(e) => ((*e.report).clone(), Some(e.to_string())),
+    };
     let request = RunRequest {
         model_file: &file_name,
         model_name: model.name(),
@@ -100,11 +113,7 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
         output_step,
         rtol,
         atol,
-        integrator: "bdf",
-    };
-    let (report, error) = match &result {
-        Ok(r) => (r.clone(), None),
-        Err(e) => ((*e.report).clone(), Some(e.to_string())),
+        integrator: if report.method.is_empty() { "bdf" } else { report.method },
     };
     let summary = summary_json(&request, &report, &columns, &csv_path, error.as_deref());
     let text = serde_json::to_string_pretty(&summary).map_err(|e| CliError(e.to_string()))?;

@@ -49,11 +49,21 @@ pub struct SimulationDefaults {
     /// Let the assembly change the modal coordinates of flexible bodies (`assemble_modal_coordinates`).
     /// Default false: they stay at their initial values and only the reference frames move.
     pub assemble_modal_coordinates: bool,
+    /// The integration method (`integrator`, with `spectral_radius` for the generalized-α method).
+    /// Default BDF.
+    pub method: flexmb::integrate::Method,
 }
 
 impl Default for SimulationDefaults {
     fn default() -> Self {
-        Self { t_end: 1.0, output_step: 0.01, rtol: 1e-6, atol: 1e-6, assemble_modal_coordinates: false }
+        Self {
+            t_end: 1.0,
+            output_step: 0.01,
+            rtol: 1e-6,
+            atol: 1e-6,
+            assemble_modal_coordinates: false,
+            method: flexmb::integrate::Method::Bdf,
+        }
     }
 }
 

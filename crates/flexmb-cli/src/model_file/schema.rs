@@ -60,6 +60,8 @@ pub(crate) struct SimulationSection {
     pub rtol: Option<Number>,
     pub atol: Option<Number>,
     pub assemble_modal_coordinates: Option<Spanned<bool>>,
+    pub integrator: Option<Name>,
+    pub spectral_radius: Option<Number>,
 }
 
 /// `[[body]]`: a rigid body.

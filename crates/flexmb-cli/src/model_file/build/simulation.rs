@@ -46,7 +46,23 @@ pub(crate) fn simulation_defaults(
             _ => Ok(x),
         }
     };
+    let spectral_radius = ctx.number_or(&s.spectral_radius, &table.key("spectral_radius"), 0.9)?;
+    if let Some(v) = &s.spectral_radius {
+        if !(0.0..=1.0).contains(&spectral_radius) {
+            return Err(ctx.invalid(
+                &v.span(),
+                &table.key("spectral_radius"),
+                format!("spectral_radius must be between 0 and 1, got {spectral_radius}"),
+            ));
+        }
+    }
+    let method = match &s.integrator {
+        Some(name) => crate::integrator_choice::parse_method(name.get_ref(), spectral_radius)
+            .map_err(|e| ctx.invalid(&name.span(), &table.key("integrator"), e))?,
+        None => defaults.method,
+    };
     Ok(SimulationDefaults {
+        method,
         t_end: positive(&s.t_end, "t_end", defaults.t_end)?,
         output_step: positive(&s.output_step, "output_step", defaults.output_step)?,
         rtol: positive(&s.rtol, "rtol", defaults.rtol)?,
