@@ -107,8 +107,8 @@ pub fn compare_model(path: &Path, options: &CompareOptions) -> Result<String, Cl
     let _ = writeln!(s, "model {} ({}), t_end {t_end} s, rtol {rtol:.0e}, atol {atol:.0e}", model.name(), path.display());
     let _ = writeln!(
         s,
-        "{:<10} {:>9} {:>9} {:>12} {:>8} {:>9} {:>9} {:>11}  {}",
-        "method", "T_end [s]", "CPU [s]", "RMS step [s]", "steps", "rejected", "f-evals", "error [m]", "(largest position difference from the reference, in)"
+        "{:<10} {:>9} {:>9} {:>12} {:>8} {:>9} {:>9} {:>11}  (largest position difference from the reference, in)",
+        "method", "T_end [s]", "CPU [s]", "RMS step [s]", "steps", "rejected", "f-evals", "error [m]"
     );
     for (name, method) in methods {
         let run = run_with(model, &settings(method, rtol, atol), &name);
