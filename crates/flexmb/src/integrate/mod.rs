@@ -11,6 +11,7 @@
 //! keeps the velocities accurate. The cost is `nc + nb` extra unknowns `μ`, which are zero at the
 //! solution.
 
+pub mod adams;
 mod bdf;
 mod config;
 mod error;
@@ -18,6 +19,7 @@ mod integrator;
 mod iteration_matrix;
 mod stats;
 
+pub use adams::{Adams, AdamsConfig};
 pub use bdf::Bdf;
 pub use config::{BdfConfig, Method};
 pub use error::IntegrationError;

@@ -13,8 +13,8 @@ pub struct Stats {
     pub residual_evaluations: usize,
     pub jacobian_evaluations: usize,
     pub factorizations: usize,
-    /// Accepted steps taken at each order (index = order).
-    pub order_counts: [usize; 6],
+    /// Accepted steps taken at each order (index = order): 1–5 for the BDF, 1–12 for the Adams method.
+    pub order_counts: [usize; 13],
     /// Sum of squared accepted step sizes (for the RMS step).
     pub sum_h_squared: f64,
 }

@@ -1,0 +1,34 @@
+//! The non-stiff method of the DADS code: a variable-order (1–12), variable-step Adams–Bashforth–
+//! Moulton predictor–corrector with local error control, of the Shampine–Gordon class.
+//!
+//! - [`method`]: the method itself, a generic stepper for `ẏ = f(t, y)` ([`AdamsStepper`], the STEP and
+//!   INTRP algorithms of Shampine and Gordon 1975), tested alone on ODEs with known solutions;
+//! - [`mechanism`]: the method applied to a model as [`Adams`], an [`Integrator`](super::Integrator):
+//!   the state `y = [q, v]` with `q̇ = T(q) v` and `v̇` from the index-1 (KKT) system, and after every
+//!   accepted step the positions projected onto `Φ(q, t) = 0`, `pᵀp = 1` and the velocities onto
+//!   `B v + Φ_t = 0`, both in the metric of the mass matrix.
+
+mod mechanism;
+pub mod method;
+#[cfg(test)]
+mod method_tests;
+
+pub use mechanism::{Adams, ProjectionDrift};
+pub use method::{
+    AdamsStepper, AttemptFailure, EvaluationFailure, OdeSystem, StepControl, StepFailure, StepperStats, MAX_ORDER,
+};
+
+/// Settings of the Adams method that the BDF does not share (tolerances, step limits and the step
+/// count limit come from [`BdfConfig`](super::BdfConfig), whose `max_order` the Adams method ignores).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AdamsConfig {
+    /// Highest order `k` of the Adams–Bashforth predictor, 1 to 12; the Adams–Moulton corrector, with
+    /// local extrapolation, is of order `k + 1`. Default 12, as in Shampine and Gordon's STEP.
+    pub max_order: usize,
+}
+
+impl Default for AdamsConfig {
+    fn default() -> Self {
+        Self { max_order: MAX_ORDER }
+    }
+}
