@@ -42,4 +42,42 @@ pub enum Method {
     /// Variable-order (1–5), variable-step BDF on the stabilized index-2 equations (stiff; default).
     #[default]
     Bdf,
+    /// Generalized-α (Arnold–Brüls, stabilized index-2 constraints, Lie-group position update) with
+    /// high-frequency spectral radius `spectral_radius` ∈ [0, 1], fixed second order, step size from a
+    /// local error estimate; see [`GeneralizedAlphaConfig`].
+    GeneralizedAlpha { spectral_radius: f64 },
+}
+
+/// Settings of the generalized-α method; the tolerances and step limits are those of [`BdfConfig`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GeneralizedAlphaConfig {
+    /// Spectral radius at infinite frequency `ρ∞` ∈ [0, 1]: the factor by which the amplitude of an
+    /// unresolved high-frequency motion is multiplied each step. 1 damps nothing (trapezoidal rule),
+    /// 0 annihilates such motions in one step. Default 0.9.
+    pub spectral_radius: f64,
+    /// Step size held fixed at this value (s), without error control (for convergence studies);
+    /// only a Newton failure shortens a step. Default `None`: steps from the local error estimate.
+    pub fixed_step: Option<f64>,
+}
+
+impl Default for GeneralizedAlphaConfig {
+    fn default() -> Self {
+        Self { spectral_radius: 0.9, fixed_step: None }
+    }
+}
+
+impl GeneralizedAlphaConfig {
+    /// Checks that `ρ∞` is in [0, 1] and a fixed step positive.
+    pub fn validate(&self) -> Result<(), String> {
+        let rho = self.spectral_radius;
+        if !(0.0..=1.0).contains(&rho) {
+            return Err(format!("the spectral radius ρ∞ of the generalized-α method must be in [0, 1], got {rho}"));
+        }
+        if let Some(h) = self.fixed_step {
+            if !(h > 0.0 && h.is_finite()) {
+                return Err(format!("the fixed step of the generalized-α method must be positive, got {h}"));
+            }
+        }
+        Ok(())
+    }
 }

@@ -1,0 +1,504 @@
+//! The Newton iteration matrix of a generalized-α step, unknowns `x = [v̇, λ, μ̃]`, rows
+//! `[dynamics (nv); velocity constraints / (γ'h) (nc); position constraints / (β'h²) (nc)]`:
+//!
+//! ```text
+//! ┌ M + γ'h C + β'h² K     Bᵀ    0   ┐
+//! │ B + (β'h/γ') K_B       0     0   │      β' = β (1 − α_f)/(1 − α_m),  γ' = γ (1 − α_f)/(1 − α_m)
+//! └ B                      0     BBᵀ ┘
+//! ```
+//! `M` (from `body_mass_entries`) and `B` (from `jacobian_entries`) are exact, evaluated afresh at the
+//! predictor of every step attempt. Every derivative with respect to the positions (`K`, `K_B`, the `B` of
+//! the position rows) is taken along the step's own update and so carries, in each body's rotation
+//! columns, the tangent `J_r(d_ω̄)` of the exponential map at the step increment (Brüls and Cardona's
+//! tangent operator): `q_{n+1} = q_n ∘ exp(d)` moves by `exp(J_r(d) δd)` when `d` moves by `δd`. `K = ∂g/∂q` and `C = ∂g/∂v` of `g = M v̇ + h(q, v) − Q + Bᵀλ`, and
+//! `K_B = ∂(B v + Φ_t)/∂q`, come from finite differences (positions perturbed in velocity space, like the
+//! step's own update) with the columns grouped by a greedy colouring of the bodies (Curtis, Powell and
+//! Reid 1974); they are kept until a Newton iteration fails to converge with them, and since they are
+//! stored apart from `h`, a new step size only refactors. Neglected: the dependence of the dynamics on
+//! `μ̃` (`β'h² K Bᵀ`, zero at the solution's `μ = 0`) and of `Φ` on the lagged `Bᵀμ` (second order).
+//! The constraint rows are scaled so that every block stays of order one as `h → 0`.
+
+use std::ops::Range;
+
+use super::lie_group::{quaternion_product, right_jacobian, rotation_quaternion};
+use super::Coefficients;
+use crate::data::Data;
+use crate::linalg::{SingularMatrix, SparseLu};
+use crate::math::{Mat3, Vec3, Vec4};
+use crate::model::{BodyId, Model};
+use crate::stage::{
+    add_jacobian_transpose, applied_forces, body_mass_entries, constraint_equations, inertia_forces, jacobian_entries,
+    kinematics, measures,
+};
+
+/// The iteration matrix on its fixed sparse pattern, with the stored finite-difference parts.
+pub(super) struct IterationMatrix {
+    lu: SparseLu,
+    nv: usize,
+    nc: usize,
+    /// `K` (dynamic rows) and `K_B` (velocity-constraint rows) in LU slot order, columns `v̇`.
+    stiffness: Vec<f64>,
+    /// `C` (dynamic rows) in LU slot order, columns `v̇`.
+    damping: Vec<f64>,
+    /// `B` by rows: columns `b_col[b_ptr[i]..b_ptr[i + 1]]` (sorted), its values, and those of `B J_r`.
+    b_ptr: Vec<usize>,
+    b_col: Vec<usize>,
+    b_val: Vec<f64>,
+    b_tangent: Vec<f64>,
+    /// `J_r(d_ω̄)` of each body at the step increment.
+    tangents: Vec<Mat3>,
+    /// The finite-difference parts of the matrix for the current step, in LU slot order.
+    fd: Vec<f64>,
+    /// Entries of `BBᵀ`: constraint rows `(i, j)` and the LU slot of `(μ̃-row i, μ̃-column j)`.
+    bbt: Vec<(usize, usize, usize)>,
+    /// Velocity columns of the bodies, grouped by colour: bodies of one colour touch disjoint rows.
+    colors: Vec<Vec<Range<usize>>>,
+    g0: Vec<f64>,
+    g1: Vec<f64>,
+    q_work: Vec<f64>,
+    v_work: Vec<f64>,
+}
+
+impl IterationMatrix {
+    pub fn new(model: &Model) -> Self {
+        let l = &model.layout;
+        let (nb, nj, nv, nc) = (model.bodies.len(), model.joints.len(), l.nv, l.nc);
+        let v_range = |b: usize| l.v_range(BodyId(b));
+        let joint_bodies: Vec<Vec<usize>> =
+            model.joints.iter().map(|j| model.joint_bodies(j).into_iter().flatten().map(|b| b.0).collect()).collect();
+        let mut joints_of: Vec<Vec<usize>> = vec![Vec::new(); nb];
+        for (k, bodies) in joint_bodies.iter().enumerate() {
+            for &b in bodies {
+                joints_of[b].push(k);
+            }
+        }
+        joints_of.iter_mut().for_each(|j| j.dedup());
+        // readers[b]: the bodies whose dynamic rows depend on the state of body b.
+        let mut readers: Vec<Vec<usize>> = (0..nb).map(|b| vec![b]).collect();
+        for bodies in &joint_bodies {
+            for &a in bodies {
+                readers[a].extend(bodies.iter().copied());
+            }
+        }
+        for (acted, read) in force_couplings(model) {
+            for &r in &read {
+                readers[r].extend(acted.iter().copied());
+            }
+        }
+        for list in &mut readers {
+            list.sort_unstable();
+            list.dedup();
+        }
+
+        let mut entries = Vec::new();
+        for b in 0..nb {
+            for &r in &readers[b] {
+                for row in v_range(r) {
+                    entries.extend(v_range(b).map(|col| (row, col)));
+                }
+            }
+        }
+        for (k, bodies) in joint_bodies.iter().enumerate() {
+            for &b in bodies {
+                for row in l.joint_rows[k].clone() {
+                    for col in v_range(b) {
+                        entries.extend([(nv + row, col), (nv + nc + row, col), (col, nv + row)]);
+                    }
+                }
+            }
+        }
+        let mut pairs = Vec::new();
+        for joints in &joints_of {
+            for &k1 in joints {
+                for &k2 in joints {
+                    for i in l.joint_rows[k1].clone() {
+                        pairs.extend(l.joint_rows[k2].clone().map(|j| (i, j)));
+                    }
+                }
+            }
+        }
+        pairs.sort_unstable();
+        pairs.dedup();
+        entries.extend(pairs.iter().map(|&(i, j)| (nv + nc + i, nv + nc + j)));
+        let lu = SparseLu::new(nv + 2 * nc, entries);
+        let bbt = pairs
+            .iter()
+            .map(|&(i, j)| (i, j, lu.slot(nv + nc + i, nv + nc + j).expect("BBᵀ entry is in the pattern")))
+            .collect();
+
+        let mut b_ptr = vec![0];
+        let mut b_col = Vec::new();
+        for row in 0..nc {
+            let (joint, _) = l.equations[row];
+            let mut cols: Vec<usize> = joint_bodies[joint.0].iter().flat_map(|&b| v_range(b)).collect();
+            cols.sort_unstable();
+            cols.dedup();
+            b_col.extend(cols);
+            b_ptr.push(b_col.len());
+        }
+
+        // Greedy colouring of the body column blocks by the row blocks they touch: dynamic rows of the
+        // readers (ids 0..nb) and velocity-constraint rows of the body's joints (ids nb..nb + nj).
+        let mut colors: Vec<Vec<Range<usize>>> = Vec::new();
+        let mut used: Vec<Vec<bool>> = Vec::new();
+        for b in 0..nb {
+            let touched: Vec<usize> = readers[b].iter().copied().chain(joints_of[b].iter().map(|&k| nb + k)).collect();
+            let slot = used.iter().position(|u| touched.iter().all(|&t| !u[t]));
+            let c = slot.unwrap_or_else(|| {
+                colors.push(Vec::new());
+                used.push(vec![false; nb + nj]);
+                colors.len() - 1
+            });
+            touched.iter().for_each(|&t| used[c][t] = true);
+            colors[c].push(v_range(b));
+        }
+
+        // The rotation columns of a body share one row list (whole blocks are entered), which lets
+        // `factor` combine them with `J_r` slot by slot.
+        for b in 0..nb {
+            let o = l.v_offset[b] + 3;
+            for i in 1..3 {
+                assert_eq!(lu.column(o).1, lu.column(o + i).1, "rotation columns of body {b} share their rows");
+            }
+        }
+        let nnz = lu.values.len();
+        let n_b = b_col.len();
+        Self {
+            lu,
+            nv,
+            nc,
+            stiffness: vec![0.0; nnz],
+            damping: vec![0.0; nnz],
+            b_ptr,
+            b_col,
+            b_val: vec![0.0; n_b],
+            b_tangent: vec![0.0; n_b],
+            tangents: vec![Mat3::identity(); nb],
+            fd: vec![0.0; nnz],
+            bbt,
+            colors,
+            g0: vec![0.0; nv + nc],
+            g1: vec![0.0; nv + nc],
+            q_work: vec![0.0; l.nq],
+            v_work: vec![0.0; nv],
+        }
+    }
+
+    /// Evaluations of `g` one [`evaluate_derivatives`](Self::evaluate_derivatives) costs.
+    pub fn evaluations_per_jacobian(&self) -> usize {
+        1 + 2 * self.colors.iter().map(|c| c.iter().map(|r| r.len()).max().unwrap_or(0)).sum::<usize>()
+    }
+
+    /// Re-evaluates `K`, `C`, `K_B` by finite differences at `(t, q, v, v̇, λ)`. Returns the number of
+    /// evaluations of the equations it used.
+    #[allow(clippy::too_many_arguments)]
+    pub fn evaluate_derivatives(
+        &mut self,
+        model: &Model,
+        data: &mut Data,
+        active: &[bool],
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        vdot: &[f64],
+        lambda: &[f64],
+    ) -> usize {
+        let l = &model.layout;
+        equations_of_motion(model, data, active, t, q, v, vdot, lambda, &mut self.g0);
+        let mut evaluations = 1;
+        self.q_work.copy_from_slice(q);
+        self.v_work.copy_from_slice(v);
+        self.stiffness.fill(0.0);
+        self.damping.fill(0.0);
+        for pass in [Pass::Positions, Pass::Velocities] {
+            for color in &self.colors {
+                let width = color.iter().map(|r| r.len()).max().unwrap_or(0);
+                for local in 0..width {
+                    // Perturb column `local` of every body of this colour.
+                    for range in color.iter().filter(|r| local < r.len()) {
+                        let c = range.start + local;
+                        let b = l.body_of_velocity(c).0;
+                        match pass {
+                            Pass::Positions => perturb_position(l, &mut self.q_work, b, local, q),
+                            Pass::Velocities => self.v_work[c] = v[c] + perturbation(v[c]),
+                        }
+                    }
+                    equations_of_motion(model, data, active, t, &self.q_work, &self.v_work, vdot, lambda, &mut self.g1);
+                    evaluations += 1;
+                    for range in color.iter().filter(|r| local < r.len()) {
+                        let c = range.start + local;
+                        let b = l.body_of_velocity(c).0;
+                        let delta = match pass {
+                            Pass::Positions => {
+                                let delta = position_perturbation(l, q, b, local);
+                                let qr = l.q_range(BodyId(b));
+                                self.q_work[qr.clone()].copy_from_slice(&q[qr]);
+                                delta
+                            }
+                            Pass::Velocities => {
+                                let delta = self.v_work[c] - v[c];
+                                self.v_work[c] = v[c];
+                                delta
+                            }
+                        };
+                        let (range, rows) = self.lu.column(c);
+                        let target = match pass {
+                            Pass::Positions => &mut self.stiffness,
+                            Pass::Velocities => &mut self.damping,
+                        };
+                        for (s, &r) in range.zip(rows) {
+                            if r < self.nv + self.nc {
+                                target[s] = (self.g1[r] - self.g0[r]) / delta;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        evaluations
+    }
+
+    /// Forms the matrix for step `h` from the exact `M`, `B` of the stages in `data` (evaluated at the
+    /// predictor), the stored finite-difference parts and the tangents at the step increment `d`
+    /// (velocity space), and factors it.
+    #[allow(clippy::too_many_arguments)]
+    pub fn factor(
+        &mut self,
+        model: &Model,
+        data: &Data,
+        active: &[bool],
+        h: f64,
+        c: &Coefficients,
+        d: &[f64],
+    ) -> Result<(), SingularMatrix> {
+        let (nv, nc) = (self.nv, self.nc);
+        let l = &model.layout;
+        for b in 0..model.bodies.len() {
+            let o = l.v_offset[b] + 3;
+            self.tangents[b] = right_jacobian(&Vec3::new(d[o], d[o + 1], d[o + 2]));
+        }
+        self.lu.clear();
+        for b in 0..model.bodies.len() {
+            let vo = l.v_offset[b];
+            let lu = &mut self.lu;
+            body_mass_entries(model, data, b, |r, col, m| lu.add(vo + r, vo + col, m));
+        }
+        self.b_val.fill(0.0);
+        self.b_tangent.fill(0.0);
+        {
+            let (lu, b_ptr, b_col, b_val, b_tangent, tangents) =
+                (&mut self.lu, &self.b_ptr, &self.b_col, &mut self.b_val, &mut self.b_tangent, &self.tangents);
+            let slot = |row: usize, col: usize| {
+                let cols = &b_col[b_ptr[row]..b_ptr[row + 1]];
+                b_ptr[row] + cols.binary_search(&col).expect("B entry is in the row pattern")
+            };
+            jacobian_entries(model, data, |row, col, x| {
+                if !active[row] {
+                    return;
+                }
+                b_val[slot(row, col)] += x;
+                lu.add(nv + row, col, x);
+                lu.add(col, nv + row, x);
+                // Position rows: B J_r in the rotation columns.
+                let b = l.body_of_velocity(col).0;
+                let local = col - l.v_offset[b];
+                if (3..6).contains(&local) {
+                    let o = l.v_offset[b] + 3;
+                    for j in 0..3 {
+                        let y = x * tangents[b][(local - 3, j)];
+                        b_tangent[slot(row, o + j)] += y;
+                        lu.add(nv + nc + row, o + j, y);
+                    }
+                } else {
+                    b_tangent[slot(row, col)] += x;
+                    lu.add(nv + nc + row, col, x);
+                }
+            });
+        }
+        for &(i, j, slot) in &self.bbt {
+            if active[i] && active[j] {
+                let (ri, rj) = (self.b_ptr[i]..self.b_ptr[i + 1], self.b_ptr[j]..self.b_ptr[j + 1]);
+                self.lu.values[slot] +=
+                    sparse_dot(&self.b_col[ri.clone()], &self.b_tangent[ri], &self.b_col[rj.clone()], &self.b_val[rj]);
+            }
+        }
+        for (row, &a) in active.iter().enumerate() {
+            if !a {
+                self.lu.add(nv + row, nv + row, 1.0);
+                self.lu.add(nv + nc + row, nv + nc + row, 1.0);
+            }
+        }
+        // γ'h C + β'h² K J_r on the dynamic rows, (β'h/γ') K_B J_r on the velocity-constraint rows.
+        let (cb, cg) = (c.beta_prime() * h * h, c.gamma_prime() * h);
+        self.fd.fill(0.0);
+        for b in 0..model.bodies.len() {
+            let vo = l.v_offset[b];
+            let rotation_starts = [0, 1, 2].map(|i| self.lu.column(vo + 3 + i).0.start);
+            for col in l.v_range(BodyId(b)) {
+                let local = col - vo;
+                let (range, rows) = self.lu.column(col);
+                for (k, (s, &r)) in range.zip(rows).enumerate() {
+                    let stiffness = if (3..6).contains(&local) {
+                        (0..3).map(|i| self.stiffness[rotation_starts[i] + k] * self.tangents[b][(i, local - 3)]).sum()
+                    } else {
+                        self.stiffness[s]
+                    };
+                    if r < nv {
+                        self.fd[s] = cg * self.damping[s] + cb * stiffness;
+                    } else if r < nv + nc && active[r - nv] {
+                        self.fd[s] = cb / cg * stiffness;
+                    }
+                }
+            }
+        }
+        for (x, f) in self.lu.values.iter_mut().zip(&self.fd) {
+            *x += f;
+        }
+        self.lu.factor()
+    }
+
+    /// The assembled value of entry `(r, c)` (zero outside the pattern).
+    #[cfg(test)]
+    pub fn entry(&self, r: usize, c: usize) -> f64 {
+        self.lu.slot(r, c).map_or(0.0, |s| self.lu.values[s])
+    }
+
+    /// Solves with the current factors in place.
+    pub fn solve_in_place(&mut self, rhs: &mut [f64]) -> Result<(), SingularMatrix> {
+        self.lu.solve_in_place(rhs)
+    }
+}
+
+#[derive(Clone, Copy)]
+enum Pass {
+    Positions,
+    Velocities,
+}
+
+/// `g = [M v̇ + h(q, v) − Q(q, v, t) + Bᵀλ; B v + Φ_t]` (length `nv + nc`; the rows of switched-off
+/// constraints are zero), leaving every stage evaluated at `(t, q, v)` in `data`.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn equations_of_motion(
+    model: &Model,
+    data: &mut Data,
+    active: &[bool],
+    t: f64,
+    q: &[f64],
+    v: &[f64],
+    vdot: &[f64],
+    lambda: &[f64],
+    g: &mut [f64],
+) {
+    let nv = model.layout.nv;
+    kinematics(model, data, q, v);
+    constraint_equations(model, data, t);
+    measures(model, data);
+    applied_forces(model, data, t);
+    inertia_forces(model, data, vdot);
+    for k in 0..nv {
+        g[k] = data.inertia[k] - data.applied[k];
+    }
+    add_jacobian_transpose(model, data, lambda, &mut g[..nv]);
+    for (row, terms) in data.equations.iter().enumerate() {
+        let (j, _) = model.layout.equations[row];
+        let joint = &model.joints[j.0];
+        let (mi, mj) = (&data.markers[joint.marker_i.0], &data.markers[joint.marker_j.0]);
+        g[nv + row] = if active[row] { terms.rate(mi, mj) } else { 0.0 };
+    }
+}
+
+/// Finite-difference step for a coordinate of size `x`, exactly representable.
+#[inline]
+fn perturbation(x: f64) -> f64 {
+    let h = 1.5e-8 * x.abs().max(1.0);
+    (x + h) - x
+}
+
+/// The step along velocity direction `local` of body `b`'s positions: translations and modal
+/// coordinates by their own size, rotations by `1.5e-8` rad.
+fn position_perturbation(l: &crate::model::Layout, q: &[f64], b: usize, local: usize) -> f64 {
+    let qo = l.q_offset[b];
+    match local {
+        0..=2 => perturbation(q[qo + local]),
+        3..=5 => 1.5e-8,
+        _ => perturbation(q[qo + 7 + local - 6]),
+    }
+}
+
+/// Moves body `b`'s positions in `q_work` (a copy of `q`) by the step of velocity direction `local`.
+fn perturb_position(l: &crate::model::Layout, q_work: &mut [f64], b: usize, local: usize, q: &[f64]) {
+    let qo = l.q_offset[b];
+    let delta = position_perturbation(l, q, b, local);
+    match local {
+        0..=2 => q_work[qo + local] = q[qo + local] + delta,
+        3..=5 => {
+            let mut axis = Vec3::zeros();
+            axis[local - 3] = delta;
+            let p = Vec4::new(q[qo + 3], q[qo + 4], q[qo + 5], q[qo + 6]);
+            let turned = quaternion_product(&p, &rotation_quaternion(&axis));
+            q_work[qo + 3..qo + 7].copy_from_slice(turned.as_slice());
+        }
+        _ => q_work[qo + 7 + local - 6] = q[qo + 7 + local - 6] + delta,
+    }
+}
+
+/// `Σ x_k y_k` of two sparse vectors with sorted indices.
+fn sparse_dot(ia: &[usize], a: &[f64], ib: &[usize], b: &[f64]) -> f64 {
+    let (mut i, mut j, mut sum) = (0, 0, 0.0);
+    while i < ia.len() && j < ib.len() {
+        match ia[i].cmp(&ib[j]) {
+            std::cmp::Ordering::Less => i += 1,
+            std::cmp::Ordering::Greater => j += 1,
+            std::cmp::Ordering::Equal => {
+                sum += a[i] * b[j];
+                i += 1;
+                j += 1;
+            }
+        }
+    }
+    sum
+}
+
+/// For each force element: the bodies it acts on and the bodies whose state it reads (through its
+/// markers and the measures its expressions use). The same coupling graph as the BDF's iteration matrix.
+fn force_couplings(model: &Model) -> Vec<(Vec<usize>, Vec<usize>)> {
+    use crate::force::ForceKind;
+    use crate::measure::MeasureKind;
+    let marker_body = |m: crate::model::MarkerId| model.markers[m.0].body.body().map(|b: BodyId| b.0);
+    let joint_bodies = |j: crate::model::JointId| {
+        let jt = &model.joints[j.0];
+        [marker_body(jt.marker_i), marker_body(jt.marker_j)]
+    };
+    let measure_bodies = |m: crate::model::MeasureId| -> Vec<Option<usize>> {
+        match model.measures[m.0].kind {
+            MeasureKind::JointAngle(j)
+            | MeasureKind::JointRate(j)
+            | MeasureKind::JointDisplacement(j)
+            | MeasureKind::JointVelocity(j) => joint_bodies(j).to_vec(),
+            MeasureKind::Distance(a, b) | MeasureKind::DistanceRate(a, b) => vec![marker_body(a), marker_body(b)],
+            MeasureKind::Position(a, _) | MeasureKind::Velocity(a, _) | MeasureKind::Speed(a) => vec![marker_body(a)],
+        }
+    };
+    model
+        .forces
+        .iter()
+        .map(|f| {
+            let acted: Vec<Option<usize>> = match &f.kind {
+                ForceKind::TranslationalSpringDamper { marker_i, marker_j, .. } => {
+                    vec![marker_body(*marker_i), marker_body(*marker_j)]
+                }
+                ForceKind::RotationalSpringDamper { joint, .. } => joint_bodies(*joint).to_vec(),
+                ForceKind::AppliedForce { marker, .. } | ForceKind::AppliedTorque { marker, .. } => {
+                    vec![marker_body(*marker)]
+                }
+            };
+            let mut read = acted.clone();
+            for e in f.kind.expressions() {
+                for m in e.measures() {
+                    read.extend(measure_bodies(m));
+                }
+            }
+            (acted.into_iter().flatten().collect(), read.into_iter().flatten().collect())
+        })
+        .collect()
+}

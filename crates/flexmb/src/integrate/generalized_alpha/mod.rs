@@ -1,0 +1,680 @@
+//! The generalized-α method for the constrained equations of motion: Chung and Hulbert's scheme (1993) in
+//! the form Arnold and Brüls analysed for constrained mechanical systems (2007), on the Lie group of the
+//! body positions (Brüls and Cardona 2010, here with Euler parameters), with the stabilized index-2
+//! constraints of Arnold, Cardona and Brüls (2016), and a local error estimate for the step size.
+//!
+//! **Step.** From `t_n` to `t_{n+1} = t_n + h`, with the acceleration-like variables `ã`:
+//!
+//! ```text
+//! (1 − α_m) ã_{n+1} + α_m ã_n = (1 − α_f) v̇_{n+1} + α_f v̇_n
+//! v_{n+1} = v_n + h (1 − γ) ã_n + h γ ã_{n+1}
+//! Δ_n     = v_n + h (½ − β) ã_n + h β ã_{n+1}
+//! q_{n+1} = q_n ∘ exp(h Δ_n + Bᵀ μ_{n+1})          R += ·,  p ← p ⊗ exp(½ ·),  a += ·
+//! M(q_{n+1}) v̇_{n+1} + h(q_{n+1}, v_{n+1}) − Q(q_{n+1}, v_{n+1}, t_{n+1}) + Bᵀ λ_{n+1} = 0
+//! B(q_{n+1}) v_{n+1} + Φ_t = 0                                   (velocity constraints)
+//! Φ(q_{n+1}, t_{n+1}) = 0                                          (position constraints)
+//! ```
+//! with Chung and Hulbert's parameters from the spectral radius at infinite frequency `ρ∞ ∈ [0, 1]`:
+//! `α_m = (2ρ∞ − 1)/(ρ∞ + 1)`, `α_f = ρ∞/(ρ∞ + 1)`, `γ = ½ + α_f − α_m`, `β = ¼ (γ + ½)²` (second order,
+//! unconditionally stable for linear problems, high-frequency amplitudes multiplied by `ρ∞` per step;
+//! `ρ∞ = 1` is the trapezoidal rule without numerical damping).
+//!
+//! **Constraints.** Arnold and Brüls's index-3 form imposes only `Φ(q_{n+1}) = 0`, which leaves the
+//! velocities off the velocity constraints by `O(h²)` and the multipliers with spurious oscillations. Here
+//! the stabilized index-2 form is used instead: `λ` enforces the velocity constraints on `v_{n+1}`, and a
+//! second multiplier `μ` (zero in the limit `h → 0`, a Gear–Gupta–Leimkuhler correction) moves the
+//! positions onto `Φ = 0` along `Bᵀ`, in velocity space. Both constraint levels then hold to the Newton
+//! tolerance at every step; no projection is made after the step. `B` in `Bᵀμ` is that of the previous
+//! Newton iterate (the difference vanishes at convergence).
+//!
+//! **Newton iteration.** Unknowns `x = [v̇_{n+1}, λ_{n+1}, μ̃]`, predictor `[v̇_n, λ_n, 0]`. The velocity
+//! constraints are scaled by `1/(γ'h)` and the position constraints by `1/(β'h²)`, `μ = β'h² μ̃`, with
+//! `β' = β (1 − α_f)/(1 − α_m)`, `γ' = γ (1 − α_f)/(1 − α_m)` (the derivatives of `h² β ã_{n+1}` and
+//! `h γ ã_{n+1}` with respect to `v̇_{n+1}`), so that the iteration matrix tends to the index-1 matrix
+//! `[M Bᵀ 0; B 0 0; B 0 BBᵀ]` as `h → 0` rather than becoming singular (see [`iteration_matrix`]).
+//! The iteration is a modified Newton method: `M` and `B` are exact and fresh at every attempt, the
+//! stiffness and damping parts come from finite differences kept until the iteration fails with them.
+//! Convergence is tested on the position, velocity and multiplier increments in the weighted norm of
+//! the error test, with the BDF's rate-based criterion; an unconverged step is never accepted.
+//!
+//! **Step size.** The local error of the positions is estimated as
+//! `e = h² (β − 1/6)(ã_{n+1} − ã_n)` (Géradin and Cardona 2001, Zienkiewicz and Xie 1991), measured in the
+//! weighted RMS norm with `atol + rtol |q|` (rotations through `δp = ½ Gᵀ δθ̄`, as the BDF weighs the Euler
+//! parameters); a step with `‖e‖ ≤ 1` is accepted and the next one is `h · clamp(0.9 ‖e‖^(−1/3), 0.2, 5)`
+//! (at most `h` after a rejection), a step with `‖e‖ > 1` is retried with that factor, and a step whose
+//! Newton iteration does not converge (with fresh finite-difference parts) is retried with `h/2`. The
+//! first step is `h_init` or is chosen from the initial velocities and accelerations; `h_max` and
+//! `max_steps` of [`BdfConfig`] hold. [`GeneralizedAlphaConfig::fixed_step`] switches the error control
+//! off.
+//!
+//! **Start.** `ã_0 = v̇_0`, the consistent accelerations of the driver. (Arnold and Brüls's perturbed
+//! start `ã_0 = v̇(t_0 + (α_m − α_f) h)` would remove an `O(h)` transient of `ã`; it does not change the
+//! second order of `q` and `v`, and `α_m = α_f` at `ρ∞ = 1`.)
+//!
+//! **Dense output.** Cubic Hermite interpolation within the last step: the positions in velocity space
+//! (`q(t) = q_n ∘ exp(u(s))`, `u` the cubic with `u(0) = 0`, `u(1) = h Δ_n + Bᵀμ`, `u'(0) = h v_n`,
+//! `u'(1) = h J_r(u(1))⁻¹ v_{n+1}` for the rotations), the velocities from `v` and `v̇` at both ends.
+
+mod iteration_matrix;
+mod lie_group;
+
+use iteration_matrix::{equations_of_motion, IterationMatrix};
+use lie_group::{position_sum_of_squares, retract, right_jacobian_inverse};
+
+use crate::analysis::{Accelerations, State};
+use crate::data::Data;
+use crate::integrate::{BdfConfig, GeneralizedAlphaConfig, IntegrationError, Integrator, Stats};
+use crate::math::Vec3;
+use crate::model::Model;
+use crate::stage::{add_jacobian_transpose, kinematics, update_angle_references};
+
+const NEWTON_MAXITER: usize = 5;
+const SAFETY: f64 = 0.9;
+const MIN_FACTOR: f64 = 0.2;
+const MAX_FACTOR: f64 = 5.0;
+
+/// The parameters `α_m, α_f, γ, β` of the method.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Coefficients {
+    pub alpha_m: f64,
+    pub alpha_f: f64,
+    pub gamma: f64,
+    pub beta: f64,
+}
+
+impl Coefficients {
+    /// Chung and Hulbert's second-order parameters with high-frequency spectral radius `rho`.
+    pub fn from_spectral_radius(rho: f64) -> Self {
+        let alpha_m = (2.0 * rho - 1.0) / (rho + 1.0);
+        let alpha_f = rho / (rho + 1.0);
+        let gamma = 0.5 + alpha_f - alpha_m;
+        let beta = 0.25 * (gamma + 0.5).powi(2);
+        Self { alpha_m, alpha_f, gamma, beta }
+    }
+    /// `∂ã_{n+1}/∂v̇_{n+1} = (1 − α_f)/(1 − α_m)`.
+    fn a_rate(&self) -> f64 {
+        (1.0 - self.alpha_f) / (1.0 - self.alpha_m)
+    }
+    /// `β' = β (1 − α_f)/(1 − α_m)`: `∂(h Δ_n)/∂v̇_{n+1} = β' h²`.
+    pub fn beta_prime(&self) -> f64 {
+        self.beta * self.a_rate()
+    }
+    /// `γ' = γ (1 − α_f)/(1 − α_m)`: `∂v_{n+1}/∂v̇_{n+1} = γ' h`.
+    pub fn gamma_prime(&self) -> f64 {
+        self.gamma * self.a_rate()
+    }
+}
+
+/// The generalized-α integrator with its workspaces; one [`step`](Self::step) is one accepted step.
+pub struct GeneralizedAlpha<'m> {
+    model: &'m Model,
+    data: Data,
+    active: Vec<bool>,
+    config: BdfConfig,
+    fixed_step: Option<f64>,
+    coefficients: Coefficients,
+    nv: usize,
+    nc: usize,
+    newton_tol: f64,
+    matrix: IterationMatrix,
+    /// The finite-difference parts were evaluated during the current step.
+    derivatives_current: bool,
+    t: f64,
+    /// Step size planned for the next step.
+    h: f64,
+    /// The accepted state at `t`: positions, velocities, accelerations, `ã`, multipliers.
+    q: Vec<f64>,
+    v: Vec<f64>,
+    vdot: Vec<f64>,
+    a_tilde: Vec<f64>,
+    lambda: Vec<f64>,
+    /// The last step, for dense output: its start and size, the state at its start, and its position
+    /// increment in velocity space.
+    t_old: f64,
+    h_last: f64,
+    q_old: Vec<f64>,
+    v_old: Vec<f64>,
+    vdot_old: Vec<f64>,
+    d_last: Vec<f64>,
+    /// Newton unknowns `[v̇, λ, μ̃]`, increment and residual.
+    x: Vec<f64>,
+    dx: Vec<f64>,
+    res: Vec<f64>,
+    /// The state of the current iterate: `q_{n+1}`, `v_{n+1}`, `ã_{n+1}`, `h Δ_n + Bᵀμ`.
+    q_new: Vec<f64>,
+    v_new: Vec<f64>,
+    a_new: Vec<f64>,
+    d_step: Vec<f64>,
+    /// `Bᵀμ` of the current iterate, of the next one, and `μ` itself.
+    delta: Vec<f64>,
+    delta_new: Vec<f64>,
+    mu: Vec<f64>,
+    /// Scratch of length `nv` (error estimate, increments, interpolation).
+    work: Vec<f64>,
+    pub stats: Stats,
+}
+
+impl<'m> GeneralizedAlpha<'m> {
+    /// Starts from a consistent state (assembled, velocity-analysed) and its accelerations.
+    pub fn new(
+        model: &'m Model,
+        state: &State,
+        accelerations: &Accelerations,
+        config: BdfConfig,
+        alpha: GeneralizedAlphaConfig,
+    ) -> Result<Self, IntegrationError> {
+        let t = state.t;
+        if let Err(reason) = alpha.validate() {
+            return Err(IntegrationError::InitialConditions {
+                t,
+                reason: format!("invalid method settings: {reason}"),
+            });
+        }
+        let finite = |x: &[f64]| x.iter().all(|x| x.is_finite());
+        if !(finite(&state.q) && finite(&state.v) && finite(&accelerations.vdot) && finite(&accelerations.lambda)) {
+            return Err(IntegrationError::InitialConditions {
+                t,
+                reason: "initial positions, velocities, accelerations or multipliers are not finite".into(),
+            });
+        }
+        let l = &model.layout;
+        let (nq, nv, nc) = (l.nq, l.nv, l.nc);
+        let h0 = alpha
+            .fixed_step
+            .or(config.h_init)
+            .unwrap_or_else(|| initial_step(model, &config, &state.q, &state.v, &accelerations.vdot))
+            .min(config.h_max);
+        let mut data = Data::new(model);
+        kinematics(model, &mut data, &state.q, &state.v);
+        data.angle_reference.fill(0.0);
+        update_angle_references(model, &mut data);
+        let mut integrator = Self {
+            model,
+            active: state.active.clone(),
+            config,
+            fixed_step: alpha.fixed_step,
+            coefficients: Coefficients::from_spectral_radius(alpha.spectral_radius),
+            nv,
+            nc,
+            newton_tol: (10.0 * f64::EPSILON / config.rtol).max(config.rtol.sqrt().min(0.03)),
+            matrix: IterationMatrix::new(model),
+            derivatives_current: false,
+            t,
+            h: h0,
+            q: state.q.clone(),
+            v: state.v.clone(),
+            vdot: accelerations.vdot.clone(),
+            a_tilde: accelerations.vdot.clone(),
+            lambda: accelerations.lambda.clone(),
+            t_old: t,
+            h_last: 0.0,
+            q_old: state.q.clone(),
+            v_old: state.v.clone(),
+            vdot_old: accelerations.vdot.clone(),
+            d_last: vec![0.0; nv],
+            x: vec![0.0; nv + 2 * nc],
+            dx: vec![0.0; nv + 2 * nc],
+            res: vec![0.0; nv + 2 * nc],
+            q_new: vec![0.0; nq],
+            v_new: vec![0.0; nv],
+            a_new: vec![0.0; nv],
+            d_step: vec![0.0; nv],
+            delta: vec![0.0; nv],
+            delta_new: vec![0.0; nv],
+            mu: vec![0.0; nc],
+            work: vec![0.0; nv],
+            stats: Stats::default(),
+            data,
+        };
+        let evaluations = integrator.matrix.evaluate_derivatives(
+            model,
+            &mut integrator.data,
+            &integrator.active,
+            t,
+            &state.q,
+            &state.v,
+            &accelerations.vdot,
+            &accelerations.lambda,
+        );
+        integrator.stats.jacobian_evaluations += 1;
+        integrator.stats.residual_evaluations += evaluations;
+        Ok(integrator)
+    }
+
+    /// Current time.
+    pub fn t(&self) -> f64 {
+        self.t
+    }
+    /// Step size planned for the next step.
+    pub fn step_size(&self) -> f64 {
+        self.h
+    }
+    /// Positions at the current time.
+    pub fn q(&self) -> &[f64] {
+        &self.q
+    }
+    /// Velocities at the current time.
+    pub fn v(&self) -> &[f64] {
+        &self.v
+    }
+    /// Accelerations `v̇` at the current time (those of the equations of motion, not `ã`).
+    pub fn accelerations(&self) -> &[f64] {
+        &self.vdot
+    }
+    /// Multipliers `λ` at the current time.
+    pub fn multipliers(&self) -> &[f64] {
+        &self.lambda
+    }
+    /// Evaluations of the equations one iteration-matrix evaluation costs.
+    pub fn evaluations_per_jacobian(&self) -> usize {
+        self.matrix.evaluations_per_jacobian()
+    }
+
+    /// Takes one accepted step, not passing `t_stop`.
+    pub fn step(&mut self, t_stop: f64) -> Result<(), IntegrationError> {
+        if self.stats.steps >= self.config.max_steps {
+            return Err(IntegrationError::TooManySteps { t: self.t, max_steps: self.config.max_steps });
+        }
+        let t = self.t;
+        if t_stop <= t {
+            return Ok(());
+        }
+        let min_step = 10.0 * (t.abs() * f64::EPSILON).max(f64::MIN_POSITIVE);
+        let mut h = self.h.min(self.config.h_max);
+        // Why the last attempt failed; described (which allocates) only if the step size underflows.
+        let mut failure = AttemptFailure::None;
+        let mut rejected = false;
+        loop {
+            if h < min_step {
+                let reason = self.describe_failure(failure);
+                return Err(IntegrationError::StepSizeTooSmall { t, h, reason });
+            }
+            let (t_new, h_step) =
+                if t + h >= t_stop - 4.0 * f64::EPSILON * t_stop.abs() { (t_stop, t_stop - t) } else { (t + h, h) };
+            self.predict(h_step);
+            self.evaluate_residual(t_new, h_step);
+            let factored = self
+                .matrix
+                .factor(self.model, &self.data, &self.active, h_step, &self.coefficients, &self.d_step)
+                .is_ok();
+            self.stats.factorizations += 1;
+            let converged = factored && self.newton(t_new, h_step);
+            if !converged {
+                if factored {
+                    self.stats.newton_failures += 1;
+                }
+                if !self.derivatives_current {
+                    self.refresh_derivatives(t_new, h_step);
+                    continue;
+                }
+                failure = if factored {
+                    AttemptFailure::Newton { t_new, h: h_step }
+                } else {
+                    AttemptFailure::Singular { t_new, h: h_step }
+                };
+                h = 0.5 * h_step;
+                rejected = true;
+                continue;
+            }
+            let error_norm = self.error_norm(h_step);
+            if self.fixed_step.is_none() && error_norm > 1.0 {
+                self.stats.error_test_failures += 1;
+                failure = AttemptFailure::ErrorTest { error_norm };
+                h = h_step * (SAFETY * error_norm.powf(-1.0 / 3.0)).max(MIN_FACTOR);
+                rejected = true;
+                continue;
+            }
+            self.accept(t_new, h_step);
+            self.h = match self.fixed_step {
+                Some(fixed) => fixed,
+                None => {
+                    let factor = if error_norm > 0.0 {
+                        (SAFETY * error_norm.powf(-1.0 / 3.0)).clamp(MIN_FACTOR, MAX_FACTOR)
+                    } else {
+                        MAX_FACTOR
+                    };
+                    let h_next = h_step * if rejected { factor.min(1.0) } else { factor };
+                    // A step shortened to end on t_stop does not shrink the next one.
+                    if h_step < h && !rejected {
+                        h_next.max(h)
+                    } else {
+                        h_next
+                    }
+                }
+            }
+            .min(self.config.h_max);
+            return Ok(());
+        }
+    }
+
+    /// The predictor `x = [v̇_n, λ_n, 0]` and its state.
+    fn predict(&mut self, h: f64) {
+        let (nv, nc) = (self.nv, self.nc);
+        self.x[..nv].copy_from_slice(&self.vdot);
+        self.x[nv..nv + nc].copy_from_slice(&self.lambda);
+        self.x[nv + nc..].fill(0.0);
+        self.delta.fill(0.0);
+        self.state_from_unknowns(h);
+    }
+
+    /// `ã_{n+1}`, `v_{n+1}`, `h Δ_n + Bᵀμ` and `q_{n+1}` of the current unknowns.
+    fn state_from_unknowns(&mut self, h: f64) {
+        let Coefficients { alpha_m, alpha_f, gamma, beta } = self.coefficients;
+        for k in 0..self.nv {
+            let a_new =
+                ((1.0 - alpha_f) * self.x[k] + alpha_f * self.vdot[k] - alpha_m * self.a_tilde[k]) / (1.0 - alpha_m);
+            self.a_new[k] = a_new;
+            self.v_new[k] = self.v[k] + h * ((1.0 - gamma) * self.a_tilde[k] + gamma * a_new);
+            self.d_step[k] = h * self.v[k] + h * h * ((0.5 - beta) * self.a_tilde[k] + beta * a_new) + self.delta[k];
+        }
+        retract(&self.model.layout, &self.q, &self.d_step, &mut self.q_new);
+    }
+
+    /// The scaled residual `[g_dyn; (B v + Φ_t)/(γ'h); Φ/(β'h²)]` at the current iterate (switched-off rows:
+    /// `λ_k`, `μ̃_k`), leaving the stages evaluated there in `data`.
+    fn evaluate_residual(&mut self, t_new: f64, h: f64) {
+        let (nv, nc) = (self.nv, self.nc);
+        let (cb, cg) = (self.coefficients.beta_prime() * h * h, self.coefficients.gamma_prime() * h);
+        let (vdot, rest) = self.x.split_at(nv);
+        equations_of_motion(
+            self.model,
+            &mut self.data,
+            &self.active,
+            t_new,
+            &self.q_new,
+            &self.v_new,
+            vdot,
+            &rest[..nc],
+            &mut self.res[..nv + nc],
+        );
+        for r in 0..nc {
+            if self.active[r] {
+                self.res[nv + r] /= cg;
+                self.res[nv + nc + r] = self.data.equations[r].phi / cb;
+            } else {
+                self.res[nv + r] = self.x[nv + r];
+                self.res[nv + nc + r] = self.x[nv + nc + r];
+            }
+        }
+        self.stats.residual_evaluations += 1;
+    }
+
+    /// Re-evaluates the finite-difference parts of the iteration matrix at the predictor.
+    fn refresh_derivatives(&mut self, t_new: f64, h: f64) {
+        self.predict(h);
+        let (nv, nc) = (self.nv, self.nc);
+        let evaluations = self.matrix.evaluate_derivatives(
+            self.model,
+            &mut self.data,
+            &self.active,
+            t_new,
+            &self.q_new,
+            &self.v_new,
+            &self.x[..nv],
+            &self.x[nv..nv + nc],
+        );
+        self.stats.jacobian_evaluations += 1;
+        self.stats.residual_evaluations += evaluations;
+        self.derivatives_current = true;
+    }
+
+    /// Modified Newton iteration from the predictor, whose residual is in `res` and whose matrix is
+    /// factored. Returns whether it converged; the state of the converged unknowns is then in `q_new`,
+    /// `v_new`, `a_new`, `d_step`.
+    fn newton(&mut self, t_new: f64, h: f64) -> bool {
+        let (nv, nc) = (self.nv, self.nc);
+        let cb = self.coefficients.beta_prime() * h * h;
+        let mut norm_old: Option<f64> = None;
+        for k in 0..NEWTON_MAXITER {
+            if k > 0 {
+                self.state_from_unknowns(h);
+                self.evaluate_residual(t_new, h);
+            }
+            if !self.res.iter().all(|x| x.is_finite()) {
+                return false;
+            }
+            for (d, r) in self.dx.iter_mut().zip(&self.res) {
+                *d = -r;
+            }
+            if self.matrix.solve_in_place(&mut self.dx).is_err() {
+                return false;
+            }
+            self.stats.newton_iterations += 1;
+            // The position correction Bᵀμ of the new multipliers, with B of this iterate (in `data`).
+            for r in 0..nc {
+                self.mu[r] = if self.active[r] { cb * (self.x[nv + nc + r] + self.dx[nv + nc + r]) } else { 0.0 };
+            }
+            self.delta_new.fill(0.0);
+            add_jacobian_transpose(self.model, &self.data, &self.mu, &mut self.delta_new);
+            let norm = self.increment_norm(h);
+            let rate = norm_old.map(|old| norm / old);
+            if let Some(rate) = rate {
+                if rate >= 1.0 || rate.powi((NEWTON_MAXITER - k) as i32) / (1.0 - rate) * norm > self.newton_tol {
+                    return false;
+                }
+            }
+            for (x, d) in self.x.iter_mut().zip(&self.dx) {
+                *x += d;
+            }
+            self.delta.copy_from_slice(&self.delta_new);
+            if norm == 0.0 || rate.is_some_and(|r| r / (1.0 - r) * norm < self.newton_tol) {
+                self.state_from_unknowns(h);
+                return true;
+            }
+            norm_old = Some(norm);
+        }
+        false
+    }
+
+    /// Weighted RMS norm of a Newton increment: the position increment `β'h² Δv̇ + Δ(Bᵀμ)` and the
+    /// velocity increment `γ'h Δv̇` in the weights of the error test, and the multipliers' increments as
+    /// impulses `γ'h Δλ` over `atol + rtol |λ|` (as the BDF weighs its multipliers), so that they converge
+    /// too.
+    fn increment_norm(&mut self, h: f64) -> f64 {
+        let (nv, nc) = (self.nv, self.nc);
+        let (cb, cg) = (self.coefficients.beta_prime() * h * h, self.coefficients.gamma_prime() * h);
+        let (atol, rtol) = (self.config.atol, self.config.rtol);
+        for k in 0..nv {
+            self.work[k] = cb * self.dx[k] + self.delta_new[k] - self.delta[k];
+        }
+        let mut sum = position_sum_of_squares(&self.model.layout, &self.q_new, &self.work, atol, rtol);
+        for k in 0..nv {
+            sum += (cg * self.dx[k] / (atol + rtol * self.v_new[k].abs())).powi(2);
+        }
+        for r in 0..nc {
+            sum += (cg * self.dx[nv + r] / (atol + rtol * self.x[nv + r].abs())).powi(2);
+        }
+        (sum / (self.model.layout.nq + nv + nc).max(1) as f64).sqrt()
+    }
+
+    /// Weighted RMS norm of the local error estimate `h² (β − 1/6)(ã_{n+1} − ã_n)` of the positions.
+    fn error_norm(&mut self, h: f64) -> f64 {
+        let c = h * h * (self.coefficients.beta - 1.0 / 6.0);
+        for k in 0..self.nv {
+            self.work[k] = c * (self.a_new[k] - self.a_tilde[k]);
+        }
+        let sum =
+            position_sum_of_squares(&self.model.layout, &self.q_new, &self.work, self.config.atol, self.config.rtol);
+        (sum / self.model.layout.nq.max(1) as f64).sqrt()
+    }
+
+    /// Accepts the converged step to `t_new`.
+    fn accept(&mut self, t_new: f64, h: f64) {
+        let nv = self.nv;
+        self.t_old = self.t;
+        self.h_last = h;
+        self.t = t_new;
+        std::mem::swap(&mut self.q_old, &mut self.q);
+        self.q.copy_from_slice(&self.q_new);
+        std::mem::swap(&mut self.v_old, &mut self.v);
+        self.v.copy_from_slice(&self.v_new);
+        std::mem::swap(&mut self.vdot_old, &mut self.vdot);
+        self.vdot.copy_from_slice(&self.x[..nv]);
+        self.a_tilde.copy_from_slice(&self.a_new);
+        self.lambda.copy_from_slice(&self.x[nv..nv + self.nc]);
+        self.d_last.copy_from_slice(&self.d_step);
+        self.stats.steps += 1;
+        self.stats.sum_h_squared += h * h;
+        self.stats.order_counts[2] += 1;
+        self.derivatives_current = false;
+        kinematics(self.model, &mut self.data, &self.q, &self.v);
+        update_angle_references(self.model, &mut self.data);
+    }
+
+    /// Positions and velocities at `t` within the last step (cubic Hermite, positions in velocity space).
+    pub fn interpolate(&mut self, t: f64, q: &mut [f64], v: &mut [f64]) {
+        if self.h_last == 0.0 {
+            q.copy_from_slice(&self.q);
+            v.copy_from_slice(&self.v);
+            return;
+        }
+        let h = self.h_last;
+        let s = (t - self.t_old) / h;
+        let (s2, s3) = (s * s, s * s * s);
+        let (h00, h10, h01, h11) = (2.0 * s3 - 3.0 * s2 + 1.0, s3 - 2.0 * s2 + s, 3.0 * s2 - 2.0 * s3, s3 - s2);
+        let l = &self.model.layout;
+        for b in 0..l.n_bodies() {
+            let vo = l.v_offset[b];
+            let u = Vec3::new(self.d_last[vo + 3], self.d_last[vo + 4], self.d_last[vo + 5]);
+            let w = Vec3::new(self.v[vo + 3], self.v[vo + 4], self.v[vo + 5]);
+            let end_rate = right_jacobian_inverse(&u) * w;
+            for k in l.v_range(crate::model::BodyId(b)) {
+                let end = if (vo + 3..vo + 6).contains(&k) { end_rate[k - vo - 3] } else { self.v[k] };
+                self.work[k] = h10 * h * self.v_old[k] + h01 * self.d_last[k] + h11 * h * end;
+            }
+        }
+        retract(l, &self.q_old, &self.work, q);
+        for k in 0..self.nv {
+            v[k] = h00 * self.v_old[k] + h10 * h * self.vdot_old[k] + h01 * self.v[k] + h11 * h * self.vdot[k];
+        }
+    }
+
+    /// The message of a step-size underflow after `failure` (allocates; only called then).
+    fn describe_failure(&mut self, failure: AttemptFailure) -> String {
+        match failure {
+            AttemptFailure::None => String::new(),
+            AttemptFailure::Singular { t_new, h } => {
+                format!("the iteration matrix is singular; {}", self.worst_equation(t_new, h))
+            }
+            AttemptFailure::Newton { t_new, h } => {
+                format!("the Newton iteration does not converge; {}", self.worst_equation(t_new, h))
+            }
+            AttemptFailure::ErrorTest { error_norm } => {
+                format!("the local error test fails (weighted error {error_norm:.2e})")
+            }
+        }
+    }
+
+    /// The largest residuals of the equations of motion and of the constraints at the predictor of the
+    /// failed step, and any constraints that have become dependent there.
+    fn worst_equation(&mut self, t_new: f64, h: f64) -> String {
+        let (nv, nc) = (self.nv, self.nc);
+        self.predict(h);
+        self.evaluate_residual(t_new, h);
+        let (cb, cg) = (self.coefficients.beta_prime() * h * h, self.coefficients.gamma_prime() * h);
+        let unscaled = |i: usize| {
+            if i < nv {
+                self.res[i]
+            } else if i < nv + nc {
+                cg * self.res[i]
+            } else {
+                cb * self.res[i]
+            }
+        };
+        let worst = |rows: std::ops::Range<usize>| {
+            rows.map(|i| (i, unscaled(i).abs())).fold((usize::MAX, 0.0), |a, x| if x.1 > a.1 { x } else { a })
+        };
+        let (row_d, value_d) = worst(0..nv);
+        let (row_c, value_c) = worst(nv..nv + 2 * nc);
+        let mut text = String::new();
+        if row_d != usize::MAX {
+            text += &format!("largest residual {value_d:.3e} in {}", describe_row(self.model, row_d));
+        }
+        if row_c != usize::MAX {
+            text += &format!("; largest constraint residual {value_c:.3e} in {}", describe_row(self.model, row_c));
+        }
+        let q = self.q_new.clone();
+        let (dependent, _) = crate::analysis::find_redundant_rows(self.model, &mut self.data, t_new, &q);
+        let newly: Vec<String> =
+            dependent.iter().filter(|r| self.active[r.row]).map(|r| r.description.clone()).collect();
+        if !newly.is_empty() {
+            text += &format!(
+                "; the constraints have become dependent here (the mechanism locks or reaches a singular \
+                 position): {}",
+                newly.join("; ")
+            );
+        }
+        text
+    }
+}
+
+/// Why the last attempt at a step failed, kept without allocating.
+#[derive(Clone, Copy, Debug)]
+enum AttemptFailure {
+    None,
+    Singular { t_new: f64, h: f64 },
+    Newton { t_new: f64, h: f64 },
+    ErrorTest { error_norm: f64 },
+}
+
+/// Names row `row` of the residual `[dynamics; velocity constraints; position constraints]`.
+fn describe_row(model: &Model, row: usize) -> String {
+    let l = &model.layout;
+    if row < l.nv {
+        let b = l.body_of_velocity(row);
+        let local = row - l.v_offset[b.0];
+        if local >= 6 {
+            let label = model.modal[b.0].as_ref().map_or(String::new(), |m| m.mode_labels[local - 6].clone());
+            format!("the modal equation of mode {label} of body '{}'", model.bodies[b.0].name)
+        } else {
+            format!("the equations of motion of body '{}'", model.bodies[b.0].name)
+        }
+    } else if row < l.nv + l.nc {
+        format!("the velocity constraint of {}", model.describe_constraint_row(row - l.nv))
+    } else {
+        format!("the position constraint of {}", model.describe_constraint_row(row - l.nv - l.nc))
+    }
+}
+
+/// First step: about `0.5 ‖·‖^(−1/3)` of the weighted initial velocities and accelerations (the local
+/// error grows as `h³`), at most 10 ms.
+fn initial_step(model: &Model, config: &BdfConfig, q: &[f64], v: &[f64], vdot: &[f64]) -> f64 {
+    let l = &model.layout;
+    let norm = |x: &[f64]| (position_sum_of_squares(l, q, x, config.atol, config.rtol) / l.nq.max(1) as f64).sqrt();
+    let d = norm(v).max(norm(vdot));
+    if d > 1e-10 {
+        (0.5 * d.powf(-1.0 / 3.0)).min(1e-2)
+    } else {
+        1e-2
+    }
+}
+
+impl Integrator for GeneralizedAlpha<'_> {
+    fn t(&self) -> f64 {
+        self.t
+    }
+    fn step(&mut self, t_stop: f64) -> Result<(), IntegrationError> {
+        GeneralizedAlpha::step(self, t_stop)
+    }
+    fn state(&self) -> (&[f64], &[f64]) {
+        (&self.q, &self.v)
+    }
+    fn interpolate(&mut self, t: f64, q: &mut [f64], v: &mut [f64]) {
+        GeneralizedAlpha::interpolate(self, t, q, v)
+    }
+    fn stats(&self) -> &Stats {
+        &self.stats
+    }
+    fn data_mut(&mut self) -> &mut Data {
+        &mut self.data
+    }
+    fn active(&self) -> &[bool] {
+        &self.active
+    }
+    fn name(&self) -> &'static str {
+        "gen-alpha"
+    }
+}
+
+#[cfg(test)]
+mod tests;
