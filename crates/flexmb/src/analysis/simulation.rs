@@ -10,6 +10,7 @@ use super::{
 };
 use crate::data::Data;
 use crate::integrate::{Bdf, BdfConfig, IntegrationError, Integrator, Method, Stats};
+use crate::integrate::Adams;
 use crate::integrate::{GeneralizedAlpha, GeneralizedAlphaConfig};
 use crate::model::Model;
 use crate::stage::{constraint_equations, energy, kinematics};
@@ -132,6 +133,10 @@ fn run(
         .clone();
     let mut integrator: Box<dyn Integrator + '_> = match settings.method {
         Method::Bdf => Box::new(Bdf::new(model, &state, &acc, settings.integrator)?),
+        Method::Adams(config) => {
+            config.validate().map_err(SimulationFailure::Invalid)?;
+            Box::new(Adams::new(model, &state, &acc, settings.integrator, config)?)
+        }
         Method::GeneralizedAlpha { spectral_radius } => {
             let config = GeneralizedAlphaConfig { spectral_radius, ..Default::default() };
             config.validate().map_err(SimulationFailure::Invalid)?;

@@ -42,6 +42,11 @@ pub enum Method {
     /// Variable-order (1–5), variable-step BDF on the stabilized index-2 equations (stiff; default).
     #[default]
     Bdf,
+    /// Variable-order (1–12), variable-step Adams–Bashforth–Moulton PECE method of Shampine and Gordon,
+    /// the DADS code's non-stiff method, on `y = [q, v]` with the positions and velocities projected
+    /// onto the constraints after every step (non-stiff: the step follows the highest frequency); see
+    /// [`AdamsConfig`](super::AdamsConfig).
+    Adams(super::AdamsConfig),
     /// Generalized-α (Arnold–Brüls, stabilized index-2 constraints, Lie-group position update) with
     /// high-frequency spectral radius `spectral_radius` ∈ [0, 1], fixed second order, step size from a
     /// local error estimate; see [`GeneralizedAlphaConfig`].

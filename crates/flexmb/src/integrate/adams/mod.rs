@@ -32,3 +32,14 @@ impl Default for AdamsConfig {
         Self { max_order: MAX_ORDER }
     }
 }
+
+impl AdamsConfig {
+    /// Checks that the order limit is in 1..=12.
+    pub fn validate(&self) -> Result<(), String> {
+        if (1..=MAX_ORDER).contains(&self.max_order) {
+            Ok(())
+        } else {
+            Err(format!("the Adams method's max_order must be 1 to {MAX_ORDER}, got {}", self.max_order))
+        }
+    }
+}
