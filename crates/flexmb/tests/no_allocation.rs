@@ -1,4 +1,4 @@
-//! `Bdf::step` does not allocate once warmed up (style.md principle 1): a counting global allocator,
+//! `Bdf::step` and `Adams::step` do not allocate once warmed up (style.md principle 1): a counting global allocator,
 //! in this test binary only, counts the allocations made by the test thread while it steps and records
 //! each with a backtrace, so that a failure names the culprit.
 //!
@@ -18,7 +18,7 @@ use flexmb::analysis::{assemble, velocity_analysis, AccelerationSolver, State};
 use flexmb::body::{LumpedNode, ModalBody, ModalDamping, ModalInvariants, ModalNode};
 use flexmb::force::{ForceElement, ForceFrame, ForceKind};
 use flexmb::function::{Expression, TimeFunction};
-use flexmb::integrate::{Bdf, BdfConfig, Stats};
+use flexmb::integrate::{Adams, AdamsConfig, Bdf, BdfConfig, Integrator, Stats};
 use flexmb::joint::JointKind;
 use flexmb::math::{Mat3, Vec3};
 use nalgebra::{DMatrix, DVector, Matrix3xX};
@@ -284,6 +284,69 @@ fn bdf_step_of_a_flexible_model_does_not_allocate() {
         engine.len(),
         first_traces(&engine)
     );
+}
+
+/// Steps the Adams method 20 times, then counts the allocations of up to `window` more steps and of an
+/// interpolation inside each (the window must include rejected steps). Returns their backtraces and the
+/// projection iterations made in the window.
+fn adams_allocations_while_stepping(model: &Model, window: usize) -> (Vec<String>, usize) {
+    let mut data = Data::new(model);
+    let mut state = State::initial(model);
+    assemble(model, &mut data, &mut state, Default::default()).unwrap();
+    velocity_analysis(model, &mut data, &mut state).unwrap();
+    let acc =
+        AccelerationSolver::new(model).solve(model, &mut data, 0.0, &state.q, &state.v, &state.active).unwrap().clone();
+    let config = BdfConfig { rtol: 1e-7, atol: 1e-7, ..Default::default() };
+    let mut adams = Adams::new(model, &state, &acc, config, AdamsConfig::default()).unwrap();
+    let t_end = 3.0;
+    for _ in 0..20 {
+        adams.step(t_end).unwrap();
+    }
+    let (mut q, mut v) = (vec![0.0; model.layout().nq], vec![0.0; model.layout().nv]);
+    let before: Stats = *adams.stats();
+    let (count, traces, ()) = count_allocations(|| {
+        for _ in 0..window {
+            if adams.t() >= t_end {
+                break;
+            }
+            let t0 = adams.t();
+            adams.step(t_end).expect("step");
+            let t_mid = 0.5 * (t0 + adams.t());
+            Integrator::interpolate(&mut adams, t_mid, &mut q, &mut v);
+        }
+    });
+    let after = *adams.stats();
+    assert_eq!(count, traces.len(), "every allocation recorded");
+    eprintln!(
+        "{} (adams): {} steps counted (to t = {:.3} s), {} factorizations, {} rejected attempts, {} projection \
+         iterations; {count} allocations",
+        model.name(),
+        after.steps - before.steps,
+        adams.t(),
+        after.factorizations - before.factorizations,
+        after.rejected_steps() - before.rejected_steps(),
+        after.newton_iterations - before.newton_iterations,
+    );
+    assert!(after.steps - before.steps >= 100, "steps counted");
+    assert!(after.rejected_steps() > before.rejected_steps(), "a step attempt was rejected in the window");
+    (traces, after.newton_iterations - before.newton_iterations)
+}
+
+#[test]
+fn adams_step_does_not_allocate_after_warm_up() {
+    let mut projection_iterations = 0;
+    for model in [loaded_slider_crank(false), loaded_slider_crank(true), flexible_pendulum()] {
+        let (traces, iterations) = adams_allocations_while_stepping(&model, 3000);
+        projection_iterations += iterations;
+        assert!(
+            traces.is_empty(),
+            "{}: Adams::step allocated {} times; first:\n{}",
+            model.name(),
+            traces.len(),
+            first_traces(&traces)
+        );
+    }
+    assert!(projection_iterations > 0, "the projection iterated in a window");
 }
 
 #[test]
