@@ -171,8 +171,8 @@ fn kepler_orbit_error_follows_tolerance_and_order_rises() {
 struct Arenstorf;
 
 const ARENSTORF_MU: f64 = 0.012277471;
-const ARENSTORF_T: f64 = 17.065_216_560_157_962_558_891_720_624_9;
-const ARENSTORF_Y0: [f64; 4] = [0.994, 0.0, 0.0, -2.001_585_106_379_082_522_405_378_622_24];
+const ARENSTORF_T: f64 = 17.065_216_560_157_963;
+const ARENSTORF_Y0: [f64; 4] = [0.994, 0.0, 0.0, -2.001_585_106_379_082_5];
 
 impl OdeSystem for Arenstorf {
     fn rhs(&mut self, _t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), EvaluationFailure> {
