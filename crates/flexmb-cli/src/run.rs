@@ -3,7 +3,6 @@
 use std::path::{Path, PathBuf};
 
 use flexmb::analysis::{output_columns, simulate, SimulationSettings};
-use flexmb::integrate::BdfConfig;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::check::{check_model, describe, describe_flexible_bodies};
@@ -79,7 +78,7 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
     let settings = SimulationSettings {
         t_end,
         output_step,
-        integrator: BdfConfig { rtol, atol, ..BdfConfig::for_model(model) },
+        integrator: d.integrator(model, rtol, atol),
         assembly: d.assembly(),
         method,
     };

@@ -52,6 +52,8 @@ pub struct SimulationDefaults {
     /// The integration method (`integrator`, with `spectral_radius` for the generalized-α method).
     /// Default BDF.
     pub method: flexmb::integrate::Method,
+    /// Highest BDF order (`max_order`, 1 to 5); `None`: 5, or 2 with flexible bodies.
+    pub max_order: Option<usize>,
 }
 
 impl Default for SimulationDefaults {
@@ -63,11 +65,18 @@ impl Default for SimulationDefaults {
             atol: 1e-6,
             assemble_modal_coordinates: false,
             method: flexmb::integrate::Method::Bdf,
+            max_order: None,
         }
     }
 }
 
 impl SimulationDefaults {
+    /// The integrator settings for `model` with these tolerances and the model's order limit.
+    pub fn integrator(&self, model: &flexmb::Model, rtol: f64, atol: f64) -> flexmb::integrate::BdfConfig {
+        let base = flexmb::integrate::BdfConfig::for_model(model);
+        flexmb::integrate::BdfConfig { rtol, atol, max_order: self.max_order.unwrap_or(base.max_order), ..base }
+    }
+
     /// The assembly settings these defaults ask for.
     pub fn assembly(&self) -> flexmb::analysis::AssemblySettings {
         flexmb::analysis::AssemblySettings {

@@ -62,6 +62,7 @@ pub(crate) struct SimulationSection {
     pub assemble_modal_coordinates: Option<Spanned<bool>>,
     pub integrator: Option<Name>,
     pub spectral_radius: Option<Number>,
+    pub max_order: Option<Number>,
 }
 
 /// `[[body]]`: a rigid body.

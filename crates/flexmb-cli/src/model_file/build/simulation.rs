@@ -61,8 +61,19 @@ pub(crate) fn simulation_defaults(
             .map_err(|e| ctx.invalid(&name.span(), &table.key("integrator"), e))?,
         None => defaults.method,
     };
+    let max_order = match &s.max_order {
+        Some(v) => {
+            let k = ctx.number(v, &table.key("max_order"))?;
+            if !(1.0..=5.0).contains(&k) || k.fract() != 0.0 {
+                return Err(ctx.invalid(&v.span(), &table.key("max_order"), format!("max_order must be a whole number from 1 to 5, got {k}")));
+            }
+            Some(k as usize)
+        }
+        None => None,
+    };
     Ok(SimulationDefaults {
         method,
+        max_order,
         t_end: positive(&s.t_end, "t_end", defaults.t_end)?,
         output_step: positive(&s.output_step, "output_step", defaults.output_step)?,
         rtol: positive(&s.rtol, "rtol", defaults.rtol)?,
