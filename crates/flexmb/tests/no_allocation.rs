@@ -18,7 +18,9 @@ use flexmb::analysis::{assemble, velocity_analysis, AccelerationSolver, State};
 use flexmb::body::{LumpedNode, ModalBody, ModalDamping, ModalInvariants, ModalNode};
 use flexmb::force::{ForceElement, ForceFrame, ForceKind};
 use flexmb::function::{Expression, TimeFunction};
-use flexmb::integrate::{Adams, AdamsConfig, Bdf, BdfConfig, Integrator, Stats};
+use flexmb::integrate::{
+    Adams, AdamsConfig, Bdf, BdfConfig, GeneralizedAlpha, GeneralizedAlphaConfig, Integrator, Stats,
+};
 use flexmb::joint::JointKind;
 use flexmb::math::{Mat3, Vec3};
 use nalgebra::{DMatrix, DVector, Matrix3xX};
@@ -347,6 +349,128 @@ fn adams_step_does_not_allocate_after_warm_up() {
         );
     }
     assert!(projection_iterations > 0, "the projection iterated in a window");
+}
+
+/// A pendulum carrying a 10 g slider on a stiff spring (1e4 N/m) along the hinge axis, the spring
+/// stretched at the start: at a fixed step of 10 ms (h ω = 10) with `ρ∞ = 1` the fast oscillation stays,
+/// the constraint forces change sign every step, and the finite-difference parts of the generalized-α
+/// iteration matrix go stale and are re-evaluated.
+fn pendulum_with_stiff_slider() -> Model {
+    let (l, theta0) = (1.0, 1.0_f64);
+    let mut b = pendulum(l, 1.0, 1e-3, theta0, 9.81);
+    let pose = flexmb::math::EulerParameters::from_axis_angle(&Vec3::z(), theta0);
+    let slider = b.add_body(rigid(
+        "slider",
+        0.01,
+        Vec3::zeros(),
+        Mat3::from_diagonal(&Vec3::new(1e-6, 1e-6, 1e-6)),
+        Vec3::new(l * theta0.sin(), -l * theta0.cos(), -0.101),
+        pose,
+        None,
+        None,
+    ));
+    let rail = marker(&mut b, "rail", BodyRef::Body(flexmb::model::BodyId(0)), Vec3::zeros());
+    let runner = marker(&mut b, "runner", BodyRef::Body(slider), Vec3::zeros());
+    joint(&mut b, "slide", JointKind::Translational, rail, runner);
+    b.add_force(ForceElement {
+        name: "spring".into(),
+        kind: ForceKind::TranslationalSpringDamper {
+            marker_i: rail,
+            marker_j: runner,
+            stiffness: 1e4,
+            damping: 0.0,
+            free_length: 0.1,
+            actuator: None,
+        },
+    });
+    b.build().unwrap()
+}
+
+/// Steps the generalized-α method 100 times, then counts the allocations of up to `window` more steps and
+/// of an interpolation inside each. Returns their backtraces and the window's statistics.
+fn generalized_alpha_allocations_while_stepping(
+    model: &Model,
+    alpha: GeneralizedAlphaConfig,
+    window: usize,
+) -> (Vec<String>, Stats) {
+    let mut data = Data::new(model);
+    let mut state = State::initial(model);
+    assemble(model, &mut data, &mut state, Default::default()).unwrap();
+    velocity_analysis(model, &mut data, &mut state).unwrap();
+    let acc =
+        AccelerationSolver::new(model).solve(model, &mut data, 0.0, &state.q, &state.v, &state.active).unwrap().clone();
+    let config = BdfConfig { rtol: 1e-7, atol: 1e-7, ..Default::default() };
+    let mut ga = GeneralizedAlpha::new(model, &state, &acc, config, alpha).unwrap();
+    let t_end = 3.0;
+    // faer's simplicial LU keeps its numeric storage between factorizations and grows it (doubling) when
+    // a pivot sequence needs more fill than any before; on the stiff-slider pendulum that happens once,
+    // between steps 50 and 100, hence the longer warm-up.
+    for _ in 0..100 {
+        ga.step(t_end).unwrap();
+    }
+    let (mut q, mut v) = (vec![0.0; model.layout().nq], vec![0.0; model.layout().nv]);
+    let before: Stats = ga.stats;
+    let (count, traces, ()) = count_allocations(|| {
+        for _ in 0..window {
+            if ga.t() >= t_end {
+                break;
+            }
+            let t0 = ga.t();
+            ga.step(t_end).expect("step");
+            let t_mid = 0.5 * (t0 + ga.t());
+            Integrator::interpolate(&mut ga, t_mid, &mut q, &mut v);
+        }
+    });
+    let after = ga.stats;
+    assert_eq!(count, traces.len(), "every allocation recorded");
+    let window_stats = Stats {
+        steps: after.steps - before.steps,
+        error_test_failures: after.error_test_failures - before.error_test_failures,
+        newton_failures: after.newton_failures - before.newton_failures,
+        jacobian_evaluations: after.jacobian_evaluations - before.jacobian_evaluations,
+        factorizations: after.factorizations - before.factorizations,
+        ..Default::default()
+    };
+    eprintln!(
+        "{} (gen-alpha): {} steps counted (to t = {:.3} s), {} Jacobians, {} factorizations, {} rejected attempts; \
+         {count} allocations",
+        model.name(),
+        window_stats.steps,
+        ga.t(),
+        window_stats.jacobian_evaluations,
+        window_stats.factorizations,
+        window_stats.rejected_steps(),
+    );
+    assert!(window_stats.steps >= 100, "steps counted");
+    assert!(window_stats.factorizations > 0, "the iteration matrix was refactored in the window");
+    (traces, window_stats)
+}
+
+#[test]
+fn generalized_alpha_step_does_not_allocate_after_warm_up() {
+    let (mut jacobians, mut rejected) = (0, 0);
+    let adaptive = GeneralizedAlphaConfig::default();
+    let fixed = GeneralizedAlphaConfig { spectral_radius: 1.0, fixed_step: Some(0.01) };
+    for (model, alpha) in [
+        (loaded_slider_crank(false), adaptive),
+        (loaded_slider_crank(true), adaptive),
+        (flexible_pendulum(), adaptive),
+        (pendulum_with_stiff_slider(), fixed),
+    ] {
+        let (traces, stats) = generalized_alpha_allocations_while_stepping(&model, alpha, 3000);
+        jacobians += stats.jacobian_evaluations;
+        rejected += stats.rejected_steps();
+        assert!(
+            traces.is_empty(),
+            "{}: GeneralizedAlpha::step allocated {} times; first:\n{}",
+            model.name(),
+            traces.len(),
+            first_traces(&traces)
+        );
+    }
+    // The windows exercise the expensive paths too.
+    assert!(jacobians > 0, "finite-difference parts re-evaluated in a window");
+    assert!(rejected > 0, "a step attempt rejected in a window");
 }
 
 #[test]
