@@ -335,10 +335,10 @@ fn slow_and_fast(q: &[f64], v: &[f64]) -> (f64, f64) {
 fn rho_half_damps_an_unresolved_stiff_spring_and_keeps_the_swing() {
     let excited = pendulum_with_stiff_slider(1e-3);
     let t_end = 2.0;
-    let h = 0.01; // h ω = 10 for the spring
-                  // The slow motion: the BDF, tightly, with the spring not excited.
+    // h ω = 10 for the spring. The slow motion: the BDF, tightly, with the spring not excited.
+    let h = 0.01;
     let (q_ref, _, _) = bdf_reference(&pendulum_with_stiff_slider(0.0), t_end, 1e-10);
-    let (angle_ref, _) = slow_and_fast(&q_ref, &vec![0.0; 12]);
+    let (angle_ref, _) = slow_and_fast(&q_ref, &[0.0; 12]);
     for rho in [0.5, 1.0] {
         let (state, acc) = start(&excited);
         let fast0 = slow_and_fast(&state.q, &state.v).1;
