@@ -10,6 +10,7 @@ use flexmb::analysis::{assemble, velocity_analysis, AccelerationSolver, Simulati
 use flexmb::body::{LumpedNode, ModalBody, ModalDamping, ModalInvariants, ModalNode};
 use flexmb::force::{ForceElement, ForceKind};
 use flexmb::function::TimeFunction;
+use flexmb::integrate::adams::ConstraintHandling;
 use flexmb::integrate::{Adams, AdamsConfig, BdfConfig, IntegrationError, Method};
 use flexmb::joint::JointKind;
 use flexmb::math::{EulerParameters, Mat3, Vec3};
@@ -22,6 +23,11 @@ use support::*;
 
 fn with_adams(s: SimulationSettings) -> SimulationSettings {
     SimulationSettings { method: Method::Adams(AdamsConfig::default()), ..s }
+}
+
+fn with_partitioning(s: SimulationSettings) -> SimulationSettings {
+    let config = AdamsConfig { constraints: ConstraintHandling::Partitioning, ..Default::default() };
+    SimulationSettings { method: Method::Adams(config), ..s }
 }
 
 /// One line of solver statistics for the reports.
@@ -167,7 +173,12 @@ fn free_slider_crank_agrees_with_the_bdf() {
         let drift = e.iter().map(|x| (x - e[0]).abs()).fold(0.0, f64::max);
         assert!(drift < 1e3 * tol, "energy drift {drift:e} J");
         // Competitive: no more steps than the BDF (each costs two evaluations, see the report).
-        assert!(adams.report.stats.steps <= bdf.report.stats.steps, "adams {} vs bdf {}", adams.report.stats.steps, bdf.report.stats.steps);
+        assert!(
+            adams.report.stats.steps <= bdf.report.stats.steps,
+            "adams {} vs bdf {}",
+            adams.report.stats.steps,
+            bdf.report.stats.steps
+        );
     }
 }
 
@@ -329,7 +340,7 @@ fn projection_moves_the_state_by_much_less_than_the_tolerance() {
         while adams.t() < 2.0 {
             adams.step(2.0).unwrap();
         }
-        let d = *adams.drift();
+        let d = *adams.drift().expect("projection");
         eprintln!(
             "  tol {tol:.0e}: {} steps; before projection |Φ| ≤ {:.1e}, |Bv + Φ_t| ≤ {:.1e}, |pᵀp − 1| ≤ {:.1e}; \
              change per step (in tolerances): max {:.2e}, RMS {:.2e}; {} Newton iterations, {} refactorizations",
@@ -364,7 +375,15 @@ fn flexible_pendulum(stiffness: [f64; 3]) -> Model {
                 position: Vec3::new(x, 0.0, 0.0),
                 mass: 0.2,
                 rotary_inertia: Mat3::from_diagonal(&Vec3::new(1e-4, 2e-4, 2e-4)),
-                psi: Matrix3xX::from_fn(m, |r, k| if r == 1 { shape(k) } else if r == 2 { 0.3 * shape(k) } else { 0.0 }),
+                psi: Matrix3xX::from_fn(m, |r, k| {
+                    if r == 1 {
+                        shape(k)
+                    } else if r == 2 {
+                        0.3 * shape(k)
+                    } else {
+                        0.0
+                    }
+                }),
                 theta: Matrix3xX::from_fn(m, |r, k| if r == 2 { 0.5 * shape(k) } else { 0.0 }),
             }
         })
@@ -376,7 +395,12 @@ fn flexible_pendulum(stiffness: [f64; 3]) -> Model {
         nodes: nodes
             .iter()
             .enumerate()
-            .map(|(k, n)| ModalNode { label: k as u64 + 1, position: n.position, psi: n.psi.clone(), theta: n.theta.clone() })
+            .map(|(k, n)| ModalNode {
+                label: k as u64 + 1,
+                position: n.position,
+                psi: n.psi.clone(),
+                theta: n.theta.clone(),
+            })
             .collect(),
         mode_labels: vec!["N1".into(), "N2".into(), "N3".into()],
         initial_coordinates: DVector::zeros(m),
@@ -404,7 +428,10 @@ fn flexible_pendulum_agrees_with_the_bdf_and_its_step_follows_the_highest_freque
         let model = flexible_pendulum([400.0 * scale, 3000.0 * scale, 9000.0 * scale]);
         let s = settings(t_end, 0.005, 1e-6);
         let adams = run(&model, &with_adams(s));
-        let bdf_settings = SimulationSettings { integrator: BdfConfig { rtol: 1e-6, atol: 1e-6, ..BdfConfig::for_model(&model) }, ..s };
+        let bdf_settings = SimulationSettings {
+            integrator: BdfConfig { rtol: 1e-6, atol: 1e-6, ..BdfConfig::for_model(&model) },
+            ..s
+        };
         let bdf = run(&model, &bdf_settings);
         let reference = run(&model, &settings(t_end, 0.005, 1e-10));
         let (ea, eb) = (largest_distance(&adams, &reference, "tip"), largest_distance(&bdf, &reference, "tip"));
@@ -436,7 +463,61 @@ fn too_many_steps_and_bad_settings_are_reported() {
         other => panic!("unexpected {other:?}"),
     }
     assert_eq!(partial.report.stats.steps, 20);
-    let bad = SimulationSettings { method: Method::Adams(AdamsConfig { max_order: 13 }), ..s };
+    let bad = SimulationSettings { method: Method::Adams(AdamsConfig { max_order: 13, ..Default::default() }), ..s };
     let (e, _) = try_run(&model, &bad).err().expect("invalid order");
     assert!(e.to_string().contains("max_order"), "{e}");
+}
+
+/// Generalized coordinate partitioning (the DADS way) against projection, on the same tolerance: both
+/// agree with a tight BDF reference and keep the constraints; projection needs fewer factorizations
+/// everywhere and far fewer steps on the spinning top, whose independent Euler parameters force a
+/// repartition (and a restart of the multistep history at order 1) every few steps.
+#[test]
+fn partitioning_against_projection() {
+    let cases: Vec<(&str, Model, &str, f64)> = vec![
+        ("free slider-crank", free_slider_crank(), "pin", 2.0),
+        ("heavy top", heavy_top(), "center", 1.0),
+        ("flexible pendulum", flexible_pendulum([400.0, 3000.0, 9000.0]), "tip", 0.5),
+    ];
+    let tol = 1e-7;
+    let partitioning_config = AdamsConfig { constraints: ConstraintHandling::Partitioning, ..Default::default() };
+    eprintln!("Adams at tol {tol:.0e}: projection against partitioning");
+    for (name, model, output, t_end) in cases {
+        let reference = run(&model, &settings(t_end, 0.01, 1e-11));
+        let projection = run(&model, &with_adams(settings(t_end, 0.01, tol)));
+        let partitioning = run(&model, &with_partitioning(settings(t_end, 0.01, tol)));
+        let (ep, eg) =
+            (largest_distance(&projection, &reference, output), largest_distance(&partitioning, &reference, output));
+        // The partition's history, from a direct run.
+        let (state, acc) = initial(&model);
+        let config = BdfConfig { rtol: tol, atol: tol, ..Default::default() };
+        let mut direct = Adams::new(&model, &state, &acc, config, partitioning_config).unwrap();
+        while direct.t() < t_end {
+            direct.step(t_end).unwrap();
+        }
+        let report = *direct.partition().expect("partitioning");
+        eprintln!(
+            "  {name}, {t_end} s: distance to the reference: projection {ep:.1e} m, partitioning {eg:.1e} m; \
+             wall time {:.1} ms vs {:.1} ms; {} independent coordinates, {} repartitions, {} Newton iterations\n  {}\n  {}",
+            1e3 * projection.report.wall_time,
+            1e3 * partitioning.report.wall_time,
+            report.independent,
+            report.repartitions,
+            report.newton_iterations,
+            summary("proj", &projection.report),
+            summary("part", &partitioning.report)
+        );
+        assert_eq!(direct.stats().steps, partitioning.report.stats.steps);
+        assert!(ep < 1e3 * tol && eg < 1e3 * tol, "{name}: {ep:e}, {eg:e}");
+        assert!(partitioning.report.max_position_residual < 1e-9, "{:e}", partitioning.report.max_position_residual);
+        assert!(partitioning.report.max_velocity_residual < 1e-9, "{:e}", partitioning.report.max_velocity_residual);
+        assert!(
+            projection.report.stats.factorizations < partitioning.report.stats.factorizations,
+            "{name}: projection factors more often"
+        );
+        if name == "heavy top" {
+            assert!(report.repartitions > 20, "the spinning top repartitions often: {report:?}");
+            assert!(projection.report.stats.steps * 2 < partitioning.report.stats.steps);
+        }
+    }
 }

@@ -170,6 +170,8 @@ pub struct AdamsStepper {
     phase1: bool,
     nornd: bool,
     started: bool,
+    /// After [`restart`](AdamsStepper::restart): the largest first step (else infinite).
+    h_restart_cap: f64,
     pub stats: StepperStats,
 }
 
@@ -212,6 +214,7 @@ impl AdamsStepper {
             phase1: true,
             nornd: true,
             started: false,
+            h_restart_cap: f64::INFINITY,
             stats: StepperStats::default(),
         }
     }
@@ -263,6 +266,23 @@ impl AdamsStepper {
         s.started = true;
         s.wt.fill(1.0);
         s
+    }
+
+    /// Starts again at `(t0, y0)` with `f(t0, y0) = yp0` (same length), at order 1 with a new starting
+    /// step, keeping the counters and the workspaces (no allocation).
+    pub fn restart(&mut self, t0: f64, y0: &[f64], yp0: &[f64]) {
+        self.x = t0;
+        self.x_old = t0;
+        self.y.copy_from_slice(y0);
+        self.yp.copy_from_slice(yp0);
+        self.started = false;
+        self.k = 1;
+        self.kold = 0;
+        self.ns = 0;
+        self.hold = 0.0;
+        self.phase1 = true;
+        // The first step after a restart: STEP's estimate, at most the step planned before it.
+        self.h_restart_cap = self.h;
     }
 
     /// Current time.
@@ -472,8 +492,10 @@ impl AdamsStepper {
     /// given) and the rounding control.
     fn initialize(&mut self, remaining: f64, round: f64) {
         let n = self.n;
-        let mut absh = self.control.h_init.unwrap_or(remaining.min(self.control.h_max));
-        if self.control.h_init.is_none() {
+        let h_init = if self.h_restart_cap.is_finite() { None } else { self.control.h_init };
+        let mut absh = h_init.unwrap_or(remaining.min(self.control.h_max).min(self.h_restart_cap));
+        self.h_restart_cap = f64::INFINITY;
+        if h_init.is_none() {
             let sum = self.norm(|l| self.yp[l]);
             if 1.0 < 16.0 * sum * absh * absh {
                 absh = 0.25 * (1.0 / sum).sqrt();

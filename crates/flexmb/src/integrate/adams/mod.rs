@@ -3,20 +3,26 @@
 //!
 //! - [`method`]: the method itself, a generic stepper for `ẏ = f(t, y)` ([`AdamsStepper`], the STEP and
 //!   INTRP algorithms of Shampine and Gordon 1975), tested alone on ODEs with known solutions;
-//! - [`mechanism`]: the method applied to a model as [`Adams`], an [`Integrator`](super::Integrator):
-//!   the state `y = [q, v]` with `q̇ = T(q) v` and `v̇` from the index-1 (KKT) system, and after every
-//!   accepted step the positions projected onto `Φ(q, t) = 0`, `pᵀp = 1` and the velocities onto
-//!   `B v + Φ_t = 0`, both in the metric of the mass matrix.
+//! - `mechanism`: the method applied to a model as [`Adams`], an [`Integrator`](super::Integrator),
+//!   by default (`projection`) on the state `y = [q, v]` with `q̇ = T(q) v` and `v̇` from the index-1
+//!   (KKT) system, and after every accepted step the positions projected onto `Φ(q, t) = 0`, `pᵀp = 1`
+//!   and the velocities onto `B v + Φ_t = 0`, both in the metric of the mass matrix; or
+//!   (`partitioning`) by generalized coordinate partitioning as in DADS.
 
+mod kkt;
 mod mechanism;
 pub mod method;
 #[cfg(test)]
 mod method_tests;
+mod partitioning;
+mod projection;
 
-pub use mechanism::{Adams, ProjectionDrift};
+pub use mechanism::Adams;
 pub use method::{
     AdamsStepper, AttemptFailure, EvaluationFailure, OdeSystem, StepControl, StepFailure, StepperStats, MAX_ORDER,
 };
+pub use partitioning::PartitionReport;
+pub use projection::ProjectionDrift;
 
 /// Settings of the Adams method that the BDF does not share (tolerances, step limits and the step
 /// count limit come from [`BdfConfig`](super::BdfConfig), whose `max_order` the Adams method ignores).
@@ -25,12 +31,28 @@ pub struct AdamsConfig {
     /// Highest order `k` of the Adams–Bashforth predictor, 1 to 12; the Adams–Moulton corrector, with
     /// local extrapolation, is of order `k + 1`. Default 12, as in Shampine and Gordon's STEP.
     pub max_order: usize,
+    /// How the constraints are kept. Default [`ConstraintHandling::Projection`].
+    pub constraints: ConstraintHandling,
 }
 
 impl Default for AdamsConfig {
     fn default() -> Self {
-        Self { max_order: MAX_ORDER }
+        Self { max_order: MAX_ORDER, constraints: ConstraintHandling::Projection }
     }
+}
+
+/// How the Adams method keeps a mechanism on its constraints (see the module docs of `mechanism` for
+/// the comparison).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ConstraintHandling {
+    /// Integrate `y = [q, v]` and project positions and velocities onto the constraints after every
+    /// accepted step (mass-matrix metric). The default.
+    #[default]
+    Projection,
+    /// Generalized coordinate partitioning (Wehage and Haug 1982, the DADS code): integrate the
+    /// independent coordinates and their rates, recover the dependent ones by Newton in every
+    /// evaluation, re-choose the partition when it degrades.
+    Partitioning,
 }
 
 impl AdamsConfig {

@@ -1,0 +1,173 @@
+//! What both ways of handling the constraints need: the index-1 system
+//! `[M Bᵀ; B 0] [v̇; λ] = [Q − h; γ]` (Haug 1989, eq. 11.1.19) on a fixed sparse pattern, factored once
+//! per state and solved for several right sides, and the kinematic map `q̇ = T(q) v`.
+
+use crate::data::Data;
+use crate::integrate::adams::method::EvaluationFailure;
+use crate::linalg::SparseLu;
+use crate::math::euler_parameters::g_matrix;
+use crate::math::{Vec3, Vec4};
+use crate::model::{BodyId, Model};
+use crate::stage::{applied_forces, body_mass_entries, inertia_forces, jacobian_entries, measures};
+
+pub(super) const SINGULAR: EvaluationFailure =
+    EvaluationFailure("the mass–constraint matrix [M Bᵀ; B 0] is singular (dependent constraints or a massless body)");
+pub(super) const NOT_FINITE: EvaluationFailure = EvaluationFailure("the accelerations are not finite");
+
+/// `[M Bᵀ; B 0]` with its factors; a redundant (switched-off) row `r` gets the equation `z_r = 0`.
+pub(super) struct Kkt {
+    lu: SparseLu,
+    /// Right side and solution, length `nv + nc`.
+    pub rhs: Vec<f64>,
+    zero_v: Vec<f64>,
+    pub active: Vec<bool>,
+    nv: usize,
+    /// The factors are of some recent state (usable for chord iterations).
+    pub factored: bool,
+    pub factorizations: usize,
+}
+
+impl Kkt {
+    pub fn new(model: &Model, active: Vec<bool>) -> Self {
+        let l = &model.layout;
+        let n = l.nv + l.nc;
+        let mut entries = Vec::new();
+        for b in 0..model.bodies.len() {
+            let range = l.v_range(BodyId(b));
+            for r in range.clone() {
+                for c in range.clone() {
+                    entries.push((r, c));
+                }
+            }
+        }
+        for (j, joint) in model.joints.iter().enumerate() {
+            for b in model.joint_bodies(joint).into_iter().flatten() {
+                for row in l.joint_rows[j].clone() {
+                    for k in l.v_range(b) {
+                        entries.push((l.nv + row, k));
+                        entries.push((k, l.nv + row));
+                    }
+                }
+            }
+        }
+        Self {
+            lu: SparseLu::new(n, entries),
+            rhs: vec![0.0; n],
+            zero_v: vec![0.0; l.nv],
+            active,
+            nv: l.nv,
+            factored: false,
+            factorizations: 0,
+        }
+    }
+
+    /// Assembles and factors the matrix at the positions of the last kinematics and constraint stages.
+    pub fn factor(&mut self, model: &Model, data: &Data) -> Result<(), EvaluationFailure> {
+        let nv = self.nv;
+        self.lu.clear();
+        for b in 0..model.bodies.len() {
+            let vo = model.layout.v_offset[b];
+            let lu = &mut self.lu;
+            body_mass_entries(model, data, b, |r, c, m| lu.add(vo + r, vo + c, m));
+        }
+        let (lu, active) = (&mut self.lu, &self.active);
+        jacobian_entries(model, data, |r, c, x| {
+            if active[r] {
+                lu.add(nv + r, c, x);
+                lu.add(c, nv + r, x);
+            }
+        });
+        for (r, a) in self.active.iter().enumerate() {
+            if !a {
+                self.lu.add(nv + r, nv + r, 1.0);
+            }
+        }
+        self.factorizations += 1;
+        self.factored = false;
+        self.lu.factor().map_err(|_| SINGULAR)?;
+        self.factored = true;
+        Ok(())
+    }
+
+    /// `v̇` into `vdot` from the factored system, after the kinematics and constraint stages at `(q, v)`
+    /// (runs the measure, force and inertia stages).
+    pub fn accelerations(
+        &mut self,
+        model: &Model,
+        data: &mut Data,
+        t: f64,
+        vdot: &mut [f64],
+    ) -> Result<(), EvaluationFailure> {
+        let nv = self.nv;
+        measures(model, data);
+        applied_forces(model, data, t);
+        inertia_forces(model, data, &self.zero_v);
+        for k in 0..nv {
+            self.rhs[k] = data.applied[k] - data.inertia[k];
+        }
+        for (r, terms) in data.equations.iter().enumerate() {
+            self.rhs[nv + r] = if self.active[r] { -terms.accel_bias } else { 0.0 };
+        }
+        self.lu.solve_in_place(&mut self.rhs).map_err(|_| SINGULAR)?;
+        vdot.copy_from_slice(&self.rhs[..nv]);
+        if vdot.iter().all(|x| x.is_finite()) {
+            Ok(())
+        } else {
+            Err(NOT_FINITE)
+        }
+    }
+
+    /// Solves `[M Bᵀ; B 0] [δv; z] = [0; r]` with the current factors, `r` over the constraint rows
+    /// (zero on the switched-off ones) from `row_value`: the correction `δv` of least kinetic energy
+    /// with `B δv = r`, left in `rhs[..nv]`.
+    pub fn min_norm_correction(
+        &mut self,
+        data: &Data,
+        row_value: impl Fn(&Data, usize) -> f64,
+    ) -> Result<(), EvaluationFailure> {
+        let nv = self.nv;
+        self.rhs[..nv].fill(0.0);
+        for r in 0..self.active.len() {
+            self.rhs[nv + r] = if self.active[r] { row_value(data, r) } else { 0.0 };
+        }
+        self.lu.solve_in_place(&mut self.rhs).map_err(|_| SINGULAR)
+    }
+}
+
+/// `q̇ = T(q) v`: `Ṙ`, `ṗ = ½ Gᵀ(p) ω̄`, `ȧ` per body.
+pub(super) fn velocity_map(model: &Model, q: &[f64], v: &[f64], qdot: &mut [f64]) {
+    let l = &model.layout;
+    for b in 0..model.bodies.len() {
+        let (qo, vo, m) = (l.q_offset[b], l.v_offset[b], l.modes[b]);
+        qdot[qo..qo + 3].copy_from_slice(&v[vo..vo + 3]);
+        let p = Vec4::new(q[qo + 3], q[qo + 4], q[qo + 5], q[qo + 6]);
+        let w = Vec3::new(v[vo + 3], v[vo + 4], v[vo + 5]);
+        let p_rate = 0.5 * g_matrix(&p).transpose() * w;
+        qdot[qo + 3..qo + 7].copy_from_slice(p_rate.as_slice());
+        qdot[qo + 7..qo + 7 + m].copy_from_slice(&v[vo + 6..vo + 6 + m]);
+    }
+}
+
+/// Rescales every body's Euler parameters to unit norm; returns the largest `|pᵀp − 1|` found.
+pub(super) fn normalize_euler_parameters(model: &Model, q: &mut [f64]) -> f64 {
+    let mut worst = 0.0_f64;
+    for b in 0..model.bodies.len() {
+        let qo = model.layout.q_offset[b];
+        let norm2: f64 = (3..7).map(|k| q[qo + k].powi(2)).sum();
+        worst = worst.max((norm2 - 1.0).abs());
+        let norm = norm2.sqrt();
+        q[qo + 3..qo + 7].iter_mut().for_each(|x| *x /= norm);
+    }
+    worst
+}
+
+/// The largest `|Φ|` over the active rows (after the constraint stage).
+pub(super) fn position_residual(data: &Data, active: &[bool]) -> f64 {
+    data.equations.iter().zip(active).filter(|(_, a)| **a).fold(0.0, |m, (e, _)| m.max(e.phi.abs()))
+}
+
+/// `Φ̇ = B v + Φ_t` of constraint row `r` (after the kinematics and constraint stages).
+pub(super) fn constraint_rate(model: &Model, data: &Data, r: usize) -> f64 {
+    let joint = &model.joints[model.layout.equations[r].0 .0];
+    data.equations[r].rate(&data.markers[joint.marker_i.0], &data.markers[joint.marker_j.0])
+}

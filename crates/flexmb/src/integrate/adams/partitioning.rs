@@ -1,0 +1,514 @@
+//! Generalized coordinate partitioning (Wehage and Haug 1982), the DADS code's way: only the
+//! independent coordinates `w` of `q` and their rates are integrated, `y = [w, ẇ]`; every evaluation
+//! of `f(t, y)` recovers the dependent coordinates `u` from `Φ̂(u, w, t) = [Φ; pᵀp − 1] = 0` by Newton,
+//! their rates from `Φ̂_u u̇ = −Φ̂_w ẇ − Φ̂_t`, the velocities `v = [Ṙ, ω̄ = 2 G ṗ, ȧ]`, the accelerations
+//! `v̇` from the index-1 system, and returns `[ẇ, ẅ]` with `p̈ = ½ Gᵀ(p) ω̄̇ + ½ Gᵀ(ṗ) ω̄`.
+//!
+//! **The partition** comes from Gaussian elimination with full pivoting on `Φ̂_q` (the active
+//! constraint rows and one normalization row per body, against all of `q`, Euler parameters and modal
+//! coordinates included): the pivot columns are dependent, the rest independent. It is re-chosen, and
+//! the integration restarted at order 1 from the last accepted state, when the pivots of `Φ̂_u`
+//! degrade (smallest over largest below a tenth of its value when chosen) or the Newton iteration
+//! for `u` fails.
+//!
+//! The constraints hold to Newton tolerance at every evaluation, not only after the steps; the price
+//! is a Newton solve (chord iterations with the last factors of `Φ̂_u`, dense here, plus one
+//! refactorization at the converged point for the velocities) inside every evaluation, a restart of
+//! the multistep history at every repartition, and an error test that sees only the independent
+//! coordinates. See [`super::mechanism`] for the comparison with projection.
+
+use crate::data::Data;
+use crate::math::euler_parameters::g_matrix;
+use crate::math::{Vec3, Vec4};
+use crate::model::Model;
+use crate::stage::{constraint_equations, jacobian_entries, kinematics, update_angle_references};
+
+use super::kkt::{velocity_map, Kkt};
+use super::method::{EvaluationFailure, OdeSystem};
+
+/// Newton iterations for the dependent coordinates of one evaluation, at most.
+const NEWTON_ITERATIONS: usize = 8;
+/// Converged when the last correction is this small in the error-tolerance units (noise in `f` is
+/// amplified by the high differences, so the dependent coordinates are solved far below the tolerance).
+const CORRECTION_TOLERANCE: f64 = 1e-6;
+/// Repartition when the pivot ratio of `Φ̂_u` falls below this fraction of its value when chosen.
+const DEGRADATION: f64 = 0.1;
+
+const NO_CONVERGENCE: EvaluationFailure =
+    EvaluationFailure("the Newton iteration for the dependent coordinates does not converge");
+const SINGULAR_PARTITION: EvaluationFailure =
+    EvaluationFailure("the Jacobian of the dependent coordinates is singular (the partition has degraded)");
+
+/// Counters of the partitioned integration.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PartitionReport {
+    /// Number of independent coordinates (positions; as many rates).
+    pub independent: usize,
+    /// Partitions chosen after the first (each restarts the integration at order 1).
+    pub repartitions: usize,
+    /// Newton iterations for the dependent coordinates over all evaluations.
+    pub newton_iterations: usize,
+    /// Dense factorizations of `Φ̂_u`.
+    pub factorizations: usize,
+}
+
+/// A dense square matrix with its LU factors (partial pivoting), factored in place.
+struct DenseLu {
+    n: usize,
+    a: Vec<f64>,
+    pivots: Vec<usize>,
+}
+
+impl DenseLu {
+    fn new(n: usize) -> Self {
+        Self { n, a: vec![0.0; n * n], pivots: vec![0; n] }
+    }
+
+    /// Factors `a` in place; returns the smallest over the largest pivot magnitude (0 if singular).
+    fn factor(&mut self) -> f64 {
+        let n = self.n;
+        let (mut smallest, mut largest) = (f64::INFINITY, 0.0_f64);
+        for k in 0..n {
+            let p = (k..n).fold(k, |p, i| if self.a[i * n + k].abs() > self.a[p * n + k].abs() { i } else { p });
+            self.pivots[k] = p;
+            if p != k {
+                for j in 0..n {
+                    self.a.swap(k * n + j, p * n + j);
+                }
+            }
+            let pivot = self.a[k * n + k];
+            smallest = smallest.min(pivot.abs());
+            largest = largest.max(pivot.abs());
+            if pivot == 0.0 || !pivot.is_finite() {
+                return 0.0;
+            }
+            for i in k + 1..n {
+                let f = self.a[i * n + k] / pivot;
+                self.a[i * n + k] = f;
+                for j in k + 1..n {
+                    self.a[i * n + j] -= f * self.a[k * n + j];
+                }
+            }
+        }
+        if n == 0 {
+            1.0
+        } else {
+            smallest / largest
+        }
+    }
+
+    /// Solves `A x = b` in place with the factors.
+    fn solve(&self, b: &mut [f64]) {
+        let n = self.n;
+        for k in 0..n {
+            b.swap(k, self.pivots[k]);
+        }
+        for i in 0..n {
+            let s: f64 = (0..i).map(|j| self.a[i * n + j] * b[j]).sum();
+            b[i] -= s;
+        }
+        for i in (0..n).rev() {
+            let s: f64 = (i + 1..n).map(|j| self.a[i * n + j] * b[j]).sum();
+            b[i] = (b[i] - s) / self.a[i * n + i];
+        }
+    }
+}
+
+/// The mechanism on its independent coordinates and their rates.
+pub(super) struct PartitionedMechanism<'m> {
+    pub model: &'m Model,
+    pub data: Data,
+    pub kkt: Kkt,
+    nq: usize,
+    nv: usize,
+    /// The active constraint rows; `Φ̂` is these then one normalization row per body.
+    rows: Vec<usize>,
+    m: usize,
+    pub independent: Vec<usize>,
+    dependent: Vec<usize>,
+    /// `Φ̂_q`, `m × nq`, row-major, at the positions of the last [`jacobian`](Self::jacobian) call.
+    jac: Vec<f64>,
+    /// `B` over the active rows, dense, scratch of [`jacobian`](Self::jacobian).
+    b_dense: Vec<f64>,
+    /// Scratch of the partition choice, `m × nq`, and the columns already chosen.
+    elimination: Vec<f64>,
+    chosen: Vec<bool>,
+    lu: DenseLu,
+    factored: bool,
+    /// The factors, positions and rates of the last evaluation, kept while an output is computed.
+    saved_lu: DenseLu,
+    saved_q: Vec<f64>,
+    saved_qdot: Vec<f64>,
+    pivot_ratio_at_partition: f64,
+    phi: Vec<f64>,
+    /// The state of the last evaluation: time, `q`, `q̇`, `v`, `v̇`, `q̈`.
+    t: f64,
+    pub q: Vec<f64>,
+    qdot: Vec<f64>,
+    pub v: Vec<f64>,
+    vdot: Vec<f64>,
+    qddot: Vec<f64>,
+    /// The last accepted state.
+    pub q_accepted: Vec<f64>,
+    pub v_accepted: Vec<f64>,
+    qdot_accepted: Vec<f64>,
+    t_accepted: f64,
+    rtol: f64,
+    atol: f64,
+    pub evaluations: usize,
+    pub report: PartitionReport,
+    /// The partition should be re-chosen at the last accepted state.
+    pub needs_repartition: bool,
+}
+
+impl<'m> PartitionedMechanism<'m> {
+    /// The system at a consistent state `(t, q, v)` with the partition chosen there.
+    pub fn new(
+        model: &'m Model,
+        active: Vec<bool>,
+        rtol: f64,
+        atol: f64,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+    ) -> Result<Self, EvaluationFailure> {
+        let l = &model.layout;
+        let (nq, nv) = (l.nq, l.nv);
+        let rows: Vec<usize> = (0..l.nc).filter(|r| active[*r]).collect();
+        let m = rows.len() + model.bodies.len();
+        let mut qdot = vec![0.0; nq];
+        velocity_map(model, q, v, &mut qdot);
+        let mut s = Self {
+            model,
+            data: Data::new(model),
+            kkt: Kkt::new(model, active),
+            nq,
+            nv,
+            b_dense: vec![0.0; rows.len() * nv],
+            rows,
+            m,
+            independent: Vec::with_capacity(nq),
+            dependent: Vec::with_capacity(nq),
+            jac: vec![0.0; m * nq],
+            elimination: vec![0.0; m * nq],
+            chosen: vec![false; nq],
+            lu: DenseLu::new(m),
+            factored: false,
+            saved_lu: DenseLu::new(m),
+            saved_q: vec![0.0; nq],
+            saved_qdot: vec![0.0; nq],
+            pivot_ratio_at_partition: 1.0,
+            phi: vec![0.0; m],
+            t,
+            q: q.to_vec(),
+            qdot: qdot.clone(),
+            v: v.to_vec(),
+            vdot: vec![0.0; nv],
+            qddot: vec![0.0; nq],
+            q_accepted: q.to_vec(),
+            v_accepted: v.to_vec(),
+            qdot_accepted: qdot,
+            t_accepted: t,
+            rtol,
+            atol,
+            evaluations: 0,
+            report: PartitionReport::default(),
+            needs_repartition: false,
+        };
+        // Joint angles continue from the initial configuration.
+        kinematics(model, &mut s.data, q, v);
+        s.data.angle_reference.fill(0.0);
+        update_angle_references(model, &mut s.data);
+        s.choose_partition()?;
+        s.report.repartitions = 0;
+        Ok(s)
+    }
+
+    /// Number of integrated variables, `2 × independent`.
+    pub fn len(&self) -> usize {
+        2 * self.independent.len()
+    }
+
+    /// `y = [w, ẇ]` of the last accepted state.
+    pub fn accepted_y(&self, y: &mut [f64]) {
+        let nd = self.independent.len();
+        for (i, &c) in self.independent.iter().enumerate() {
+            y[i] = self.q_accepted[c];
+            y[nd + i] = self.qdot_accepted[c];
+        }
+    }
+
+    /// Chooses the partition at the last accepted state (Gaussian elimination with full pivoting on
+    /// `Φ̂_q`) and factors `Φ̂_u` there.
+    pub fn choose_partition(&mut self) -> Result<(), EvaluationFailure> {
+        let (m, nq) = (self.m, self.nq);
+        self.q.copy_from_slice(&self.q_accepted);
+        self.v.copy_from_slice(&self.v_accepted);
+        self.qdot.copy_from_slice(&self.qdot_accepted);
+        self.t = self.t_accepted;
+        self.constraint_stage(self.t);
+        self.jacobian();
+        self.elimination.copy_from_slice(&self.jac);
+        let e = &mut self.elimination;
+        self.dependent.clear();
+        self.chosen.fill(false);
+        for k in 0..m {
+            let (mut best, mut bi, mut bj) = (0.0_f64, k, usize::MAX);
+            for i in k..m {
+                for j in 0..nq {
+                    if !self.chosen[j] && e[i * nq + j].abs() > best {
+                        (best, bi, bj) = (e[i * nq + j].abs(), i, j);
+                    }
+                }
+            }
+            if bj == usize::MAX {
+                return Err(SINGULAR_PARTITION);
+            }
+            for j in 0..nq {
+                e.swap(k * nq + j, bi * nq + j);
+            }
+            let pivot = e[k * nq + bj];
+            for i in k + 1..m {
+                let f = e[i * nq + bj] / pivot;
+                if f != 0.0 {
+                    for j in 0..nq {
+                        e[i * nq + j] -= f * e[k * nq + j];
+                    }
+                }
+            }
+            self.dependent.push(bj);
+            self.chosen[bj] = true;
+        }
+        self.dependent.sort_unstable();
+        self.independent.clear();
+        self.independent.extend((0..nq).filter(|c| self.dependent.binary_search(c).is_err()));
+        self.pivot_ratio_at_partition = self.factor_dependent()?;
+        self.report.repartitions += 1;
+        self.report.independent = self.independent.len();
+        self.needs_repartition = false;
+        Ok(())
+    }
+
+    /// Kinematics and constraint stages at `self.q` (velocities `self.v`), and `Φ̂` into `phi`.
+    fn constraint_stage(&mut self, t: f64) {
+        kinematics(self.model, &mut self.data, &self.q, &self.v);
+        constraint_equations(self.model, &mut self.data, t);
+        let nr = self.rows.len();
+        for (k, &r) in self.rows.iter().enumerate() {
+            self.phi[k] = self.data.equations[r].phi;
+        }
+        for b in 0..self.model.bodies.len() {
+            let qo = self.model.layout.q_offset[b];
+            self.phi[nr + b] = (3..7).map(|k| self.q[qo + k].powi(2)).sum::<f64>() - 1.0;
+        }
+    }
+
+    /// `Φ̂_q` at `self.q` (after [`constraint_stage`](Self::constraint_stage)): `Φ_R = B_Ṙ`,
+    /// `Φ_p = B_ω̄ 2G(p)`, `Φ_a = B_ȧ`, `(pᵀp)_p = 2pᵀ`.
+    fn jacobian(&mut self) {
+        let (nq, nv, nr) = (self.nq, self.nv, self.rows.len());
+        let l = &self.model.layout;
+        self.b_dense.fill(0.0);
+        let (b_dense, rows) = (&mut self.b_dense, &self.rows);
+        jacobian_entries(self.model, &self.data, |r, c, x| {
+            if let Ok(k) = rows.binary_search(&r) {
+                b_dense[k * nv + c] += x;
+            }
+        });
+        self.jac.fill(0.0);
+        for b in 0..self.model.bodies.len() {
+            let (qo, vo, modes) = (l.q_offset[b], l.v_offset[b], l.modes[b]);
+            let p = Vec4::new(self.q[qo + 3], self.q[qo + 4], self.q[qo + 5], self.q[qo + 6]);
+            let g2 = 2.0 * g_matrix(&p);
+            for k in 0..nr {
+                let brow = &self.b_dense[k * nv..(k + 1) * nv];
+                let jrow = &mut self.jac[k * nq..(k + 1) * nq];
+                jrow[qo..qo + 3].copy_from_slice(&brow[vo..vo + 3]);
+                for c in 0..4 {
+                    jrow[qo + 3 + c] = (0..3).map(|j| brow[vo + 3 + j] * g2[(j, c)]).sum();
+                }
+                jrow[qo + 7..qo + 7 + modes].copy_from_slice(&brow[vo + 6..vo + 6 + modes]);
+            }
+            for c in 0..4 {
+                self.jac[(nr + b) * nq + qo + 3 + c] = 2.0 * p[c];
+            }
+        }
+    }
+
+    /// Factors `Φ̂_u` (the dependent columns of `jac`); returns its pivot ratio.
+    fn factor_dependent(&mut self) -> Result<f64, EvaluationFailure> {
+        let (m, nq) = (self.m, self.nq);
+        for i in 0..m {
+            for (j, &c) in self.dependent.iter().enumerate() {
+                self.lu.a[i * m + j] = self.jac[i * nq + c];
+            }
+        }
+        self.report.factorizations += 1;
+        let ratio = self.lu.factor();
+        self.factored = ratio > 0.0;
+        if self.factored {
+            Ok(ratio)
+        } else {
+            Err(SINGULAR_PARTITION)
+        }
+    }
+
+    /// Newton (chord, with the last factors of `Φ̂_u`) for the dependent coordinates at `self.q`.
+    fn solve_dependent_positions(&mut self, t: f64) -> Result<(), EvaluationFailure> {
+        let mut previous = f64::INFINITY;
+        for _ in 0..NEWTON_ITERATIONS {
+            self.constraint_stage(t);
+            let residual = self.phi.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
+            if !residual.is_finite() {
+                break;
+            }
+            if residual == 0.0 {
+                return Ok(());
+            }
+            if !self.factored {
+                self.jacobian();
+                self.factor_dependent()?;
+            }
+            let mut dx = std::mem::take(&mut self.phi);
+            dx.iter_mut().for_each(|x| *x = -*x);
+            self.lu.solve(&mut dx);
+            let mut sum = 0.0;
+            let mut at_round_off = true;
+            for (j, &c) in self.dependent.iter().enumerate() {
+                sum += (dx[j] / (self.atol + self.rtol * self.q[c].abs())).powi(2);
+                at_round_off &= dx[j].abs() <= 16.0 * f64::EPSILON * self.q[c].abs().max(1.0);
+                self.q[c] += dx[j];
+            }
+            self.phi = dx;
+            self.report.newton_iterations += 1;
+            let size = (sum / self.m.max(1) as f64).sqrt();
+            // Converged far below the tolerance, or as far as the precision allows.
+            if size <= CORRECTION_TOLERANCE || at_round_off {
+                return Ok(());
+            }
+            // Slow contraction with old factors: refactor at the current point.
+            if size > 0.2 * previous {
+                self.factored = false;
+            }
+            previous = size;
+        }
+        self.needs_repartition = true;
+        Err(NO_CONVERGENCE)
+    }
+
+    /// From `y = [w, ẇ]` at `t`: the dependent coordinates and rates, `v`; with `accelerations`, also
+    /// `v̇` and `q̈`.
+    fn complete_state(&mut self, t: f64, y: &[f64], accelerations: bool) -> Result<(), EvaluationFailure> {
+        let nd = self.independent.len();
+        // Start the Newton iteration from the last state moved along its rates.
+        let dt = t - self.t;
+        for &c in &self.dependent {
+            self.q[c] += dt * self.qdot[c];
+        }
+        for (i, &c) in self.independent.iter().enumerate() {
+            self.q[c] = y[i];
+        }
+        self.t = t;
+        self.solve_dependent_positions(t)?;
+        // Φ̂_u at the converged positions, for the rates (and the next chord iterations).
+        self.constraint_stage(t);
+        self.jacobian();
+        let ratio = self.factor_dependent()?;
+        if ratio < DEGRADATION * self.pivot_ratio_at_partition {
+            self.needs_repartition = true;
+        }
+        // Φ̂_u u̇ = −Φ̂_t − Φ̂_w ẇ.
+        let (nq, nr) = (self.nq, self.rows.len());
+        for (i, &c) in self.independent.iter().enumerate() {
+            self.qdot[c] = y[nd + i];
+        }
+        for i in 0..self.m {
+            let phi_t = if i < nr { self.data.equations[self.rows[i]].phi_t } else { 0.0 };
+            let jw: f64 = self.independent.iter().map(|&c| self.jac[i * nq + c] * self.qdot[c]).sum();
+            self.phi[i] = -phi_t - jw;
+        }
+        let mut rates = std::mem::take(&mut self.phi);
+        self.lu.solve(&mut rates);
+        for (j, &c) in self.dependent.iter().enumerate() {
+            self.qdot[c] = rates[j];
+        }
+        self.phi = rates;
+        // v = [Ṙ, 2 G(p) ṗ, ȧ].
+        let l = &self.model.layout;
+        for b in 0..self.model.bodies.len() {
+            let (qo, vo, modes) = (l.q_offset[b], l.v_offset[b], l.modes[b]);
+            let p = Vec4::new(self.q[qo + 3], self.q[qo + 4], self.q[qo + 5], self.q[qo + 6]);
+            let p_rate = Vec4::new(self.qdot[qo + 3], self.qdot[qo + 4], self.qdot[qo + 5], self.qdot[qo + 6]);
+            let w = 2.0 * g_matrix(&p) * p_rate;
+            self.v[vo..vo + 3].copy_from_slice(&self.qdot[qo..qo + 3]);
+            self.v[vo + 3..vo + 6].copy_from_slice(w.as_slice());
+            self.v[vo + 6..vo + 6 + modes].copy_from_slice(&self.qdot[qo + 7..qo + 7 + modes]);
+        }
+        if !accelerations {
+            return Ok(());
+        }
+        kinematics(self.model, &mut self.data, &self.q, &self.v);
+        constraint_equations(self.model, &mut self.data, t);
+        self.kkt.factor(self.model, &self.data)?;
+        self.kkt.accelerations(self.model, &mut self.data, t, &mut self.vdot)?;
+        self.evaluations += 1;
+        // q̈ = [R̈, ½ Gᵀ(p) ω̄̇ + ½ Gᵀ(ṗ) ω̄, ä].
+        for b in 0..self.model.bodies.len() {
+            let (qo, vo, modes) = (l.q_offset[b], l.v_offset[b], l.modes[b]);
+            let p = Vec4::new(self.q[qo + 3], self.q[qo + 4], self.q[qo + 5], self.q[qo + 6]);
+            let p_rate = Vec4::new(self.qdot[qo + 3], self.qdot[qo + 4], self.qdot[qo + 5], self.qdot[qo + 6]);
+            let w = Vec3::new(self.v[vo + 3], self.v[vo + 4], self.v[vo + 5]);
+            let w_rate = Vec3::new(self.vdot[vo + 3], self.vdot[vo + 4], self.vdot[vo + 5]);
+            let p_acc = 0.5 * g_matrix(&p).transpose() * w_rate + 0.5 * g_matrix(&p_rate).transpose() * w;
+            self.qddot[qo..qo + 3].copy_from_slice(&self.vdot[vo..vo + 3]);
+            self.qddot[qo + 3..qo + 7].copy_from_slice(p_acc.as_slice());
+            self.qddot[qo + 7..qo + 7 + modes].copy_from_slice(&self.vdot[vo + 6..vo + 6 + modes]);
+        }
+        Ok(())
+    }
+
+    /// Positions and velocities from the interpolated `y` at `t` (between steps, for outputs). Leaves
+    /// the state the next step starts from as it was, so that outputs do not change the steps.
+    pub fn positions_and_velocities(&mut self, t: f64, y: &[f64], q: &mut [f64], v: &mut [f64]) {
+        self.saved_lu.a.copy_from_slice(&self.lu.a);
+        self.saved_lu.pivots.copy_from_slice(&self.lu.pivots);
+        let (factored, needs_repartition) = (self.factored, self.needs_repartition);
+        self.saved_q.copy_from_slice(&self.q);
+        self.saved_qdot.copy_from_slice(&self.qdot);
+        let t_saved = self.t;
+        // Start from the accepted state; a failure leaves the best iterate, which is reported as is.
+        self.q.copy_from_slice(&self.q_accepted);
+        self.qdot.copy_from_slice(&self.qdot_accepted);
+        self.t = self.t_accepted;
+        let _ = self.complete_state(t, y, false);
+        q.copy_from_slice(&self.q);
+        v.copy_from_slice(&self.v);
+        std::mem::swap(&mut self.lu, &mut self.saved_lu);
+        (self.factored, self.needs_repartition) = (factored, needs_repartition);
+        self.q.copy_from_slice(&self.saved_q);
+        self.qdot.copy_from_slice(&self.saved_qdot);
+        self.t = t_saved;
+    }
+}
+
+impl OdeSystem for PartitionedMechanism<'_> {
+    fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), EvaluationFailure> {
+        self.complete_state(t, y, true)?;
+        let nd = self.independent.len();
+        dy[..nd].copy_from_slice(&y[nd..]);
+        for (i, &c) in self.independent.iter().enumerate() {
+            dy[nd + i] = self.qddot[c];
+        }
+        Ok(())
+    }
+
+    fn accept(&mut self, t: f64, y: &mut [f64], dy: &mut [f64]) -> Result<(), EvaluationFailure> {
+        self.rhs(t, y, dy)?;
+        update_angle_references(self.model, &mut self.data);
+        self.q_accepted.copy_from_slice(&self.q);
+        self.v_accepted.copy_from_slice(&self.v);
+        self.qdot_accepted.copy_from_slice(&self.qdot);
+        self.t_accepted = t;
+        Ok(())
+    }
+}
