@@ -16,6 +16,8 @@ pub mod method;
 mod method_tests;
 mod partitioning;
 mod projection;
+#[cfg(test)]
+mod projection_tests;
 
 pub use mechanism::Adams;
 pub use method::{
