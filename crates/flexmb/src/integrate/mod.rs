@@ -15,7 +15,7 @@ pub mod adams;
 mod bdf;
 mod config;
 mod error;
-mod generalized_alpha;
+pub mod generalized_alpha;
 mod integrator;
 mod iteration_matrix;
 mod stats;

@@ -19,8 +19,9 @@
 //! unconditionally stable for linear problems, high-frequency amplitudes multiplied by `ρ∞` per step;
 //! `ρ∞ = 1` is the trapezoidal rule without numerical damping).
 //!
-//! **Constraints.** Arnold and Brüls's index-3 form imposes only `Φ(q_{n+1}) = 0`, which leaves the
-//! velocities off the velocity constraints by `O(h²)` and the multipliers with spurious oscillations. Here
+//! **Constraints.** Arnold and Brüls's index-3 form imposes only `Φ(q_{n+1}) = 0`: the velocities then
+//! satisfy the velocity constraints only to the integration error, and velocities and multipliers
+//! suffer an order reduction in the first steps unless the start is perturbed. Here
 //! the stabilized index-2 form (Arnold, Cardona and Brüls) is used instead: `λ` enforces the velocity
 //! constraints on `v_{n+1}`, and a second multiplier `μ` (a Gear–Gupta–Leimkuhler correction, zero in the
 //! limit `h → 0`) moves the positions onto `Φ = 0` in velocity space. Both constraint levels then hold
@@ -35,9 +36,12 @@
 //! constraints are scaled by `1/(γ'h)` and the position constraints by `1/(β'h²)`, `μ = β'h² μ̃`, with
 //! `β' = β (1 − α_f)/(1 − α_m)`, `γ' = γ (1 − α_f)/(1 − α_m)` (the derivatives of `h² β ã_{n+1}` and
 //! `h γ ã_{n+1}` with respect to `v̇_{n+1}`), so that the iteration matrix tends to the index-1 matrix
-//! `[M Bᵀ 0; B 0 0; B 0 BBᵀ]` as `h → 0` rather than becoming singular (see [`iteration_matrix`]).
-//! The iteration is a modified Newton method: `M` and `B` are exact and fresh at every attempt, the
-//! stiffness and damping parts come from finite differences kept until the iteration fails with them.
+//! `[M Bᵀ 0; B 0 0; B 0 BBᵀ]` as `h → 0` rather than becoming singular (see `iteration_matrix.rs`).
+//! The iteration is a modified Newton method: `M` and `B` are exact and fresh at every attempt, with the
+//! tangent `J_r` of the exponential map in the position derivatives and the coupling of `μ̃` to every
+//! row; the stiffness and damping parts come from finite differences, kept until the iteration fails
+//! with them (or converged with a rate above 0.1, when they are re-evaluated before the next step). A
+//! unit test checks the matrix against central differences of the step equations entry by entry.
 //! Convergence is tested on the position, velocity and multiplier increments in the weighted norm of
 //! the error test, with the BDF's rate-based criterion; an unconverged step is never accepted.
 //!
@@ -53,7 +57,9 @@
 //! `atol + rtol |y|`, as the BDF's error test; a step with `‖e‖ ≤ 1` is accepted and the next one is
 //! `h · clamp(0.9 ‖e‖^(−1/3), 0.2, 5)` (at most `h` after a rejection), a step with `‖e‖ > 1` is retried
 //! with that factor, and a step whose Newton iteration does not converge (with fresh finite-difference
-//! parts) is retried with `h/2`. The first step is `h_init` or is chosen from the initial velocities and
+//! parts) is retried with `h/2`. On a change of step size `ã_n` is moved to the new size (see
+//! `predict`); without that, 15 % of the steps of a slider-crank at tolerance 1e-8 were
+//! rejected, with it 0.1 %. The first step is `h_init` or is chosen from the initial velocities and
 //! accelerations; `h_max` and `max_steps` of [`BdfConfig`] hold. [`GeneralizedAlphaConfig::fixed_step`]
 //! switches the error control off.
 //!
@@ -64,6 +70,15 @@
 //! **Dense output.** Cubic Hermite interpolation within the last step: the positions in velocity space
 //! (`q(t) = q_n ∘ exp(u(s))`, `u` the cubic with `u(0) = 0`, `u(1)` the step's increment, `u'(0) = h v_n`,
 //! `u'(1) = h J_r(u(1))⁻¹ v_{n+1}` for the rotations), the velocities from `v` and `v̇` at both ends.
+//!
+//! **Measured** (`tests/generalized_alpha.rs`): order 2.00 in positions, velocities and multipliers at
+//! fixed step for `ρ∞ = 1, 0.9, 0.5` (pendulum against a BDF at 1e-12), 2.00 for the dense output; a
+//! conservative pendulum at `ρ∞ = 1`, 80 steps per period, keeps its mean energy to 1e-7 of the swing over
+//! 100 periods; at `ρ∞ = 0.5` a stiff spring–mass at `h ω = 10` loses its energy (5e-3 J to 1e-18 J within
+//! 0.5 s) while the swing it rides on stays within 6e-4 rad of the BDF's; `ρ∞ = 1` keeps that energy.
+//! With error control the method takes about as many steps as the BDF at tolerance 1e-4 and 2 to 10 times
+//! as many at 1e-6 to 1e-8 (it is of order 2, the BDF of up to 5); on the shipped flexible pendulum
+//! (rtol 1e-6) it takes 1223 steps to the BDF's 2070.
 
 mod iteration_matrix;
 mod lie_group;
