@@ -10,6 +10,11 @@
 //! left out of the error test, and unlike the index-3 form it needs no step-size dependent scaling and
 //! keeps the velocities accurate. The cost is `nc + nb` extra unknowns `μ`, which are zero at the
 //! solution.
+//!
+//! [`GeneralizedAlpha`] (`Method::GeneralizedAlpha { spectral_radius }`) is the generalized-α method of
+//! Chung and Hulbert in Arnold and Brüls's form, with stabilized index-2 constraints, the positions updated
+//! on their Lie group and the step size from a local error estimate: second order, with numerical damping
+//! of unresolved high frequencies set by `ρ∞` (see [`generalized_alpha`]).
 
 pub mod adams;
 mod bdf;
