@@ -288,3 +288,18 @@ fn compare_prints_a_row_per_integrator_and_the_reference() {
     let o = flexmb(&["compare", "models/slider_crank.toml", "--integrators", "euler"]);
     assert!(!o.status.success() && text(&o.stderr).contains("unknown integrator `euler`"), "{}", text(&o.stderr));
 }
+
+/// Every integrator runs a shipped model from the command line and the summary says which one ran.
+#[test]
+fn run_with_each_integrator() {
+    for name in ["bdf", "adams", "gen-alpha"] {
+        let out = scratch(&format!("integrator-{name}"));
+        let o = flexmb(&["run", "models/pendulum.toml", "--integrator", name, "--t-end", "1", "--quiet", "--out", out.to_str().unwrap()]);
+        assert!(o.status.success(), "{name}: {}", text(&o.stderr));
+        let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("pendulum.json")).unwrap()).unwrap();
+        let shown = summary.to_string();
+        assert!(shown.contains(&format!("\"integrator\":\"{name}\"")), "{name}: {shown}");
+    }
+    let o = flexmb(&["run", "models/pendulum.toml", "--integrator", "rk4"]);
+    assert!(!o.status.success() && text(&o.stderr).contains("--integrator: unknown integrator `rk4`"), "{}", text(&o.stderr));
+}
