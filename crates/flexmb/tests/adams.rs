@@ -466,6 +466,10 @@ fn too_many_steps_and_bad_settings_are_reported() {
     let bad = SimulationSettings { method: Method::Adams(AdamsConfig { max_order: 13, ..Default::default() }), ..s };
     let (e, _) = try_run(&model, &bad).err().expect("invalid order");
     assert!(e.to_string().contains("max_order"), "{e}");
+    let mut no_atol = s;
+    no_atol.integrator.atol = 0.0;
+    let (e, _) = try_run(&model, &no_atol).err().expect("atol = 0");
+    assert!(e.to_string().contains("atol > 0"), "{e}");
 }
 
 /// Generalized coordinate partitioning (the DADS way) against projection, on the same tolerance: both

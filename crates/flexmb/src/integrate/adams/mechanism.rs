@@ -111,6 +111,15 @@ impl<'m> Adams<'m> {
                 reason: "initial positions, velocities or accelerations are not finite".into(),
             });
         }
+        if !(tolerances.atol > 0.0 && tolerances.rtol >= 0.0) {
+            return Err(IntegrationError::InitialConditions {
+                t: state.t,
+                reason: format!(
+                    "the Adams method needs atol > 0 and rtol ≥ 0, got atol {} and rtol {}",
+                    tolerances.atol, tolerances.rtol
+                ),
+            });
+        }
         let control = StepControl {
             rtol: tolerances.rtol,
             atol: tolerances.atol,
