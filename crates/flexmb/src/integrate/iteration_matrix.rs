@@ -248,8 +248,9 @@ fn perturbation(x: f64) -> f64 {
     (x + h) - x
 }
 
-/// For each force element: the bodies it acts on and the bodies whose state it reads.
-fn force_couplings(model: &Model) -> Vec<(Vec<usize>, Vec<usize>)> {
+/// For each force element: the bodies it acts on and the bodies whose state it reads (through its
+/// markers and the measures its expressions use): the coupling graph of the iteration matrices.
+pub(crate) fn force_couplings(model: &Model) -> Vec<(Vec<usize>, Vec<usize>)> {
     use crate::force::ForceKind;
     use crate::measure::MeasureKind;
     let marker_body = |m: crate::model::MarkerId| model.markers[m.0].body.body().map(|b: BodyId| b.0);

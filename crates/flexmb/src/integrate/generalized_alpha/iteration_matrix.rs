@@ -25,6 +25,7 @@ use std::ops::Range;
 use super::lie_group::{quaternion_product, right_jacobian, rotation_quaternion};
 use super::Coefficients;
 use crate::data::Data;
+use crate::integrate::iteration_matrix::force_couplings;
 use crate::linalg::{SingularMatrix, SparseLu};
 use crate::math::{Mat3, Vec3, Vec4};
 use crate::model::{BodyId, Model};
@@ -475,48 +476,4 @@ fn perturb_position(l: &crate::model::Layout, q_work: &mut [f64], b: usize, loca
         }
         _ => q_work[qo + 7 + local - 6] = q[qo + 7 + local - 6] + delta,
     }
-}
-
-/// For each force element: the bodies it acts on and the bodies whose state it reads (through its
-/// markers and the measures its expressions use). The same coupling graph as the BDF's iteration matrix.
-fn force_couplings(model: &Model) -> Vec<(Vec<usize>, Vec<usize>)> {
-    use crate::force::ForceKind;
-    use crate::measure::MeasureKind;
-    let marker_body = |m: crate::model::MarkerId| model.markers[m.0].body.body().map(|b: BodyId| b.0);
-    let joint_bodies = |j: crate::model::JointId| {
-        let jt = &model.joints[j.0];
-        [marker_body(jt.marker_i), marker_body(jt.marker_j)]
-    };
-    let measure_bodies = |m: crate::model::MeasureId| -> Vec<Option<usize>> {
-        match model.measures[m.0].kind {
-            MeasureKind::JointAngle(j)
-            | MeasureKind::JointRate(j)
-            | MeasureKind::JointDisplacement(j)
-            | MeasureKind::JointVelocity(j) => joint_bodies(j).to_vec(),
-            MeasureKind::Distance(a, b) | MeasureKind::DistanceRate(a, b) => vec![marker_body(a), marker_body(b)],
-            MeasureKind::Position(a, _) | MeasureKind::Velocity(a, _) | MeasureKind::Speed(a) => vec![marker_body(a)],
-        }
-    };
-    model
-        .forces
-        .iter()
-        .map(|f| {
-            let acted: Vec<Option<usize>> = match &f.kind {
-                ForceKind::TranslationalSpringDamper { marker_i, marker_j, .. } => {
-                    vec![marker_body(*marker_i), marker_body(*marker_j)]
-                }
-                ForceKind::RotationalSpringDamper { joint, .. } => joint_bodies(*joint).to_vec(),
-                ForceKind::AppliedForce { marker, .. } | ForceKind::AppliedTorque { marker, .. } => {
-                    vec![marker_body(*marker)]
-                }
-            };
-            let mut read = acted.clone();
-            for e in f.kind.expressions() {
-                for m in e.measures() {
-                    read.extend(measure_bodies(m));
-                }
-            }
-            (acted.into_iter().flatten().collect(), read.into_iter().flatten().collect())
-        })
-        .collect()
 }
