@@ -1,8 +1,9 @@
 //! Time integration of the equations of motion.
 //!
-//! The default and only method so far is a variable-order (1–5), variable-step BDF in the backward-
-//! difference form of Shampine and Reichelt (the MATLAB `ode15s` family, with `κ = 0`, i.e. true BDF as in
-//! DASSL) applied to the stabilized index-2 form of the equations (see [`crate::stage`] `residual`).
+//! Three methods implement [`Integrator`], chosen by [`Method`]. The default is a variable-order (1–5),
+//! variable-step BDF in the backward-difference form of Shampine and Reichelt (the MATLAB `ode15s`
+//! family, with `κ = 0`, i.e. true BDF as in DASSL) applied to the stabilized index-2 form of the
+//! equations (see [`crate::stage`] `residual`).
 //!
 //! Why this formulation: the Gear–Gupta–Leimkuhler form keeps both position and velocity constraints
 //! satisfied to Newton tolerance at every step (no drift, no projection step that the error control
@@ -15,6 +16,10 @@
 //! Chung and Hulbert in Arnold and Brüls's form, with stabilized index-2 constraints, the positions updated
 //! on their Lie group and the step size from a local error estimate: second order, with numerical damping
 //! of unresolved high frequencies set by `ρ∞` (see [`generalized_alpha`]).
+//!
+//! [`Adams`] (`Method::Adams`) is the seed's non-stiff method: the variable-order (1–12), variable-step
+//! Adams–Bashforth–Moulton PECE method of Shampine and Gordon on `y = [q, v]`, the constraints kept by
+//! projection after each step or by generalized coordinate partitioning (see [`adams`]).
 
 pub mod adams;
 mod bdf;
