@@ -8,6 +8,19 @@
 //!   (KKT) system, and after every accepted step the positions projected onto `Φ(q, t) = 0`, `pᵀp = 1`
 //!   and the velocities onto `B v + Φ_t = 0`, both in the metric of the mass matrix; or
 //!   (`partitioning`) by generalized coordinate partitioning as in DADS.
+//!
+//! **Statistics** ([`Stats`](super::Stats)): `steps`, `error_test_failures`; `newton_failures` are
+//! attempts abandoned because the mass–constraint matrix was singular or the projection (or the
+//! partition's Newton iteration) did not converge; `newton_iterations` are those of the projections (or
+//! of the dependent coordinates); `residual_evaluations` count the evaluations of `f`, each one solve
+//! of the index-1 system for `v̇` (two per accepted step, one per rejected attempt); `factorizations`
+//! count the factorizations of `[M Bᵀ; B 0]` (one per evaluation; with partitioning also those of
+//! `Φ̂_u`); `order_counts[k]` the steps at predictor order `k` (1–12); no Jacobian is evaluated.
+//!
+//! **Dense output**: the interpolating polynomial of the last step (INTRP) at any time in it; with
+//! projection the interpolated state is not projected (it misses the constraints by about the local
+//! error), with partitioning the dependent coordinates are recovered from the interpolated independent
+//! ones.
 
 mod kkt;
 mod mechanism;
