@@ -7,7 +7,6 @@
 mod support;
 
 use flexmb::analysis::{assemble, velocity_analysis, AccelerationSolver, SimulationReport, SimulationSettings, State};
-use flexmb::body::{LumpedNode, ModalBody, ModalDamping, ModalInvariants, ModalNode};
 use flexmb::force::{ForceElement, ForceKind};
 use flexmb::function::TimeFunction;
 use flexmb::integrate::adams::ConstraintHandling;
@@ -17,7 +16,6 @@ use flexmb::math::{EulerParameters, Mat3, Vec3};
 use flexmb::measure::{Measure, MeasureKind};
 use flexmb::model::{BodyRef, Model, ModelBuilder, OutputKind};
 use flexmb::Data;
-use nalgebra::{DMatrix, DVector, Matrix3xX};
 use std::f64::consts::PI;
 use support::*;
 
@@ -366,53 +364,7 @@ fn projection_moves_the_state_by_much_less_than_the_tolerance() {
 /// A flexible beam (8 lumped nodes, 3 modes of stiffness `k`, modal damping 2 %) hanging from a revolute
 /// at its first node and swinging under gravity.
 fn flexible_pendulum(stiffness: [f64; 3]) -> Model {
-    let m = 3;
-    let nodes: Vec<LumpedNode> = (0..8)
-        .map(|i| {
-            let x = 0.1 * i as f64;
-            let shape = |k: usize| (x * (k + 1) as f64 * 1.7).sin() * x;
-            LumpedNode {
-                position: Vec3::new(x, 0.0, 0.0),
-                mass: 0.2,
-                rotary_inertia: Mat3::from_diagonal(&Vec3::new(1e-4, 2e-4, 2e-4)),
-                psi: Matrix3xX::from_fn(m, |r, k| {
-                    if r == 1 {
-                        shape(k)
-                    } else if r == 2 {
-                        0.3 * shape(k)
-                    } else {
-                        0.0
-                    }
-                }),
-                theta: Matrix3xX::from_fn(m, |r, k| if r == 2 { 0.5 * shape(k) } else { 0.0 }),
-            }
-        })
-        .collect();
-    let mut modal = ModalBody {
-        invariants: ModalInvariants::from_lumped_nodes(&nodes, m),
-        stiffness: DMatrix::from_diagonal(&DVector::from_vec(stiffness.to_vec())),
-        damping: DMatrix::zeros(m, m),
-        nodes: nodes
-            .iter()
-            .enumerate()
-            .map(|(k, n)| ModalNode {
-                label: k as u64 + 1,
-                position: n.position,
-                psi: n.psi.clone(),
-                theta: n.theta.clone(),
-            })
-            .collect(),
-        mode_labels: vec!["N1".into(), "N2".into(), "N3".into()],
-        initial_coordinates: DVector::zeros(m),
-        initial_rates: DVector::zeros(m),
-    };
-    modal.damping = modal.damping_matrix(&ModalDamping::Ratios(vec![0.02])).unwrap();
-    let mut b = ModelBuilder::new("flexible pendulum").gravity(Vec3::new(0.0, -9.81, 0.0));
-    let beam = b.add_flexible_body("beam", Default::default(), modal);
-    let hinge = b.add_node_marker("hinge", beam, 0, Mat3::identity());
-    let tip = b.add_node_marker("tip", beam, 7, Mat3::identity());
-    let pivot = marker(&mut b, "pivot", BodyRef::Ground, Vec3::zeros());
-    joint(&mut b, "hinge", JointKind::Revolute, pivot, hinge);
+    let (mut b, _, tip) = lumped_flexible_pendulum(stiffness, [0.0; 3]);
     b.add_output("tip", OutputKind::MarkerPosition(tip));
     b.build().unwrap()
 }

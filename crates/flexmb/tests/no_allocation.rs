@@ -15,7 +15,6 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 
 use flexmb::analysis::{assemble, velocity_analysis, AccelerationSolver, State};
-use flexmb::body::{LumpedNode, ModalBody, ModalDamping, ModalInvariants, ModalNode};
 use flexmb::force::{ForceElement, ForceFrame, ForceKind};
 use flexmb::function::{Expression, TimeFunction};
 use flexmb::integrate::{
@@ -23,7 +22,6 @@ use flexmb::integrate::{
 };
 use flexmb::joint::JointKind;
 use flexmb::math::{Mat3, Vec3};
-use nalgebra::{DMatrix, DVector, Matrix3xX};
 use flexmb::measure::{Measure, MeasureKind};
 use flexmb::model::{BodyRef, Model, ModelBuilder};
 use flexmb::Data;
@@ -151,45 +149,10 @@ fn loaded_slider_crank(driven: bool) -> Model {
     b.build().unwrap()
 }
 
-/// A flexible beam-like body (8 lumped nodes along x, 3 modes, rotary inertia) hanging from ground by a
-/// revolute at its first node, a force at its last node, gravity and modal damping: the modal
-/// kinematics, node markers, inertia and force terms all run inside the step.
+/// A flexible beam-like body on a revolute under gravity, with initial modal rates and a force at its
+/// tip: the modal kinematics, node markers, inertia and force terms all run inside the step.
 fn flexible_pendulum() -> Model {
-    let m = 3;
-    let nodes: Vec<LumpedNode> = (0..8)
-        .map(|i| {
-            let x = 0.1 * i as f64;
-            let shape = |k: usize| (x * (k + 1) as f64 * 1.7).sin() * x;
-            LumpedNode {
-                position: Vec3::new(x, 0.0, 0.0),
-                mass: 0.2,
-                rotary_inertia: Mat3::from_diagonal(&Vec3::new(1e-4, 2e-4, 2e-4)),
-                psi: Matrix3xX::from_fn(m, |r, k| if r == 1 { shape(k) } else if r == 2 { 0.3 * shape(k) } else { 0.0 }),
-                theta: Matrix3xX::from_fn(m, |r, k| if r == 2 { 0.5 * shape(k) } else if r == 1 { -0.1 * shape(k) } else { 0.0 }),
-            }
-        })
-        .collect();
-    let stiffness = DMatrix::from_diagonal(&DVector::from_vec(vec![400.0, 3000.0, 9000.0]));
-    let mut modal = ModalBody {
-        invariants: ModalInvariants::from_lumped_nodes(&nodes, m),
-        stiffness,
-        damping: DMatrix::zeros(m, m),
-        nodes: nodes
-            .iter()
-            .enumerate()
-            .map(|(k, n)| ModalNode { label: k as u64 + 1, position: n.position, psi: n.psi.clone(), theta: n.theta.clone() })
-            .collect(),
-        mode_labels: vec!["N1".into(), "N2".into(), "N3".into()],
-        initial_coordinates: DVector::zeros(m),
-        initial_rates: DVector::from_vec(vec![0.1, 0.0, 0.0]),
-    };
-    modal.damping = modal.damping_matrix(&ModalDamping::Ratios(vec![0.02])).unwrap();
-    let mut b = ModelBuilder::new("flexible pendulum").gravity(Vec3::new(0.0, -9.81, 0.0));
-    let beam = b.add_flexible_body("beam", Default::default(), modal);
-    let hinge = b.add_node_marker("hinge", beam, 0, Mat3::identity());
-    let tip = b.add_node_marker("tip", beam, 7, Mat3::identity());
-    let pivot = marker(&mut b, "pivot", BodyRef::Ground, Vec3::zeros());
-    joint(&mut b, "hinge", JointKind::Revolute, pivot, hinge);
+    let (mut b, _, tip) = lumped_flexible_pendulum([400.0, 3000.0, 9000.0], [0.1, 0.0, 0.0]);
     b.add_force(ForceElement {
         name: "push".into(),
         kind: ForceKind::AppliedForce {

@@ -3,11 +3,11 @@
 #![allow(dead_code)]
 
 use flexmb::analysis::{output_columns, simulate, SimulationError, SimulationReport, SimulationSettings};
-use flexmb::body::{InitialState, Marker, RigidBody};
+use flexmb::body::{InitialState, LumpedNode, Marker, ModalBody, ModalDamping, ModalInvariants, ModalNode, RigidBody};
 use flexmb::integrate::BdfConfig;
 use flexmb::joint::{Joint, JointKind};
 use flexmb::math::{EulerParameters, Mat3, Vec3};
-use flexmb::model::{BodyRef, JointId, MarkerId, Model, ModelBuilder};
+use flexmb::model::{BodyId, BodyRef, JointId, MarkerId, Model, ModelBuilder};
 
 /// A rigid body with its frame at `position`, turned by `orientation`; `velocity`/`omega` (global) given
 /// when `Some`.
@@ -223,4 +223,48 @@ pub fn slider_crank_linkage(b: &mut ModelBuilder, r: f64, l: f64, crank_omega: O
     joint(b, "rod_slider", JointKind::Universal, rod_slider_end, slider_pin);
     let slide = joint(b, "slide", JointKind::Translational, guide, slider_guide);
     SliderCrank { crank_joint, slide, pivot_ground, pivot, rod_slider_end, slider_pin }
+}
+
+/// A flexible beam-like body: 8 lumped nodes 0.1 m apart along x, 3 modes of modal stiffness
+/// `stiffness` (shapes not from an FE model, but smooth and with rotary inertia), 2 % modal damping,
+/// initial modal rates `rates`, hanging from ground by a revolute at its first node, gravity −y.
+/// Returns the builder, the body and a marker at its last node.
+pub fn lumped_flexible_pendulum(stiffness: [f64; 3], rates: [f64; 3]) -> (ModelBuilder, BodyId, MarkerId) {
+    use nalgebra::{DMatrix, DVector, Matrix3xX};
+    let m = 3;
+    let nodes: Vec<LumpedNode> = (0..8)
+        .map(|i| {
+            let x = 0.1 * i as f64;
+            let shape = |k: usize| (x * (k + 1) as f64 * 1.7).sin() * x;
+            let component = |r: usize, k: usize, weights: [f64; 3]| weights[r] * shape(k);
+            LumpedNode {
+                position: Vec3::new(x, 0.0, 0.0),
+                mass: 0.2,
+                rotary_inertia: Mat3::from_diagonal(&Vec3::new(1e-4, 2e-4, 2e-4)),
+                psi: Matrix3xX::from_fn(m, |r, k| component(r, k, [0.0, 1.0, 0.3])),
+                theta: Matrix3xX::from_fn(m, |r, k| component(r, k, [0.0, 0.0, 0.5])),
+            }
+        })
+        .collect();
+    let mut modal = ModalBody {
+        invariants: ModalInvariants::from_lumped_nodes(&nodes, m),
+        stiffness: DMatrix::from_diagonal(&DVector::from_vec(stiffness.to_vec())),
+        damping: DMatrix::zeros(m, m),
+        nodes: nodes
+            .iter()
+            .enumerate()
+            .map(|(k, n)| ModalNode { label: k as u64 + 1, position: n.position, psi: n.psi.clone(), theta: n.theta.clone() })
+            .collect(),
+        mode_labels: vec!["N1".into(), "N2".into(), "N3".into()],
+        initial_coordinates: DVector::zeros(m),
+        initial_rates: DVector::from_vec(rates.to_vec()),
+    };
+    modal.damping = modal.damping_matrix(&ModalDamping::Ratios(vec![0.02])).unwrap();
+    let mut b = ModelBuilder::new("flexible pendulum").gravity(Vec3::new(0.0, -9.81, 0.0));
+    let beam = b.add_flexible_body("beam", Default::default(), modal);
+    let hinge = b.add_node_marker("hinge", beam, 0, Mat3::identity());
+    let tip = b.add_node_marker("tip", beam, 7, Mat3::identity());
+    let pivot = marker(&mut b, "pivot", BodyRef::Ground, Vec3::zeros());
+    joint(&mut b, "hinge", JointKind::Revolute, pivot, hinge);
+    (b, beam, tip)
 }
