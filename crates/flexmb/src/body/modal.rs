@@ -160,6 +160,25 @@ pub struct ModalBody {
 }
 
 impl ModalBody {
+    /// A modal body from lumped-mass nodes and a modal stiffness (m×m): the invariants summed over the
+    /// nodes, modes labelled `M1`, `M2`, …, no damping, initial modal coordinates and rates zero.
+    pub fn from_lumped_nodes(nodes: &[LumpedNode], stiffness: DMatrix<f64>) -> ModalBody {
+        let m = stiffness.nrows();
+        ModalBody {
+            invariants: ModalInvariants::from_lumped_nodes(nodes, m),
+            stiffness,
+            damping: DMatrix::zeros(m, m),
+            nodes: nodes
+                .iter()
+                .enumerate()
+                .map(|(k, n)| ModalNode { label: k as u64 + 1, position: n.position, psi: n.psi.clone(), theta: n.theta.clone() })
+                .collect(),
+            mode_labels: (1..=m).map(|j| format!("M{j}")).collect(),
+            initial_coordinates: DVector::zeros(m),
+            initial_rates: DVector::zeros(m),
+        }
+    }
+
     /// Number of modes.
     pub fn modes(&self) -> usize {
         self.invariants.modes()

@@ -41,19 +41,7 @@ fn random_nodes(rng: &mut Lcg, n: usize, m: usize, rotary: bool) -> Vec<LumpedNo
 fn modal_body(nodes: &[LumpedNode], m: usize, rng: &mut Lcg) -> ModalBody {
     let r = DMatrix::from_fn(m, m, |_, _| rng.range(-1.0, 1.0));
     let stiffness = &r * r.transpose() * 50.0 + DMatrix::identity(m, m) * 200.0;
-    ModalBody {
-        invariants: ModalInvariants::from_lumped_nodes(nodes, m),
-        stiffness,
-        damping: DMatrix::zeros(m, m),
-        nodes: nodes
-            .iter()
-            .enumerate()
-            .map(|(k, n)| ModalNode { label: k as u64 + 1, position: n.position, psi: n.psi.clone(), theta: n.theta.clone() })
-            .collect(),
-        mode_labels: (1..=m).map(|j| format!("M{j}")).collect(),
-        initial_coordinates: DVector::zeros(m),
-        initial_rates: DVector::zeros(m),
-    }
+    ModalBody::from_lumped_nodes(nodes, stiffness)
 }
 
 /// One free flexible body (no joints, no gravity).

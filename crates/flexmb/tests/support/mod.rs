@@ -3,7 +3,7 @@
 #![allow(dead_code)]
 
 use flexmb::analysis::{output_columns, simulate, SimulationError, SimulationReport, SimulationSettings};
-use flexmb::body::{InitialState, LumpedNode, Marker, ModalBody, ModalDamping, ModalInvariants, ModalNode, RigidBody};
+use flexmb::body::{InitialState, LumpedNode, Marker, ModalBody, ModalDamping, RigidBody};
 use flexmb::integrate::BdfConfig;
 use flexmb::joint::{Joint, JointKind};
 use flexmb::math::{EulerParameters, Mat3, Vec3};
@@ -246,19 +246,8 @@ pub fn lumped_flexible_pendulum(stiffness: [f64; 3], rates: [f64; 3]) -> (ModelB
             }
         })
         .collect();
-    let mut modal = ModalBody {
-        invariants: ModalInvariants::from_lumped_nodes(&nodes, m),
-        stiffness: DMatrix::from_diagonal(&DVector::from_vec(stiffness.to_vec())),
-        damping: DMatrix::zeros(m, m),
-        nodes: nodes
-            .iter()
-            .enumerate()
-            .map(|(k, n)| ModalNode { label: k as u64 + 1, position: n.position, psi: n.psi.clone(), theta: n.theta.clone() })
-            .collect(),
-        mode_labels: vec!["N1".into(), "N2".into(), "N3".into()],
-        initial_coordinates: DVector::zeros(m),
-        initial_rates: DVector::from_vec(rates.to_vec()),
-    };
+    let mut modal = ModalBody::from_lumped_nodes(&nodes, DMatrix::from_diagonal(&DVector::from_vec(stiffness.to_vec())));
+    modal.initial_rates = DVector::from_vec(rates.to_vec());
     modal.damping = modal.damping_matrix(&ModalDamping::Ratios(vec![0.02])).unwrap();
     let mut b = ModelBuilder::new("flexible pendulum").gravity(Vec3::new(0.0, -9.81, 0.0));
     let beam = b.add_flexible_body("beam", Default::default(), modal);
