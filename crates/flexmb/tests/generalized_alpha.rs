@@ -489,3 +489,26 @@ fn redundant_rows_change_nothing() {
     assert!(diff < 1e-9, "the redundant joint changes the motion by {diff:e} m");
     assert!(runs[1].report.max_position_residual < 1e-7 && runs[1].report.max_velocity_residual < 1e-7);
 }
+
+/// A flexible pendulum (a lumped beam with 3 modes on a revolute, gravity): the generalized-α method
+/// follows a tight BDF solution of the tip within a hundred tolerances (measured 8.6e-6 m at 1e-6)
+/// and keeps the constraints.
+#[test]
+fn flexible_pendulum_agrees_with_the_bdf() {
+    let (mut b, _, tip) = lumped_flexible_pendulum([400.0, 3000.0, 9000.0], [0.1, 0.0, 0.0]);
+    b.add_output("tip", OutputKind::MarkerPosition(tip));
+    let model = b.build().unwrap();
+    let reference = run(&model, &settings(1.0, 0.01, 1e-10));
+    let tol = 1e-6;
+    let ga = run(&model, &alpha_settings(1.0, 0.01, tol, 0.9));
+    let (p, p_ref) = (ga.vec3("tip"), reference.vec3("tip"));
+    let n = ga.t.len();
+    assert_eq!(n, reference.t.len());
+    let error = max_over(n, |k| (p[k] - p_ref[k]).norm());
+    eprintln!(
+        "flexible pendulum tol {tol:.0e}: gen-α max tip distance from a BDF at 1e-10 {error:.2e} m, {} steps; max |Φ| {:.1e}, |Φ̇| {:.1e}",
+        ga.report.stats.steps, ga.report.max_position_residual, ga.report.max_velocity_residual
+    );
+    assert!(error < 100.0 * tol, "tip differs by {error:e} m");
+    assert!(ga.report.max_position_residual < tol && ga.report.max_velocity_residual < tol);
+}
