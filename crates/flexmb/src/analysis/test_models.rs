@@ -50,3 +50,45 @@ pub(crate) fn double_pendulum_with_spring() -> Model {
     });
     b.build().unwrap()
 }
+
+/// A pendulum whose bob slides along the rod on a translational joint, held by a stiff, critically
+/// damped spring (1e7 N/m): a fast mode along a joint's free direction.
+pub(crate) fn pendulum_with_stiff_slider() -> Model {
+    let (l, mass, stiffness) = (1.0, 1.0, 1e7);
+    let mut b = ModelBuilder::new("pendulum with a stiff slider").gravity(Vec3::new(0.0, -9.81, 0.0));
+    let theta0 = 1.0_f64;
+    let pose = EulerParameters::from_axis_angle(&Vec3::z(), theta0);
+    let down = Vec3::new(theta0.sin(), -theta0.cos(), 0.0);
+    let body = |name: &str, m: f64, com: Vec3, inertia: Vec3, position: Vec3| RigidBody {
+        name: name.into(),
+        mass: m,
+        center_of_mass: com,
+        inertia: Mat3::from_diagonal(&inertia),
+        initial: InitialState { position, orientation: pose, velocity: None, angular_velocity: None },
+    };
+    let rod = b.add_body(body("rod", 0.5, Vec3::new(0.0, -0.5 * l, 0.0), Vec3::new(0.05, 1e-3, 0.05), Vec3::zeros()));
+    let bob = b.add_body(body("bob", mass, Vec3::zeros(), Vec3::new(1e-3, 1e-3, 1e-3), l * down));
+    let mk = |b: &mut ModelBuilder, name: &str, body, origin, axes| b.add_marker(Marker { name: name.into(), body, origin, axes });
+    let pivot_ground = mk(&mut b, "pivot_ground", BodyRef::Ground, Vec3::zeros(), Mat3::identity());
+    let pivot = mk(&mut b, "pivot", BodyRef::Body(rod), Vec3::zeros(), Mat3::identity());
+    b.add_joint(Joint { name: "pivot".into(), kind: JointKind::Revolute, marker_i: pivot_ground, marker_j: pivot });
+    // z along the rod (body y): x = body z, y = body x, z = body y.
+    let along = Mat3::new(0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0);
+    let guide = mk(&mut b, "guide", BodyRef::Body(rod), Vec3::new(0.0, -l, 0.0), along);
+    let slider = mk(&mut b, "slider", BodyRef::Body(bob), Vec3::zeros(), along);
+    b.add_joint(Joint { name: "slide".into(), kind: JointKind::Translational, marker_i: guide, marker_j: slider });
+    let spring_end = mk(&mut b, "spring_end", BodyRef::Body(rod), Vec3::zeros(), Mat3::identity());
+    let bob_centre = mk(&mut b, "bob_centre", BodyRef::Body(bob), Vec3::zeros(), Mat3::identity());
+    b.add_force(ForceElement {
+        name: "spring".into(),
+        kind: ForceKind::TranslationalSpringDamper {
+            marker_i: spring_end,
+            marker_j: bob_centre,
+            stiffness,
+            damping: 2.0 * (stiffness * mass).sqrt(),
+            free_length: l,
+            actuator: None,
+        },
+    });
+    b.build().unwrap()
+}

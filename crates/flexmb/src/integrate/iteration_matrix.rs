@@ -301,7 +301,11 @@ mod tests {
     /// missing from the pattern and no two columns of one colour share a row.
     #[test]
     fn coloured_jacobian_matches_dense_finite_differences() {
-        let model = crate::analysis::test_models::double_pendulum_with_spring();
+        coloured_against_dense(crate::analysis::test_models::double_pendulum_with_spring());
+        coloured_against_dense(crate::analysis::test_models::pendulum_with_stiff_slider());
+    }
+
+    fn coloured_against_dense(model: Model) {
         let mut data = Data::new(&model);
         let mut state = State::initial(&model);
         assemble(&model, &mut data, &mut state, Default::default()).unwrap();
