@@ -22,18 +22,17 @@ pub struct Accelerations {
     pub lambda: Vec<f64>,
 }
 
-/// The KKT matrix with its fixed pattern, factored at each call.
-pub struct AccelerationSolver {
+/// The matrix `[M Bᵀ; B 0]` on its fixed sparse pattern (the mass block of every body, the Jacobian
+/// blocks of every joint), refactored at each state; a switched-off (redundant) row `r` gets the
+/// equation `z_r = 0`. Shared by the acceleration solve and the Adams integrator.
+pub(crate) struct KktMatrix {
     lu: SparseLu,
-    rhs: Vec<f64>,
-    zero_v: Vec<f64>,
-    pub result: Accelerations,
+    nv: usize,
 }
 
-impl AccelerationSolver {
-    pub fn new(model: &Model) -> Self {
+impl KktMatrix {
+    pub(crate) fn new(model: &Model) -> Self {
         let l = &model.layout;
-        let n = l.nv + l.nc;
         let mut entries = Vec::new();
         for b in 0..model.bodies.len() {
             let range = l.v_range(BodyId(b));
@@ -53,9 +52,53 @@ impl AccelerationSolver {
                 }
             }
         }
+        Self { lu: SparseLu::new(l.nv + l.nc, entries), nv: l.nv }
+    }
+
+    /// Assembles and factors the matrix at the state of the last kinematics and constraint stages.
+    pub(crate) fn factor(&mut self, model: &Model, data: &Data, active: &[bool]) -> Result<(), SingularMatrix> {
+        let nv = self.nv;
+        self.lu.clear();
+        for b in 0..model.bodies.len() {
+            let vo = model.layout.v_offset[b];
+            let lu = &mut self.lu;
+            body_mass_entries(model, data, b, |r, c, m| lu.add(vo + r, vo + c, m));
+        }
+        let lu = &mut self.lu;
+        jacobian_entries(model, data, |r, c, x| {
+            if active[r] {
+                lu.add(nv + r, c, x);
+                lu.add(c, nv + r, x);
+            }
+        });
+        for (r, a) in active.iter().enumerate() {
+            if !a {
+                self.lu.add(nv + r, nv + r, 1.0);
+            }
+        }
+        self.lu.factor()
+    }
+
+    /// Solves with the current factors in place.
+    pub(crate) fn solve_in_place(&mut self, rhs: &mut [f64]) -> Result<(), SingularMatrix> {
+        self.lu.solve_in_place(rhs)
+    }
+}
+
+/// The KKT matrix with its fixed pattern, factored at each call.
+pub struct AccelerationSolver {
+    kkt: KktMatrix,
+    rhs: Vec<f64>,
+    zero_v: Vec<f64>,
+    pub result: Accelerations,
+}
+
+impl AccelerationSolver {
+    pub fn new(model: &Model) -> Self {
+        let l = &model.layout;
         Self {
-            lu: SparseLu::new(n, entries),
-            rhs: vec![0.0; n],
+            kkt: KktMatrix::new(model),
+            rhs: vec![0.0; l.nv + l.nc],
             zero_v: vec![0.0; l.nv],
             result: Accelerations { vdot: vec![0.0; l.nv], lambda: vec![0.0; l.nc] },
         }
@@ -71,39 +114,20 @@ impl AccelerationSolver {
         v: &[f64],
         active: &[bool],
     ) -> Result<&Accelerations, SingularMatrix> {
-        let l = &model.layout;
+        let nv = model.layout.nv;
         kinematics(model, data, q, v);
         constraint_equations(model, data, t);
         measures(model, data);
         applied_forces(model, data, t);
         inertia_forces(model, data, &self.zero_v);
-        self.lu.clear();
-        for b in 0..model.bodies.len() {
-            let vo = l.v_offset[b];
-            let lu = &mut self.lu;
-            body_mass_entries(model, data, b, |r, c, m| lu.add(vo + r, vo + c, m));
-        }
-        let nv = l.nv;
-        let lu = &mut self.lu;
-        jacobian_entries(model, data, |r, c, x| {
-            if active[r] {
-                lu.add(nv + r, c, x);
-                lu.add(c, nv + r, x);
-            }
-        });
-        for (r, a) in active.iter().enumerate() {
-            if !a {
-                self.lu.add(nv + r, nv + r, 1.0);
-            }
-        }
+        self.kkt.factor(model, data, active)?;
         for k in 0..nv {
             self.rhs[k] = data.applied[k] - data.inertia[k];
         }
         for (r, terms) in data.equations.iter().enumerate() {
             self.rhs[nv + r] = if active[r] { -terms.accel_bias } else { 0.0 };
         }
-        self.lu.factor()?;
-        self.lu.solve_in_place(&mut self.rhs)?;
+        self.kkt.solve_in_place(&mut self.rhs)?;
         self.result.vdot.copy_from_slice(&self.rhs[..nv]);
         self.result.lambda.copy_from_slice(&self.rhs[nv..]);
         Ok(&self.result)

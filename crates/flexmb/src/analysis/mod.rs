@@ -11,9 +11,11 @@ mod velocity;
 #[cfg(test)]
 pub(crate) mod test_models;
 
+pub(crate) use accelerations::KktMatrix;
 pub use accelerations::{AccelerationSolver, Accelerations};
 pub use assembly::{assemble, AssemblyError, AssemblyReport, AssemblySettings};
 pub use outputs::{output_columns, OutputColumn};
+pub(crate) use redundancy::newly_dependent_rows;
 pub use redundancy::{find_redundant_rows, RedundantConstraint};
 pub use simulation::{simulate, OutputFrame, SimulationError, SimulationFailure, SimulationReport, SimulationSettings};
 pub use state::State;

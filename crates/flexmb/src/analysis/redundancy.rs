@@ -55,3 +55,16 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 fn norm(a: &[f64]) -> f64 {
     dot(a, a).sqrt()
 }
+
+/// For a failure message: the rows in force (`active`) that have become dependent at `q`, i.e. the
+/// mechanism locks or reaches a singular position there; `None` when there are none.
+pub(crate) fn newly_dependent_rows(model: &Model, data: &mut Data, t: f64, q: &[f64], active: &[bool]) -> Option<String> {
+    let (dependent, _) = find_redundant_rows(model, data, t, q);
+    let newly: Vec<String> = dependent.iter().filter(|r| active[r.row]).map(|r| r.description.clone()).collect();
+    (!newly.is_empty()).then(|| {
+        format!(
+            "the constraints have become dependent here (the mechanism locks or reaches a singular position): {}",
+            newly.join("; ")
+        )
+    })
+}

@@ -522,15 +522,9 @@ impl<'m> Bdf<'m> {
             );
         }
         let q = self.y_pred[self.yl.q.clone()].to_vec();
-        let (dependent, _) = crate::analysis::find_redundant_rows(self.model, &mut self.data, t_new, &q);
-        let newly: Vec<String> =
-            dependent.iter().filter(|r| self.active[r.row]).map(|r| r.description.clone()).collect();
-        if !newly.is_empty() {
-            text += &format!(
-                "; the constraints have become dependent here (the mechanism locks or reaches a singular \
-                 position): {}",
-                newly.join("; ")
-            );
+        if let Some(note) = crate::analysis::newly_dependent_rows(self.model, &mut self.data, t_new, &q, &self.active) {
+            text += "; ";
+            text += &note;
         }
         text
     }
@@ -553,14 +547,7 @@ fn describe_y_row(model: &Model, yl: &YLayout, row: usize) -> String {
         let b = l.body_of_position(row - yl.q.start);
         format!("the kinematic equations of body '{}'", model.bodies[b.0].name)
     } else if yl.v.contains(&row) {
-        let b = l.body_of_velocity(row - yl.v.start);
-        let local = row - yl.v.start - l.v_offset[b.0];
-        if local >= 6 {
-            let label = model.modal[b.0].as_ref().map_or(String::new(), |m| m.mode_labels[local - 6].clone());
-            format!("the modal equation of mode {label} of body '{}'", model.bodies[b.0].name)
-        } else {
-            format!("the equations of motion of body '{}'", model.bodies[b.0].name)
-        }
+        model.describe_velocity_row(row - yl.v.start)
     } else if yl.lambda.contains(&row) {
         format!("the velocity constraint of {}", model.describe_constraint_row(row - yl.lambda.start))
     } else if row - yl.mu.start < l.nc {

@@ -106,6 +106,18 @@ impl Model {
         [self.markers[j.marker_i.0].body.body(), self.markers[j.marker_j.0].body.body()]
     }
 
+    /// A human-readable description of the equation of velocity coordinate `k`: the equations of motion of
+    /// a body, or the modal equation of one of its modes.
+    pub fn describe_velocity_row(&self, k: usize) -> String {
+        let b = self.layout.body_of_velocity(k);
+        let local = k - self.layout.v_offset[b.0];
+        let name = &self.bodies[b.0].name;
+        match (&self.modal[b.0], local.checked_sub(6)) {
+            (Some(m), Some(mode)) => format!("the modal equation of mode {} of body '{name}'", m.mode_labels[mode]),
+            _ => format!("the equations of motion of body '{name}'"),
+        }
+    }
+
     /// A human-readable description of constraint row `row`: joint name, kind and equation.
     pub fn describe_constraint_row(&self, row: usize) -> String {
         let (joint, eq) = self.layout.equations[row];

@@ -4,11 +4,11 @@
 
 use crate::data::Data;
 use crate::integrate::adams::method::EvaluationFailure;
-use crate::linalg::SparseLu;
+use crate::analysis::KktMatrix;
 use crate::math::euler_parameters::g_matrix;
 use crate::math::{Vec3, Vec4};
-use crate::model::{BodyId, Model};
-use crate::stage::{applied_forces, body_mass_entries, inertia_forces, jacobian_entries, measures};
+use crate::model::Model;
+use crate::stage::{applied_forces, inertia_forces, measures};
 
 pub(super) const SINGULAR: EvaluationFailure =
     EvaluationFailure("the mass–constraint matrix [M Bᵀ; B 0] is singular (dependent constraints or a massless body)");
@@ -16,7 +16,7 @@ pub(super) const NOT_FINITE: EvaluationFailure = EvaluationFailure("the accelera
 
 /// `[M Bᵀ; B 0]` with its factors; a redundant (switched-off) row `r` gets the equation `z_r = 0`.
 pub(super) struct Kkt {
-    lu: SparseLu,
+    matrix: KktMatrix,
     /// Right side and solution, length `nv + nc`.
     pub rhs: Vec<f64>,
     zero_v: Vec<f64>,
@@ -30,29 +30,9 @@ pub(super) struct Kkt {
 impl Kkt {
     pub fn new(model: &Model, active: Vec<bool>) -> Self {
         let l = &model.layout;
-        let n = l.nv + l.nc;
-        let mut entries = Vec::new();
-        for b in 0..model.bodies.len() {
-            let range = l.v_range(BodyId(b));
-            for r in range.clone() {
-                for c in range.clone() {
-                    entries.push((r, c));
-                }
-            }
-        }
-        for (j, joint) in model.joints.iter().enumerate() {
-            for b in model.joint_bodies(joint).into_iter().flatten() {
-                for row in l.joint_rows[j].clone() {
-                    for k in l.v_range(b) {
-                        entries.push((l.nv + row, k));
-                        entries.push((k, l.nv + row));
-                    }
-                }
-            }
-        }
         Self {
-            lu: SparseLu::new(n, entries),
-            rhs: vec![0.0; n],
+            matrix: KktMatrix::new(model),
+            rhs: vec![0.0; l.nv + l.nc],
             zero_v: vec![0.0; l.nv],
             active,
             nv: l.nv,
@@ -63,28 +43,9 @@ impl Kkt {
 
     /// Assembles and factors the matrix at the positions of the last kinematics and constraint stages.
     pub fn factor(&mut self, model: &Model, data: &Data) -> Result<(), EvaluationFailure> {
-        let nv = self.nv;
-        self.lu.clear();
-        for b in 0..model.bodies.len() {
-            let vo = model.layout.v_offset[b];
-            let lu = &mut self.lu;
-            body_mass_entries(model, data, b, |r, c, m| lu.add(vo + r, vo + c, m));
-        }
-        let (lu, active) = (&mut self.lu, &self.active);
-        jacobian_entries(model, data, |r, c, x| {
-            if active[r] {
-                lu.add(nv + r, c, x);
-                lu.add(c, nv + r, x);
-            }
-        });
-        for (r, a) in self.active.iter().enumerate() {
-            if !a {
-                self.lu.add(nv + r, nv + r, 1.0);
-            }
-        }
         self.factorizations += 1;
         self.factored = false;
-        self.lu.factor().map_err(|_| SINGULAR)?;
+        self.matrix.factor(model, data, &self.active).map_err(|_| SINGULAR)?;
         self.factored = true;
         Ok(())
     }
@@ -108,7 +69,7 @@ impl Kkt {
         for (r, terms) in data.equations.iter().enumerate() {
             self.rhs[nv + r] = if self.active[r] { -terms.accel_bias } else { 0.0 };
         }
-        self.lu.solve_in_place(&mut self.rhs).map_err(|_| SINGULAR)?;
+        self.matrix.solve_in_place(&mut self.rhs).map_err(|_| SINGULAR)?;
         vdot.copy_from_slice(&self.rhs[..nv]);
         if vdot.iter().all(|x| x.is_finite()) {
             Ok(())
@@ -130,7 +91,7 @@ impl Kkt {
         for r in 0..self.active.len() {
             self.rhs[nv + r] = if self.active[r] { row_value(data, r) } else { 0.0 };
         }
-        self.lu.solve_in_place(&mut self.rhs).map_err(|_| SINGULAR)
+        self.matrix.solve_in_place(&mut self.rhs).map_err(|_| SINGULAR)
     }
 }
 

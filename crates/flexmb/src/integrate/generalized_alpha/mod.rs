@@ -660,15 +660,9 @@ impl<'m> GeneralizedAlpha<'m> {
             text += &format!("; largest constraint residual {value_c:.3e} in {}", describe_row(self.model, row_c));
         }
         let q = self.q_new.clone();
-        let (dependent, _) = crate::analysis::find_redundant_rows(self.model, &mut self.data, t_new, &q);
-        let newly: Vec<String> =
-            dependent.iter().filter(|r| self.active[r.row]).map(|r| r.description.clone()).collect();
-        if !newly.is_empty() {
-            text += &format!(
-                "; the constraints have become dependent here (the mechanism locks or reaches a singular \
-                 position): {}",
-                newly.join("; ")
-            );
+        if let Some(note) = crate::analysis::newly_dependent_rows(self.model, &mut self.data, t_new, &q, &self.active) {
+            text += "; ";
+            text += &note;
         }
         text
     }
@@ -687,14 +681,7 @@ enum AttemptFailure {
 fn describe_row(model: &Model, row: usize) -> String {
     let l = &model.layout;
     if row < l.nv {
-        let b = l.body_of_velocity(row);
-        let local = row - l.v_offset[b.0];
-        if local >= 6 {
-            let label = model.modal[b.0].as_ref().map_or(String::new(), |m| m.mode_labels[local - 6].clone());
-            format!("the modal equation of mode {label} of body '{}'", model.bodies[b.0].name)
-        } else {
-            format!("the equations of motion of body '{}'", model.bodies[b.0].name)
-        }
+        model.describe_velocity_row(row)
     } else if row < l.nv + l.nc {
         format!("the velocity constraint of {}", model.describe_constraint_row(row - l.nv))
     } else {
