@@ -1,26 +1,9 @@
 //! The `flexmb` program as a new user runs it: shipped models, result files, and errors.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
-fn flexmb(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_flexmb")).args(args).current_dir(workspace()).output().expect("flexmb runs")
-}
+mod program;
 
-fn workspace() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("flexmb-cli-test-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
+use program::{flexmb, scratch, text};
 
 #[test]
 fn run_writes_csv_and_summary_for_a_shipped_model() {

@@ -2,29 +2,12 @@
 //! frequencies are printed, mode shapes are written for ParaView, `.inp` meshes are read directly, and
 //! bad requests are refused with a message.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 use flexmb_fem::reduction::{Basis, FlexibleBody};
 
-fn flexmb(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_flexmb")).args(args).current_dir(workspace()).output().expect("flexmb runs")
-}
+mod program;
 
-fn workspace() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("flexmb-modes-test-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
+use program::{flexmb, scratch, text};
 
 #[test]
 fn modes_of_the_shipped_cantilever_write_a_flexible_body_and_mode_shapes() {
