@@ -9,8 +9,10 @@ pub mod flexible_body;
 pub mod integrator_choice;
 pub mod model_file;
 pub mod modes;
+pub mod plot;
 pub mod results;
 pub mod run;
+pub mod spectrum;
 pub mod vtk;
 
 pub use model_file::{load_model, parse_model, LoadedModel, ModelFileError, SimulationDefaults};

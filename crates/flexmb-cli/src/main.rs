@@ -8,7 +8,9 @@ use flexmb_cli::bench::{run_benchmarks, BenchCase};
 use flexmb_cli::check::{check_model, describe, describe_flexible_bodies};
 use flexmb_cli::compare::{compare_model, CompareOptions};
 use flexmb_cli::modes::{run_modes, ModesOptions};
+use flexmb_cli::plot::{plot_run_outputs, run_plot, PlotOptions, YScale, DEFAULT_SIZE};
 use flexmb_cli::run::{run_model, RunOptions};
+use flexmb_cli::spectrum::{run_spectrum, SpectrumOptions};
 use flexmb_fem::modes::EigenSolver;
 use flexmb_fem::reduction::Basis;
 
@@ -50,6 +52,10 @@ enum Command {
         /// Print nothing but errors.
         #[arg(long, short)]
         quiet: bool,
+        /// After the run, plot each output (or the columns named) to PNGs next to the CSV. Put it
+        /// after the model file: `flexmb run MODEL --plot [COLUMN…]`.
+        #[arg(long, num_args = 0.., value_name = "COLUMN")]
+        plot: Option<Vec<String>>,
     },
     /// Validate a model, assemble it, and report degrees of freedom and redundant constraints.
     Check {
@@ -108,6 +114,65 @@ enum Command {
         #[arg(long, default_value_t = 5)]
         repeat: usize,
     },
+    /// Plot result columns against time (or another column); several result files are overlaid.
+    Plot {
+        /// Result files (CSV written by `flexmb run`); units come from the JSON summary beside each.
+        #[arg(required = true)]
+        results: Vec<PathBuf>,
+        /// Columns on the y axis.
+        #[arg(long, required = true, num_args = 1..)]
+        y: Vec<String>,
+        /// Column on the x axis.
+        #[arg(long, default_value = "t")]
+        x: String,
+        /// Image to write, .png or .svg (default: next to the first CSV, <stem>_<column>.png).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Title (default: the columns and the files).
+        #[arg(long)]
+        title: Option<String>,
+        /// Image width in pixels.
+        #[arg(long, default_value_t = DEFAULT_SIZE.0)]
+        width: u32,
+        /// Image height in pixels.
+        #[arg(long, default_value_t = DEFAULT_SIZE.1)]
+        height: u32,
+    },
+    /// Dominant frequencies of a result column: detrended, Hann-windowed, zero-padded FFT with refined peaks.
+    Spectrum {
+        /// Result file (CSV written by `flexmb run`).
+        results: PathBuf,
+        /// The column to analyse.
+        #[arg(long)]
+        y: String,
+        /// Start of the record (s); default the first row.
+        #[arg(long)]
+        from: Option<f64>,
+        /// End of the record (s); default the last row.
+        #[arg(long)]
+        to: Option<f64>,
+        /// Number of peaks to report, largest first.
+        #[arg(long, default_value_t = 5)]
+        peaks: usize,
+        /// Also plot the amplitude spectrum to this image (.png or .svg).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Amplitude axis of the plot: log or linear.
+        #[arg(long, value_enum, default_value_t = ScaleArg::Log)]
+        scale: ScaleArg,
+        /// Image width in pixels.
+        #[arg(long, default_value_t = DEFAULT_SIZE.0)]
+        width: u32,
+        /// Image height in pixels.
+        #[arg(long, default_value_t = DEFAULT_SIZE.1)]
+        height: u32,
+    },
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum ScaleArg {
+    Log,
+    Linear,
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -126,9 +191,12 @@ enum SolverArg {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Run { model, t_end, output_step, rtol, atol, integrator, spectral_radius, out, quiet } => {
+        Command::Run { model, t_end, output_step, rtol, atol, integrator, spectral_radius, out, quiet, plot } => {
             let options = RunOptions { t_end, output_step, rtol, atol, integrator, spectral_radius, out_dir: out, quiet };
-            run_model(&model, &options).map(|_| ())
+            run_model(&model, &options).and_then(|files| match plot {
+                Some(columns) => plot_run_outputs(&files.csv, &columns).map(|images| print_plots(&images, quiet)),
+                None => Ok(()),
+            })
         }
         Command::Check { model } => flexmb_cli::load_model(&model)
             .map_err(|e| e.to_string())
@@ -161,6 +229,18 @@ fn main() -> ExitCode {
             compare_model(&model, &options).map(|table| print!("{table}"))
         }
         Command::Bench { case, repeat } => run_benchmarks(case, repeat.max(1)).map_err(flexmb_cli::run::CliError),
+        Command::Plot { results, y, x, out, title, width, height } => {
+            let options = PlotOptions { files: results, y, x, out, title, size: (width, height) };
+            run_plot(&options).map(|image| println!("plot: {}", image.display()))
+        }
+        Command::Spectrum { results, y, from, to, peaks, out, scale, width, height } => {
+            let y_scale = match scale {
+                ScaleArg::Log => YScale::Log,
+                ScaleArg::Linear => YScale::Linear,
+            };
+            let options = SpectrumOptions { file: results, y, from, to, peaks, out, y_scale, size: (width, height) };
+            run_spectrum(&options).map(|report| print!("{report}"))
+        }
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -168,5 +248,13 @@ fn main() -> ExitCode {
             eprintln!("error: {e}");
             ExitCode::FAILURE
         }
+    }
+}
+
+/// Lists the images `run --plot` wrote.
+fn print_plots(images: &[PathBuf], quiet: bool) {
+    if !quiet {
+        let paths: Vec<String> = images.iter().map(|p| p.display().to_string()).collect();
+        println!("plots: {}", paths.join(", "));
     }
 }

@@ -1,0 +1,443 @@
+//! Rendering a figure — lines of (x, y) points with a title, axis labels and a legend — to PNG or SVG
+//! with plotters. The legend goes in a strip below the axes, so it never covers the data.
+
+use std::path::Path;
+
+use plotters::coord::ranged1d::{AsRangedCoord, Ranged, ValueFormatter};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use super::axis::{linear_axis, log_axis, AxisScale};
+use super::font::{self, FAMILY};
+use crate::run::CliError;
+
+/// One line of the plot and its legend entry.
+#[derive(Clone, Debug)]
+pub struct Series {
+    pub label: String,
+    pub points: Vec<(f64, f64)>,
+}
+
+/// A point marked with a circle and a short text (e.g. a spectral peak and its frequency).
+#[derive(Clone, Debug)]
+pub struct Annotation {
+    pub x: f64,
+    pub y: f64,
+    pub text: String,
+}
+
+/// Whether the y axis is linear or logarithmic (for spectra spanning decades).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum YScale {
+    Linear,
+    Log,
+}
+
+/// What to draw.
+#[derive(Clone, Debug)]
+pub struct Figure {
+    pub title: String,
+    /// Quantity on the x axis and its unit, e.g. `("t", Some("s"))`.
+    pub x_quantity: (String, Option<String>),
+    pub y_quantity: (String, Option<String>),
+    pub series: Vec<Series>,
+    pub annotations: Vec<Annotation>,
+    pub y_scale: YScale,
+    /// The x range to show; by default that of the data.
+    pub x_range: Option<(f64, f64)>,
+}
+
+/// The image formats plots are written in, from the file's extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ImageFormat {
+    Png,
+    Svg,
+}
+
+impl ImageFormat {
+    pub fn of(path: &Path) -> Result<Self, CliError> {
+        match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
+            Some("png") => Ok(Self::Png),
+            Some("svg") => Ok(Self::Svg),
+            other => Err(CliError(format!(
+                "{}: cannot write {} images; use a .png or .svg file name",
+                path.display(),
+                other.map_or("extensionless".to_string(), |e| format!(".{e}"))
+            ))),
+        }
+    }
+}
+
+/// Most ticks on each axis.
+const X_TICKS: usize = 10;
+const Y_TICKS: usize = 8;
+
+/// Bitmaps are drawn this many times larger and averaged down, which smooths lines and text
+/// (plotters draws bitmap lines without anti-aliasing); not for images over [`SUPERSAMPLED_PIXELS`].
+const SUPERSAMPLING: u32 = 2;
+const SUPERSAMPLED_PIXELS: u32 = 4_000_000;
+
+/// Smallest and largest image size accepted, in pixels.
+pub const SIZE_LIMITS: (u32, u32) = (200, 8000);
+
+/// Line colours, in order (the "tab10" palette: distinct, readable on white, printable).
+const PALETTE: [RGBColor; 10] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(214, 39, 40),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
+];
+
+/// Draws `figure` into `path` (`.png` or `.svg`) of `width × height` pixels.
+pub fn render(figure: &Figure, path: &Path, (width, height): (u32, u32)) -> Result<(), CliError> {
+    check_size(width, height)?;
+    let failed = |e: String| CliError(format!("cannot write {}: {e}", path.display()));
+    match ImageFormat::of(path)? {
+        ImageFormat::Png => {
+            let pixels = render_rgb(figure, (width, height))?;
+            write_png(path, (width, height), &pixels).map_err(failed)
+        }
+        ImageFormat::Svg => {
+            font::register();
+            let root = SVGBackend::new(path, (width, height)).into_drawing_area();
+            draw_figure(&root, figure).and_then(|()| root.present().map_err(|e| e.to_string())).map_err(failed)
+        }
+    }
+}
+
+/// The figure as 8-bit RGB pixels, row by row.
+pub fn render_rgb(figure: &Figure, (width, height): (u32, u32)) -> Result<Vec<u8>, CliError> {
+    check_size(width, height)?;
+    font::register();
+    let factor = if width * height <= SUPERSAMPLED_PIXELS { SUPERSAMPLING } else { 1 };
+    let (big_width, big_height) = (factor * width, factor * height);
+    let mut pixels = vec![255u8; 3 * big_width as usize * big_height as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut pixels, (big_width, big_height)).into_drawing_area();
+        draw_figure(&root, figure).and_then(|()| root.present().map_err(|e| e.to_string())).map_err(CliError)?;
+    }
+    Ok(downsample(&pixels, (width, height), factor as usize))
+}
+
+/// Each output pixel the mean of a `factor × factor` block of the large image.
+fn downsample(pixels: &[u8], (width, height): (u32, u32), factor: usize) -> Vec<u8> {
+    if factor == 1 {
+        return pixels.to_vec();
+    }
+    let (width, height) = (width as usize, height as usize);
+    let big_row = 3 * width * factor;
+    let mut out = vec![0u8; 3 * width * height];
+    for y in 0..height {
+        for x in 0..width {
+            for c in 0..3 {
+                let sum: usize = (0..factor)
+                    .flat_map(|dy| (0..factor).map(move |dx| (y * factor + dy) * big_row + 3 * (x * factor + dx) + c))
+                    .map(|i| usize::from(pixels[i]))
+                    .sum();
+                out[3 * (y * width + x) + c] = ((sum + factor * factor / 2) / (factor * factor)) as u8;
+            }
+        }
+    }
+    out
+}
+
+fn check_size(width: u32, height: u32) -> Result<(), CliError> {
+    let (low, high) = SIZE_LIMITS;
+    if (low..=high).contains(&width) && (low..=high).contains(&height) {
+        Ok(())
+    } else {
+        Err(CliError(format!("image size {width}×{height}: width and height must be {low} to {high} pixels")))
+    }
+}
+
+fn write_png(path: &Path, (width, height): (u32, u32), pixels: &[u8]) -> Result<(), String> {
+    let file = std::fs::File::create(path).map_err(|e| e.to_string())?;
+    let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), width, height);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    let mut writer = encoder.write_header().map_err(|e| e.to_string())?;
+    writer.write_image_data(pixels).map_err(|e| e.to_string())?;
+    writer.finish().map_err(|e| e.to_string())
+}
+
+/// Sizes that grow with the image, so that text stays readable from 600 to 3000 pixels wide.
+struct Metrics {
+    title: f64,
+    axis_label: f64,
+    tick_label: f64,
+    legend: f64,
+    line_width: u32,
+}
+
+impl Metrics {
+    fn of(width: u32, height: u32) -> Self {
+        let s = (f64::from(width) / 1000.0).min(f64::from(height) / 625.0).max(0.5);
+        Self {
+            title: 25.0 * s,
+            axis_label: 20.0 * s,
+            tick_label: 17.0 * s,
+            legend: 17.0 * s,
+            line_width: (2.0 * s).round().max(1.0) as u32,
+        }
+    }
+}
+
+fn draw_figure<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, figure: &Figure) -> Result<(), String> {
+    root.fill(&WHITE).map_err(|e| e.to_string())?;
+    let (width, height) = root.dim_in_pixel();
+    let metrics = Metrics::of(width, height);
+    let legend = legend_layout(root, figure, &metrics);
+    let (chart_area, legend_area) = root.split_vertically(height.saturating_sub(legend.height));
+    let x_range =
+        figure.x_range.unwrap_or_else(|| data_range(figure.series.iter().flat_map(|s| &s.points).map(|p| p.0)));
+    let y_values = || figure.series.iter().flat_map(|s| &s.points).map(|p| p.1).filter(|v| v.is_finite());
+    match figure.y_scale {
+        YScale::Linear => {
+            let y_range = padded(data_range(y_values()));
+            draw_axes(&chart_area, figure, &metrics, x_range, linear_axis(y_range, Y_TICKS), y_range.0..y_range.1)?;
+        }
+        YScale::Log => {
+            let y_range = log_range(y_values());
+            draw_axes(&chart_area, figure, &metrics, x_range, log_axis(), (y_range.0..y_range.1).log_scale())?;
+        }
+    }
+    draw_legend(&legend_area, figure, &metrics, &legend)
+}
+
+/// The axes, grid, lines and annotations, on a y axis of type `Y` (linear or logarithmic).
+fn draw_axes<DB, Y>(
+    area: &DrawingArea<DB, Shift>,
+    figure: &Figure,
+    metrics: &Metrics,
+    (x0, x1): (f64, f64),
+    y_axis: AxisScale,
+    y_spec: Y,
+) -> Result<(), String>
+where
+    DB: DrawingBackend,
+    Y: AsRangedCoord<Value = f64>,
+    Y::CoordDescType: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
+    let x_axis = linear_axis((x0, x1), X_TICKS);
+    let tick_font = (FAMILY, metrics.tick_label).into_font();
+    let y_label_width = y_axis_width(area, &y_axis, &tick_font, metrics);
+    let mut chart = ChartBuilder::on(area)
+        .caption(&figure.title, (FAMILY, metrics.title))
+        .margin_top((metrics.title * 0.4) as u32)
+        .margin_right((metrics.tick_label * 2.0) as u32)
+        .margin_left((metrics.tick_label * 0.6) as u32)
+        .x_label_area_size((metrics.tick_label * 1.5 + metrics.axis_label * 1.7) as u32)
+        .y_label_area_size(y_label_width)
+        .build_cartesian_2d(x0..x1, y_spec)
+        .map_err(|e| e.to_string())?;
+    let x_format = |v: &f64| x_axis.tick(*v);
+    let y_format = |v: &f64| y_axis.tick(*v);
+    chart
+        .configure_mesh()
+        .x_desc(x_axis.label(&figure.x_quantity))
+        .y_desc(y_axis.label(&figure.y_quantity))
+        .x_label_formatter(&x_format)
+        .y_label_formatter(&y_format)
+        .x_labels(X_TICKS)
+        .y_labels(Y_TICKS)
+        .max_light_lines(4)
+        .label_style(tick_font.clone())
+        .axis_desc_style((FAMILY, metrics.axis_label))
+        .bold_line_style(RGBColor(0, 0, 0).mix(0.18))
+        .light_line_style(RGBColor(0, 0, 0).mix(0.06))
+        .draw()
+        .map_err(|e| e.to_string())?;
+    for (k, series) in figure.series.iter().enumerate() {
+        let style = PALETTE[k % PALETTE.len()].stroke_width(metrics.line_width);
+        for segment in finite_segments(&series.points) {
+            chart.draw_series(LineSeries::new(segment.iter().copied(), style)).map_err(|e| e.to_string())?;
+        }
+    }
+    draw_annotations(&mut chart, figure, metrics)
+}
+
+/// Width of the y label area: the widest tick label and the rotated axis label beside it.
+fn y_axis_width<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    axis: &AxisScale,
+    font: &FontDesc,
+    metrics: &Metrics,
+) -> u32 {
+    let widest = axis
+        .sample_ticks()
+        .iter()
+        .map(|t| area.estimate_text_size(t, &TextStyle::from(font.clone())).map(|(w, _)| w).unwrap_or(0))
+        .max()
+        .unwrap_or(0);
+    widest + (metrics.axis_label * 2.0) as u32 + (metrics.tick_label * 0.8) as u32
+}
+
+fn draw_annotations<DB, Y>(
+    chart: &mut ChartContext<DB, Cartesian2d<plotters::coord::types::RangedCoordf64, Y>>,
+    figure: &Figure,
+    metrics: &Metrics,
+) -> Result<(), String>
+where
+    DB: DrawingBackend,
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
+    let radius = (metrics.legend * 0.3) as i32;
+    let font = (FAMILY, metrics.legend * 0.9).into_font().color(&BLACK);
+    for a in &figure.annotations {
+        let offset = (radius + 3, -(metrics.legend as i32) - radius);
+        let marker = EmptyElement::at((a.x, a.y))
+            + Circle::new((0, 0), radius, BLACK.stroke_width(metrics.line_width))
+            + Text::new(a.text.clone(), offset, font.clone());
+        chart.draw_series(std::iter::once(marker)).map_err(|e| e.to_string())?;
+    }
+    Ok(())
+}
+
+/// How the legend is laid out: entries flow left to right in rows below the axes.
+struct LegendLayout {
+    /// The (x, row) of each entry, in pixels from the legend area's left edge and in rows.
+    positions: Vec<(i32, i32)>,
+    row_height: u32,
+    height: u32,
+}
+
+fn legend_layout<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    figure: &Figure,
+    metrics: &Metrics,
+) -> LegendLayout {
+    let font = (FAMILY, metrics.legend).into_font();
+    let (width, _) = root.dim_in_pixel();
+    let swatch = (metrics.legend * 2.5) as i32;
+    let gap = (metrics.legend * 1.5) as i32;
+    let left = (metrics.legend * 2.0) as i32;
+    let (mut x, mut row) = (0, 0);
+    let mut positions = Vec::new();
+    let mut row_widths = vec![0];
+    for series in &figure.series {
+        let text_width =
+            root.estimate_text_size(&series.label, &TextStyle::from(font.clone())).map(|(w, _)| w as i32).unwrap_or(0);
+        let entry = swatch + text_width + gap;
+        if x > 0 && x + entry - gap > width as i32 - 2 * left {
+            (x, row) = (0, row + 1);
+            row_widths.push(0);
+        }
+        positions.push((x, row));
+        x += entry;
+        row_widths[row as usize] = x - gap;
+    }
+    // Each row centred.
+    for (x, row) in &mut positions {
+        *x += (width as i32 - row_widths[*row as usize]) / 2;
+    }
+    let row_height = (metrics.legend * 1.5) as u32;
+    let rows = if figure.series.is_empty() { 0 } else { row + 1 };
+    LegendLayout { positions, row_height, height: rows as u32 * row_height + (metrics.legend * 0.8) as u32 }
+}
+
+fn draw_legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    figure: &Figure,
+    metrics: &Metrics,
+    layout: &LegendLayout,
+) -> Result<(), String> {
+    let font = (FAMILY, metrics.legend).into_font().color(&BLACK);
+    let swatch = (metrics.legend * 2.0) as i32;
+    for (k, (series, &(x, row))) in figure.series.iter().zip(&layout.positions).enumerate() {
+        let y = row * layout.row_height as i32 + layout.row_height as i32 / 2;
+        let style = PALETTE[k % PALETTE.len()].stroke_width(metrics.line_width + 1);
+        area.draw(&PathElement::new(vec![(x, y), (x + swatch, y)], style)).map_err(|e| e.to_string())?;
+        let text_style = font.clone().pos(plotters::style::text_anchor::Pos::new(
+            plotters::style::text_anchor::HPos::Left,
+            plotters::style::text_anchor::VPos::Center,
+        ));
+        area.draw(&Text::new(series.label.clone(), (x + swatch + (metrics.legend * 0.5) as i32, y), text_style))
+            .map_err(|e| e.to_string())?;
+    }
+    Ok(())
+}
+
+/// Runs of consecutive finite points: a NaN or infinity breaks the line instead of ending the plot.
+fn finite_segments(points: &[(f64, f64)]) -> Vec<&[(f64, f64)]> {
+    points.split(|(x, y)| !x.is_finite() || !y.is_finite()).filter(|s| !s.is_empty()).collect()
+}
+
+/// Smallest and largest finite value; `(0, 1)` if there is none; widened if they are equal.
+fn data_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) =
+        values.filter(|v| v.is_finite()).fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)));
+    if lo > hi {
+        (0.0, 1.0)
+    } else if lo == hi {
+        let half = if lo == 0.0 { 1.0 } else { 0.1 * lo.abs() };
+        (lo - half, hi + half)
+    } else {
+        (lo, hi)
+    }
+}
+
+/// A range with 5 % room above and below, so lines do not run along the frame.
+fn padded((lo, hi): (f64, f64)) -> (f64, f64) {
+    let room = 0.05 * (hi - lo);
+    (lo - room, hi + room)
+}
+
+/// The range of a logarithmic axis: the positive values, at most 7 decades below the largest.
+fn log_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = data_range(values.filter(|v| *v > 0.0));
+    let lo = lo.max(hi * 1e-7);
+    (lo / 1.5, hi * 1.5)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sine_figure(series: usize) -> Figure {
+        Figure {
+            title: "test".into(),
+            x_quantity: ("t".into(), Some("s".into())),
+            y_quantity: ("x".into(), Some("m".into())),
+            series: (0..series)
+                .map(|k| Series {
+                    label: format!("run{k} x"),
+                    points: (0..200).map(|i| (i as f64 * 0.01, (i as f64 * 0.05 + k as f64).sin())).collect(),
+                })
+                .collect(),
+            annotations: Vec::new(),
+            y_scale: YScale::Linear,
+            x_range: None,
+        }
+    }
+
+    #[test]
+    fn draws_lines_of_the_palette_colours_on_white() {
+        let pixels = render_rgb(&sine_figure(2), (640, 400)).unwrap();
+        assert_eq!(pixels.len(), 640 * 400 * 3);
+        let count = |c: RGBColor| pixels.chunks(3).filter(|p| p == &[c.0, c.1, c.2]).count();
+        assert!(count(WHITE) > 640 * 400 / 2, "mostly background");
+        assert!(count(PALETTE[0]) > 200, "the first line is drawn: {} pixels", count(PALETTE[0]));
+        assert!(count(PALETTE[1]) > 200, "the second line is drawn: {} pixels", count(PALETTE[1]));
+    }
+
+    #[test]
+    fn rejects_unknown_extensions_and_sizes() {
+        let e = ImageFormat::of(Path::new("a.jpg")).unwrap_err().to_string();
+        assert!(e.contains("cannot write .jpg images; use a .png or .svg"), "{e}");
+        assert_eq!(ImageFormat::of(Path::new("a.SVG")).unwrap(), ImageFormat::Svg);
+        assert!(render_rgb(&sine_figure(1), (50, 400)).unwrap_err().to_string().contains("200 to 8000"));
+    }
+
+    #[test]
+    fn breaks_lines_at_non_finite_values() {
+        let points = [(0.0, 1.0), (1.0, f64::NAN), (2.0, 2.0), (3.0, 3.0)];
+        assert_eq!(finite_segments(&points).len(), 2);
+        assert_eq!(log_range([1e-12, 1.0].into_iter()).0, 1e-7 / 1.5);
+    }
+}

@@ -1,0 +1,189 @@
+//! `flexmb plot` and `flexmb run --plot`: line plots of result columns against time (or another
+//! column), from one or several result files, as PNG or SVG.
+//!
+//! Units come from the run's JSON summary beside each CSV (see [`ResultTable`]); the legend names
+//! each line by its column, and by its file's stem when several files are overlaid. Columns of
+//! different units may share a plot: the y label then says "mixed units" and each legend entry
+//! carries its own unit.
+
+mod axis;
+pub mod csv_table;
+pub mod figure;
+mod font;
+mod run_outputs;
+
+use std::path::{Path, PathBuf};
+
+pub use csv_table::ResultTable;
+pub use figure::{render, render_rgb, Annotation, Figure, ImageFormat, Series, YScale};
+pub use run_outputs::plot_run_outputs;
+
+use crate::run::CliError;
+
+/// Image size when none is asked for, in pixels.
+pub const DEFAULT_SIZE: (u32, u32) = (1200, 750);
+
+/// What `flexmb plot` draws.
+#[derive(Clone, Debug)]
+pub struct PlotOptions {
+    /// Result CSVs, overlaid.
+    pub files: Vec<PathBuf>,
+    /// Columns on the y axis.
+    pub y: Vec<String>,
+    /// Column on the x axis (`t` by default).
+    pub x: String,
+    /// Image to write (.png or .svg); default `<stem>_<columns>.png` next to the first CSV.
+    pub out: Option<PathBuf>,
+    pub title: Option<String>,
+    pub size: (u32, u32),
+}
+
+/// Draws the plot `options` ask for and returns the image's path.
+pub fn run_plot(options: &PlotOptions) -> Result<PathBuf, CliError> {
+    let (Some(first), false) = (options.files.first(), options.y.is_empty()) else {
+        return Err(CliError("plot needs at least one result file and one --y column".into()));
+    };
+    let out = options.out.clone().unwrap_or_else(|| default_image_path(first, &options.y));
+    ImageFormat::of(&out)?;
+    let tables = options.files.iter().map(|f| ResultTable::read(f)).collect::<Result<Vec<_>, _>>()?;
+    let mut figure = compose(&tables, &options.x, &options.y)?;
+    if let Some(title) = &options.title {
+        figure.title = title.clone();
+    }
+    render(&figure, &out, options.size)?;
+    Ok(out)
+}
+
+/// `<dir of csv>/<stem>_<column>_….png`.
+pub fn default_image_path(csv: &Path, columns: &[String]) -> PathBuf {
+    let stem = csv.file_stem().and_then(|s| s.to_str()).unwrap_or("plot");
+    let name: String = std::iter::once(stem)
+        .chain(columns.iter().map(String::as_str))
+        .collect::<Vec<_>>()
+        .join("_")
+        .chars()
+        .map(|c| if c.is_alphanumeric() || "._-".contains(c) { c } else { '_' })
+        .collect();
+    csv.with_file_name(format!("{name}.png"))
+}
+
+/// The figure of columns `y` against `x` of every table: one line per table and column.
+pub fn compose(tables: &[ResultTable], x: &str, y: &[String]) -> Result<Figure, CliError> {
+    let units: Vec<Option<String>> = y.iter().map(|c| column_unit(tables, c)).collect();
+    let mixed = units.iter().any(|u| *u != units[0]);
+    let names = run_names(tables);
+    let mut series = Vec::new();
+    for (table, run) in tables.iter().zip(&names) {
+        let xs = table.column(x)?;
+        for (column, unit) in y.iter().zip(&units) {
+            let ys = table.column(column)?;
+            let mut label = if tables.len() > 1 { format!("{run}: {column}") } else { column.clone() };
+            if let (true, Some(u)) = (mixed, unit) {
+                label = format!("{label} [{u}]");
+            }
+            series.push(Series { label, points: xs.iter().copied().zip(ys.iter().copied()).collect() });
+        }
+    }
+    let y_quantity = if mixed {
+        let listed: Vec<&str> = units.iter().map(|u| u.as_deref().unwrap_or("none")).collect();
+        (format!("value, mixed units: {}", listed.join(", ")), None)
+    } else {
+        (quantity_name(y), units[0].clone())
+    };
+    Ok(Figure {
+        title: title(y, &names),
+        x_quantity: (x.to_string(), column_unit(tables, x)),
+        y_quantity,
+        series,
+        annotations: Vec::new(),
+        y_scale: YScale::Linear,
+        x_range: None,
+    })
+}
+
+/// A column's unit in the first table that knows it.
+fn column_unit(tables: &[ResultTable], column: &str) -> Option<String> {
+    tables.iter().find_map(|t| t.unit(column)).map(str::to_string)
+}
+
+/// What the y axis shows: the column, the columns if they are few and short, else "value".
+fn quantity_name(columns: &[String]) -> String {
+    let joined = columns.join(", ");
+    if columns.len() == 1 || joined.chars().count() <= 40 {
+        joined
+    } else {
+        "value".to_string()
+    }
+}
+
+/// Each table's name in legends: its stem, or `dir/stem` when two files share a stem.
+fn run_names(tables: &[ResultTable]) -> Vec<String> {
+    let stems: Vec<&str> = tables.iter().map(ResultTable::stem).collect();
+    tables
+        .iter()
+        .map(|t| {
+            let shared = stems.iter().filter(|s| **s == t.stem()).count() > 1;
+            let parent = t.path().parent().and_then(|p| p.file_name()).and_then(|p| p.to_str());
+            match (shared, parent) {
+                (true, Some(dir)) => format!("{dir}/{}", t.stem()),
+                _ => t.stem().to_string(),
+            }
+        })
+        .collect()
+}
+
+fn title(columns: &[String], runs: &[String]) -> String {
+    let what = columns.join(", ");
+    let from = runs.join(", ");
+    if from.chars().count() <= 60 {
+        format!("{what} — {from}")
+    } else {
+        format!("{what} — {} result files", runs.len())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn table(path: &str, columns: &[(&str, Option<&str>)]) -> ResultTable {
+        let columns = columns
+            .iter()
+            .map(|(name, unit)| (name.to_string(), unit.map(str::to_string), vec![0.0, 1.0, 2.0]))
+            .collect();
+        ResultTable::from_columns(Path::new(path), columns)
+    }
+
+    #[test]
+    fn overlays_name_file_and_column_and_carry_units() {
+        let a = table("out/door_4N.csv", &[("t", Some("s")), ("latch.y", Some("m"))]);
+        let b = table("out/door_8N.csv", &[("t", Some("s")), ("latch.y", Some("m"))]);
+        let figure = compose(&[a, b], "t", &["latch.y".into()]).unwrap();
+        let labels: Vec<&str> = figure.series.iter().map(|s| s.label.as_str()).collect();
+        assert_eq!(labels, ["door_4N: latch.y", "door_8N: latch.y"]);
+        assert_eq!(figure.x_quantity, ("t".into(), Some("s".into())));
+        assert_eq!(figure.y_quantity, ("latch.y".into(), Some("m".into())));
+        assert_eq!(figure.title, "latch.y — door_4N, door_8N");
+    }
+
+    #[test]
+    fn mixed_units_are_said_in_the_label_and_legend() {
+        let a = table("out/p.csv", &[("t", Some("s")), ("x", Some("m")), ("angle", Some("rad"))]);
+        let figure = compose(&[a], "t", &["x".into(), "angle".into()]).unwrap();
+        assert_eq!(figure.y_quantity, ("value, mixed units: m, rad".into(), None));
+        assert_eq!(figure.series[1].label, "angle [rad]");
+    }
+
+    #[test]
+    fn files_with_one_stem_are_told_apart_by_directory() {
+        let a = table("runs/a/door.csv", &[("t", None), ("x", None)]);
+        let b = table("runs/b/door.csv", &[("t", None), ("x", None)]);
+        assert_eq!(run_names(&[a, b]), ["a/door", "b/door"]);
+    }
+
+    #[test]
+    fn default_image_sits_next_to_the_first_file() {
+        let path = default_image_path(Path::new("out/pendulum.csv"), &["bob.position.y".into()]);
+        assert_eq!(path, Path::new("out/pendulum_bob.position.y.png"));
+    }
+}
