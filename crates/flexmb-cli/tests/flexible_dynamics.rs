@@ -170,7 +170,7 @@ fn a_flexible_pendulum_converges_as_modes_are_added() {
 /// bending when the modal coordinates may move (the tip then sits on the point).
 #[test]
 fn assembly_moves_modal_coordinates_only_when_asked() {
-    use flexmb::analysis::{assemble, AssemblySettings, State};
+    use flexmb::analysis::{assemble, AssemblySettings, ModalAssembly, State};
     let mut fe = beam(1.0, 12, 0.03, 0.01);
     let tip = fe.mesh.nodes.len() - 1;
     fe.supports.push(Support { node: 0, dofs: DofSet::ALL });
@@ -192,7 +192,7 @@ fn assembly_moves_modal_coordinates_only_when_asked() {
     let mut held = State::initial(&model);
     assert!(assemble(&model, &mut data, &mut held, AssemblySettings::default()).is_err(), "rigid frames alone cannot reach the pin");
     let mut free = State::initial(&model);
-    let report = assemble(&model, &mut data, &mut free, AssemblySettings { free_modal_coordinates: true, ..Default::default() }).unwrap();
+    let report = assemble(&model, &mut data, &mut free, AssemblySettings { modal: ModalAssembly::Free, ..Default::default() }).unwrap();
     assert!(report.residual < 1e-10);
     let a = &free.q[7..10];
     assert!(a.iter().any(|x| x.abs() > 0.0), "the arm bent: a = {a:?}");
@@ -200,4 +200,58 @@ fn assembly_moves_modal_coordinates_only_when_asked() {
     for k in 0..7 {
         assert!((free.q[k] - initial.q[k]).abs() < 1e-9, "the clamped frame stayed: q[{k}] = {}", free.q[k]);
     }
+}
+
+/// The static assembly holds the frames and bends the body with the least strain energy that closes
+/// the joints, which is the static deflection under the joints' loads. A clamped arm whose tip is
+/// pinned 1 mm above its undeformed position takes, in the span of 2N1S (which holds the exact FE
+/// response to a tip force), exactly the tip-force deflection: strain energy `δ² / (2c)` with `c` the
+/// FE tip compliance, and at mid-span the FE static shape scaled to the tip deflection.
+#[test]
+fn static_assembly_gives_the_static_deflection_that_fits_the_joints() {
+    use flexmb::analysis::{assemble, AssemblySettings, ModalAssembly, State};
+    let mut fe = beam(1.0, 12, 0.03, 0.01);
+    let tip = fe.mesh.nodes.len() - 1;
+    let mid = tip / 2;
+    fe.supports.push(Support { node: 0, dofs: DofSet::ALL });
+    fe.static_loads.push(StaticLoad { name: "tip_fz".into(), node: tip, kind: StaticLoadKind::Force(Vec3::z()) });
+    let raw = ReductionSettings { mode_set: "1S".parse().unwrap(), basis: Basis::Raw, eigen: Default::default() };
+    let unit_load = reduce(&fe, "arm", &raw).unwrap().body;
+    let compliance = unit_load.shapes[0].translation[tip][2];
+    let settings = ReductionSettings { mode_set: "2N1S".parse().unwrap(), basis: Basis::Orthonormal, eigen: Default::default() };
+    let reduced = reduce(&fe, "arm", &settings).unwrap();
+    let modal = modal_body(&reduced.body, &ModalDamping::None).unwrap();
+    let stiffness = modal.stiffness.clone();
+    let psi_mid = modal.nodes[mid].psi.clone();
+    let mut b = ModelBuilder::new("pinned arm");
+    let arm = b.add_flexible_body("arm", InitialState::default(), modal);
+    let root = b.add_node_marker("root", arm, 0, Mat3::identity());
+    let tip_marker = b.add_node_marker("tip", arm, tip, Mat3::identity());
+    let wall = b.add_marker(Marker { name: "wall".into(), body: BodyRef::Ground, origin: Vec3::zeros(), axes: Mat3::identity() });
+    let deflection = 1e-3;
+    let pin = b.add_marker(Marker {
+        name: "pin".into(),
+        body: BodyRef::Ground,
+        origin: Vec3::new(1.0, 0.0, deflection),
+        axes: Mat3::identity(),
+    });
+    b.add_joint(Joint { name: "clamp".into(), kind: JointKind::Fixed, marker_i: wall, marker_j: root });
+    b.add_joint(Joint { name: "tip_pin".into(), kind: JointKind::Spherical, marker_i: pin, marker_j: tip_marker });
+    let model = b.build().unwrap();
+    let mut data = flexmb::Data::new(&model);
+    let mut state = State::initial(&model);
+    let report = assemble(&model, &mut data, &mut state, AssemblySettings { modal: ModalAssembly::Static, ..Default::default() }).unwrap();
+    assert!(report.residual < 1e-10, "{}", report.residual);
+    let initial = State::initial(&model);
+    for k in 0..7 {
+        assert_eq!(state.q[k], initial.q[k], "the frame is held: q[{k}]");
+    }
+    let a = nalgebra::DVector::from_column_slice(&state.q[7..10]);
+    let strain = 0.5 * a.dot(&(&stiffness * &a));
+    // The pin also holds the tip's small axial shortening; it is of second order (1e-6 relative).
+    let expected = deflection * deflection / (2.0 * compliance);
+    assert!((strain / expected - 1.0).abs() < 1e-5, "strain energy {strain:e} J, static {expected:e} J");
+    let mid_z = (&psi_mid * &a)[2];
+    let expected_mid = deflection / compliance * unit_load.shapes[0].translation[mid][2];
+    assert!((mid_z / expected_mid - 1.0).abs() < 1e-5, "mid-span deflection {mid_z:e} m, static {expected_mid:e} m");
 }

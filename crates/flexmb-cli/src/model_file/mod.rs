@@ -6,6 +6,7 @@ pub(crate) mod build;
 mod error;
 pub(crate) mod expressions;
 pub(crate) mod key_path;
+mod overrides;
 pub(crate) mod parameters;
 pub(crate) mod schema;
 pub(crate) mod source;
@@ -21,6 +22,7 @@ use toml::de::DeTable;
 pub use build::body_cache::CACHE_DIR;
 pub use build::flexible_bodies::{FlexibleBodyInfo, FlexibleBodyOrigin};
 pub use error::{ErrorKind, ModelFileError};
+pub use overrides::ModelOverrides;
 
 use schema::ModelFile;
 use source::Source;
@@ -46,9 +48,9 @@ pub struct SimulationDefaults {
     pub rtol: f64,
     /// Absolute error tolerance of the integrator. Default 1e-6.
     pub atol: f64,
-    /// Let the assembly change the modal coordinates of flexible bodies (`assemble_modal_coordinates`).
-    /// Default false: they stay at their initial values and only the reference frames move.
-    pub assemble_modal_coordinates: bool,
+    /// What the assembly may change in flexible bodies (`modal_assembly`). Default held: the modal
+    /// coordinates stay at their initial values and only the reference frames move.
+    pub modal_assembly: flexmb::analysis::ModalAssembly,
     /// The integration method (`integrator`, with `spectral_radius` for the generalized-α method).
     /// Default BDF.
     pub method: flexmb::integrate::Method,
@@ -63,7 +65,7 @@ impl Default for SimulationDefaults {
             output_step: 0.01,
             rtol: 1e-6,
             atol: 1e-6,
-            assemble_modal_coordinates: false,
+            modal_assembly: flexmb::analysis::ModalAssembly::Held,
             method: flexmb::integrate::Method::Bdf,
             max_order: None,
         }
@@ -79,15 +81,17 @@ impl SimulationDefaults {
 
     /// The assembly settings these defaults ask for.
     pub fn assembly(&self) -> flexmb::analysis::AssemblySettings {
-        flexmb::analysis::AssemblySettings {
-            free_modal_coordinates: self.assemble_modal_coordinates,
-            ..Default::default()
-        }
+        flexmb::analysis::AssemblySettings { modal: self.modal_assembly, ..Default::default() }
     }
 }
 
 /// Reads and builds the model file at `path`.
 pub fn load_model(path: &Path) -> Result<LoadedModel, ModelFileError> {
+    load_model_with(path, &ModelOverrides::default())
+}
+
+/// [`load_model`] with some of the file's values replaced (a study's case).
+pub fn load_model_with(path: &Path, overrides: &ModelOverrides) -> Result<LoadedModel, ModelFileError> {
     let file = path.display().to_string();
     let io_error = |message: String| ModelFileError {
         kind: ErrorKind::Io,
@@ -98,7 +102,8 @@ pub fn load_model(path: &Path) -> Result<LoadedModel, ModelFileError> {
     };
     let bytes = std::fs::read(path).map_err(|e| io_error(format!("cannot read the model file: {e}")))?;
     let text = String::from_utf8(bytes).map_err(|e| io_error(format!("the model file is not UTF-8 text: {e}")))?;
-    parse_model(&text, &file)
+    let base_dir = path.parent().unwrap_or(Path::new(""));
+    parse_model_with(&text, &file, base_dir, overrides)
 }
 
 /// Builds a model from the text of a model file; `file_name` is used in error messages, its stem is
@@ -111,13 +116,29 @@ pub fn parse_model(text: &str, file_name: &str) -> Result<LoadedModel, ModelFile
 /// [`parse_model`] with the paths of flexible bodies' files (`fe_model`, `body_file`) relative to
 /// `base_dir`.
 pub fn parse_model_in(text: &str, file_name: &str, base_dir: &Path) -> Result<LoadedModel, ModelFileError> {
+    parse_model_with(text, file_name, base_dir, &ModelOverrides::default())
+}
+
+fn parse_model_with(
+    text: &str,
+    file_name: &str,
+    base_dir: &Path,
+    overrides: &ModelOverrides,
+) -> Result<LoadedModel, ModelFileError> {
     let source = Source::new(file_name, text);
     let (document, syntax_errors) = DeTable::parse_recoverable(text);
     if let Some(error) = syntax_errors.first() {
         return Err(toml_errors::syntax_error(&source, document.get_ref(), error));
     }
-    let file = ModelFile::deserialize(toml::de::Deserializer::from(document.clone()))
+    let mut file = ModelFile::deserialize(toml::de::Deserializer::from(document.clone()))
         .map_err(|e| toml_errors::schema_error(&source, document.get_ref(), &e))?;
+    overrides.apply(&mut file).map_err(|message| ModelFileError {
+        kind: ErrorKind::Invalid,
+        file: file_name.to_string(),
+        line: None,
+        key_path: String::new(),
+        message,
+    })?;
     let default_name = Path::new(file_name).file_stem().and_then(|s| s.to_str()).unwrap_or("model");
     build::build(&file, &source, default_name, base_dir)
 }

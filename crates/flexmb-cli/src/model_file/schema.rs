@@ -59,7 +59,7 @@ pub(crate) struct SimulationSection {
     pub output_step: Option<Number>,
     pub rtol: Option<Number>,
     pub atol: Option<Number>,
-    pub assemble_modal_coordinates: Option<Spanned<bool>>,
+    pub modal_assembly: Option<Name>,
     pub integrator: Option<Name>,
     pub spectral_radius: Option<Number>,
     pub max_order: Option<Number>,

@@ -1,10 +1,13 @@
 //! Assembly (position analysis): Newton–Raphson on `Φ̂(q) = [Φ(q, t); pᵀp − 1] = 0` from the approximate
 //! configuration in the model file, each step the minimum-norm correction
 //! `Δq = −Φ̂_qᵀ (Φ̂_q Φ̂_qᵀ)⁻¹ Φ̂` with backtracking. Redundant rows are found first and switched off.
+//! What may move is chosen by [`ModalAssembly`]: the body frames, the frames and the modal coordinates,
+//! or the modal coordinates alone in the static deformation of least strain energy.
 
 use faer::prelude::*;
 
 use super::redundancy::{find_redundant_rows, RedundantConstraint};
+use super::static_deformation::static_deformation_step;
 use super::State;
 use crate::data::Data;
 use crate::math::euler_parameters::g_matrix;
@@ -18,15 +21,29 @@ pub struct AssemblySettings {
     /// Largest absolute constraint residual accepted (m for point equations, dimensionless for dot-1).
     pub tolerance: f64,
     pub max_iterations: usize,
-    /// Let the assembly change the modal coordinates of flexible bodies (default false: they stay at
-    /// their initial values and only the reference frames move).
-    pub free_modal_coordinates: bool,
+    /// What the assembly may change in flexible bodies.
+    pub modal: ModalAssembly,
 }
 
 impl Default for AssemblySettings {
     fn default() -> Self {
-        Self { tolerance: 1e-10, max_iterations: 50, free_modal_coordinates: false }
+        Self { tolerance: 1e-10, max_iterations: 50, modal: ModalAssembly::Held }
     }
+}
+
+/// How the assembly treats the modal coordinates of flexible bodies.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ModalAssembly {
+    /// They stay at their initial values; only the body frames move.
+    #[default]
+    Held,
+    /// Frames and modal coordinates move together, each step the least change (Euclidean) in both.
+    Free,
+    /// The body frames stay where the model puts them; the modal coordinates take the deformation of
+    /// least strain energy that closes the joints: the static deformation of a structure held by its
+    /// frame and bent to fit its joints (see `static_deformation.rs`). Joints that the deformation
+    /// cannot close (between frames alone) must already hold.
+    Static,
 }
 
 /// What the assembly did.
@@ -122,12 +139,20 @@ fn newton(model: &Model, data: &mut Data, state: &mut State, settings: AssemblyS
         if it == settings.max_iterations {
             break;
         }
-        let gq = position_jacobian(model, data, state, &active_rows, settings.free_modal_coordinates);
-        let a = &gq * gq.transpose();
-        let lu = a.partial_piv_lu();
-        let mut z = Mat::from_fn(m, 1, |i, _| phi[i]);
-        lu.solve_in_place(z.as_mut());
-        let dq = -(gq.transpose() * &z);
+        let dq = match settings.modal {
+            ModalAssembly::Static => {
+                let gq = position_jacobian(model, data, state, &active_rows, true);
+                static_deformation_step(model, &state.q, &gq, &phi).ok_or(AssemblyError::Singular { what: "static deformation" })?
+            }
+            modal => {
+                let gq = position_jacobian(model, data, state, &active_rows, modal == ModalAssembly::Free);
+                let a = &gq * gq.transpose();
+                let lu = a.partial_piv_lu();
+                let mut z = Mat::from_fn(m, 1, |i, _| phi[i]);
+                lu.solve_in_place(z.as_mut());
+                -(gq.transpose() * &z)
+            }
+        };
         if !dq.col(0).iter().all(|x| x.is_finite()) {
             return Err(AssemblyError::Singular { what: "assembly" });
         }

@@ -6,6 +6,7 @@ mod assembly;
 mod outputs;
 mod redundancy;
 mod simulation;
+mod static_deformation;
 mod state;
 mod velocity;
 #[cfg(test)]
@@ -13,7 +14,7 @@ pub(crate) mod test_models;
 
 pub(crate) use accelerations::KktMatrix;
 pub use accelerations::{AccelerationSolver, Accelerations};
-pub use assembly::{assemble, AssemblyError, AssemblyReport, AssemblySettings};
+pub use assembly::{assemble, AssemblyError, AssemblyReport, AssemblySettings, ModalAssembly};
 pub use outputs::{output_columns, OutputColumn};
 pub(crate) use redundancy::newly_dependent_rows;
 pub use redundancy::{find_redundant_rows, RedundantConstraint};

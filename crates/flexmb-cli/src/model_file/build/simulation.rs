@@ -1,5 +1,6 @@
 //! `[model]` and `[simulation]`: the model's name and gravity, and the defaults of a simulation run.
 
+use flexmb::analysis::ModalAssembly;
 use flexmb::math::Vec3;
 use toml::Spanned;
 
@@ -71,13 +72,27 @@ pub(crate) fn simulation_defaults(
         }
         None => None,
     };
+    let modal_assembly = match &s.modal_assembly {
+        Some(name) => parse_modal_assembly(name.get_ref()).map_err(|e| ctx.invalid(&name.span(), &table.key("modal_assembly"), e))?,
+        None => defaults.modal_assembly,
+    };
     Ok(SimulationDefaults {
         method,
+        modal_assembly,
         max_order,
         t_end: positive(&s.t_end, "t_end", defaults.t_end)?,
         output_step: positive(&s.output_step, "output_step", defaults.output_step)?,
         rtol: positive(&s.rtol, "rtol", defaults.rtol)?,
         atol: positive(&s.atol, "atol", defaults.atol)?,
-        assemble_modal_coordinates: s.assemble_modal_coordinates.as_ref().is_some_and(|b| *b.get_ref()),
     })
+}
+
+/// `modal_assembly = "held" | "free" | "static"`.
+fn parse_modal_assembly(name: &str) -> Result<ModalAssembly, String> {
+    match name {
+        "held" => Ok(ModalAssembly::Held),
+        "free" => Ok(ModalAssembly::Free),
+        "static" => Ok(ModalAssembly::Static),
+        other => Err(format!("unknown modal_assembly '{other}': expected \"held\", \"free\" or \"static\"")),
+    }
 }

@@ -1,0 +1,50 @@
+//! Changes a study makes to a model file before it is built: the mode set of a flexible body, the
+//! value of a parameter. They replace what the file says, keeping the file's positions for messages.
+
+use toml::Spanned;
+
+use super::schema::ModelFile;
+use super::value::NumberOrExpression;
+
+/// Values that replace those of a model file.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ModelOverrides {
+    /// `(flexible body, mode set)`: the `modes` of that `[[flexible_body]]`.
+    pub modes: Vec<(String, String)>,
+    /// `(name, value)`: the value of that `[parameters]` entry.
+    pub parameters: Vec<(String, f64)>,
+}
+
+impl ModelOverrides {
+    /// Applies the overrides; an override of a body or parameter the file does not have is an error
+    /// that lists those it has.
+    pub(crate) fn apply(&self, file: &mut ModelFile) -> Result<(), String> {
+        for (body, set) in &self.modes {
+            let section = file.flexible_body.iter_mut().find(|s| s.get_ref().name.get_ref() == body);
+            let Some(section) = section else {
+                let names: Vec<&str> = file.flexible_body.iter().map(|s| s.get_ref().name.get_ref().as_str()).collect();
+                return Err(format!("the model has no flexible body '{body}' (it has: {})", list(&names)));
+            };
+            let span = section.span();
+            let f = section.get_mut();
+            let at = f.modes.as_ref().map_or(span, |m| m.span());
+            f.modes = Some(Spanned::new(at, set.clone()));
+        }
+        for (name, value) in &self.parameters {
+            let Some(entry) = file.parameters.iter_mut().find(|(k, _)| k.get_ref() == name) else {
+                let names: Vec<&str> = file.parameters.keys().map(|k| k.get_ref().as_str()).collect();
+                return Err(format!("the model has no parameter '{name}' (it has: {})", list(&names)));
+            };
+            *entry.1 = Spanned::new(entry.1.span(), NumberOrExpression::Number(*value));
+        }
+        Ok(())
+    }
+}
+
+fn list(names: &[&str]) -> String {
+    if names.is_empty() {
+        "none".to_string()
+    } else {
+        names.join(", ")
+    }
+}
