@@ -12,6 +12,7 @@ pub mod modes;
 pub mod plot;
 pub mod results;
 pub mod run;
+pub mod shape;
 pub mod spectrum;
 pub mod vtk;
 

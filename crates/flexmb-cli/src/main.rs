@@ -52,6 +52,14 @@ enum Command {
         /// Print nothing but errors.
         #[arg(long, short)]
         quiet: bool,
+        /// Also write a ParaView time series into this directory as the run proceeds: DIR/MODEL.pvd
+        /// (bodies as their shapes or deformed FE meshes, joints as points) and its files in DIR/MODEL/.
+        #[arg(long, value_name = "DIR")]
+        vtk: Option<PathBuf>,
+        /// Interval between ParaView frames (s), a multiple of the output step; default the model's
+        /// [simulation] vtk_step, else the output step.
+        #[arg(long, value_name = "DT")]
+        vtk_step: Option<f64>,
         /// After the run, plot each output (or the columns named) to PNGs next to the CSV. Put it
         /// after the model file: `flexmb run MODEL --plot [COLUMN…]`.
         #[arg(long, num_args = 0.., value_name = "COLUMN")]
@@ -78,7 +86,8 @@ enum Command {
         /// Flexible-body file to write (default out/NAME.json).
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Also write the mode shapes as VTK (.vtu) into this directory, for ParaView.
+        /// Also write the mode shapes as VTK (.vtu) into this directory, for ParaView, and an animation
+        /// of each mode over one period (NAME_mode_LABEL.pvd).
         #[arg(long)]
         vtk: Option<PathBuf>,
         /// Eigensolver: dense for small models, Lanczos (shift-invert, sparse Cholesky) for large.
@@ -191,8 +200,8 @@ enum SolverArg {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Run { model, t_end, output_step, rtol, atol, integrator, spectral_radius, out, quiet, plot } => {
-            let options = RunOptions { t_end, output_step, rtol, atol, integrator, spectral_radius, out_dir: out, quiet };
+        Command::Run { model, t_end, output_step, rtol, atol, integrator, spectral_radius, out, quiet, vtk, vtk_step, plot } => {
+            let options = RunOptions { t_end, output_step, rtol, atol, integrator, spectral_radius, out_dir: out, quiet, vtk_dir: vtk, vtk_step };
             run_model(&model, &options).and_then(|files| match plot {
                 Some(columns) => plot_run_outputs(&files.csv, &columns).map(|images| print_plots(&images, quiet)),
                 None => Ok(()),

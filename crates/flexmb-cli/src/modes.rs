@@ -57,8 +57,23 @@ pub fn run_modes(path: &Path, options: &ModesOptions) -> Result<String, CliError
     if let Some(dir) = &options.vtk {
         let file = crate::vtk::write_mode_shapes(&reduction.body, dir).map_err(CliError)?;
         let _ = writeln!(report, "wrote {} (mode shapes for ParaView: Warp By Vector on a mode's translation)", file.display());
+        let animations = crate::vtk::write_mode_animations(&reduction.body, dir).map_err(CliError)?;
+        report.push_str(&describe_animations(&animations));
     }
     Ok(report)
+}
+
+/// One line per mode animation: its `.pvd` file and scale.
+fn describe_animations(animations: &[crate::vtk::ModeAnimation]) -> String {
+    let mut s = format!(
+        "mode animations for ParaView ({} frames over one period, the largest displacement {}% of the body's size):\n",
+        crate::vtk::FRAMES_PER_PERIOD,
+        100.0 * crate::vtk::AMPLITUDE_FRACTION
+    );
+    for a in animations {
+        let _ = writeln!(s, "  {}: {} (displacement = {:.4e} x the mode shape)", a.label, a.pvd.display(), a.scale);
+    }
+    s
 }
 
 /// The report of a reduction: model size, mass properties, eigensolver checks, the frequency table and

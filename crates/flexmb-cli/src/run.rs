@@ -8,6 +8,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use crate::check::{check_model, describe, describe_flexible_bodies};
 use crate::model_file::load_model;
 use crate::results::{summary_json, summary_text, CsvWriter, RunRequest};
+use crate::vtk::RunSeries;
 
 /// Command-line overrides of the model file's `[simulation]` defaults.
 #[derive(Clone, Debug, Default)]
@@ -22,6 +23,10 @@ pub struct RunOptions {
     pub spectral_radius: Option<f64>,
     pub out_dir: PathBuf,
     pub quiet: bool,
+    /// Directory for a ParaView time series of the run (`--vtk`); none if not given.
+    pub vtk_dir: Option<PathBuf>,
+    /// Interval between its frames (`--vtk-step`), overriding the model file's `vtk_step`.
+    pub vtk_step: Option<f64>,
 }
 
 /// Where a run's files went.
@@ -74,6 +79,12 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
     let columns = output_columns(model);
     let mut csv = CsvWriter::create(&csv_path, &columns)
         .map_err(|e| CliError(format!("cannot write {}: {e}", csv_path.display())))?;
+    let mut vtk = options
+        .vtk_dir
+        .as_deref()
+        .map(|dir| RunSeries::create(dir, stem, &loaded, options.vtk_step.or(d.vtk_step), output_step))
+        .transpose()
+        .map_err(CliError)?;
 
     let settings = SimulationSettings {
         t_end,
@@ -93,6 +104,9 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
                 write_error = Some(e);
             }
         }
+        if let Some(series) = vtk.as_mut() {
+            series.observe(frame);
+        }
         bar.set_position((frame.t / t_end * 1000.0) as u64);
         bar.set_message(format!("{:.4}", frame.t));
     });
@@ -100,6 +114,7 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
     if let Some(e) = write_error {
         return Err(CliError(format!("cannot write {}: {e}", csv_path.display())));
     }
+    let vtk_written = vtk.map(RunSeries::finish).transpose().map_err(CliError)?;
     let file_name = path.display().to_string();
     let (report, error) = match &result {
         Ok(r) => (r.clone(), None),
@@ -122,6 +137,9 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
         println!("{}", if error.is_some() { "run stopped early:" } else { "run completed:" });
         println!("{}", summary_text(&report));
         println!("results: {} ({} rows), {}", csv_path.display(), csv.rows(), summary_path.display());
+        if let Some(s) = &vtk_written {
+            println!("ParaView: {} ({} frames of {} blocks)", s.pvd.display(), s.frames, s.blocks);
+        }
     }
     match error {
         None => Ok(RunFiles { csv: csv_path, summary: summary_path }),

@@ -35,6 +35,8 @@ pub struct LoadedModel {
     /// The flexible bodies, in the order of their `[[flexible_body]]` tables: mode set, frequencies,
     /// and whether each was reduced now, read from the cache or read from a flexible-body file.
     pub flexible_bodies: Vec<FlexibleBodyInfo>,
+    /// What the ParaView output draws for each rigid body, in the order of their `[[body]]` tables.
+    pub shapes: Vec<crate::shape::BodyShape>,
 }
 
 /// `[simulation]`: what `flexmb run` uses unless told otherwise.
@@ -56,6 +58,8 @@ pub struct SimulationDefaults {
     pub method: flexmb::integrate::Method,
     /// Highest BDF order (`max_order`, 1 to 5); `None`: 5, or 2 with flexible bodies.
     pub max_order: Option<usize>,
+    /// Interval between the frames of the ParaView output (`vtk_step`, s); `None`: the output step.
+    pub vtk_step: Option<f64>,
 }
 
 impl Default for SimulationDefaults {
@@ -68,6 +72,7 @@ impl Default for SimulationDefaults {
             modal_assembly: flexmb::analysis::ModalAssembly::Held,
             method: flexmb::integrate::Method::Bdf,
             max_order: None,
+            vtk_step: None,
         }
     }
 }

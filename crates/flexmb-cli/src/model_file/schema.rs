@@ -63,6 +63,7 @@ pub(crate) struct SimulationSection {
     pub integrator: Option<Name>,
     pub spectral_radius: Option<Number>,
     pub max_order: Option<Number>,
+    pub vtk_step: Option<Number>,
 }
 
 /// `[[body]]`: a rigid body.
@@ -77,6 +78,32 @@ pub(crate) struct BodySection {
     pub orientation: Option<Spanned<OrientationSection>>,
     pub velocity: Option<Vector>,
     pub angular_velocity: Option<Vector>,
+    pub shape: Option<Spanned<ShapeSection>>,
+}
+
+/// A rigid body's `shape`, drawn by the ParaView output: one of `box`, `cylinder`, `sphere`, `mesh`,
+/// `frame`, placed in the body frame by `origin` and `orientation` (like a marker).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct ShapeSection {
+    #[serde(rename = "box")]
+    pub cuboid: Option<Vector>,
+    pub cylinder: Option<Spanned<CylinderSection>>,
+    pub sphere: Option<Number>,
+    pub mesh: Option<Name>,
+    pub frame: Option<Number>,
+    pub scale: Option<Number>,
+    pub origin: Option<Vector>,
+    pub orientation: Option<Spanned<OrientationSection>>,
+}
+
+/// `cylinder = { radius = r, length = l, axis = "z" }`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct CylinderSection {
+    pub radius: Number,
+    pub length: Number,
+    pub axis: Option<Name>,
 }
 
 /// `[[flexible_body]]`: a flexible body reduced from an FE model file, or read from a flexible-body

@@ -6,9 +6,9 @@
 use std::path::{Path, PathBuf};
 
 use flexmb_fem::reduction::FlexibleBody;
-use vtkio::model::{Attribute, Attributes, ByteOrder, DataSet, UnstructuredGridPiece, Version, Vtk};
+use vtkio::model::{Attribute, Attributes, UnstructuredGridPiece};
 
-use super::body_points_and_cells;
+use super::{body_points_and_cells, write_vtu};
 
 /// The name of mode `j`'s point vectors: `N1 translation (8.346 Hz)`, `S2 rotation`.
 pub fn mode_array_name(body: &FlexibleBody, j: usize, what: &str) -> String {
@@ -24,9 +24,8 @@ pub fn write_mode_shapes(body: &FlexibleBody, dir: &Path) -> Result<PathBuf, Str
     std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
     let path = dir.join(format!("{}_modes.vtu", body.name));
     let (points, cells) = body_points_and_cells(body);
-    let mut point_data = vec![
-        Attribute::scalars("mass", 1).with_data(body.nodes.iter().map(|n| n.mass).collect::<Vec<f64>>()),
-    ];
+    let mut point_data =
+        vec![Attribute::scalars("mass", 1).with_data(body.nodes.iter().map(|n| n.mass).collect::<Vec<f64>>())];
     for (j, shape) in body.shapes.iter().enumerate() {
         let translation: Vec<f64> = shape.translation.iter().flatten().copied().collect();
         let rotation: Vec<f64> = shape.rotation.iter().flatten().copied().collect();
@@ -38,13 +37,6 @@ pub fn write_mode_shapes(body: &FlexibleBody, dir: &Path) -> Result<PathBuf, Str
         cells,
         data: Attributes { point: point_data, cell: Vec::new() },
     };
-    let vtk = Vtk {
-        version: Version::Auto,
-        title: format!("{}: mode shapes ({})", body.name, body.mode_set),
-        byte_order: ByteOrder::LittleEndian,
-        data: DataSet::inline(piece),
-        file_path: None,
-    };
-    vtk.export(&path).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    write_vtu(&path, format!("{}: mode shapes ({})", body.name, body.mode_set), piece)?;
     Ok(path)
 }

@@ -1,6 +1,8 @@
 //! `[[body]]` → [`RigidBody`], each checked at once by the engine's own rules so that a problem is
 //! reported at the body's key.
 
+use std::path::Path;
+
 use flexmb::body::{InitialState, RigidBody};
 use flexmb::math::EulerParameters;
 use flexmb::model::{BodyId, ModelError};
@@ -11,19 +13,24 @@ use super::context::Context;
 use super::inertia::inertia;
 use super::names::NameTable;
 use super::orientation::orientation;
+use super::shapes::body_shape;
 use crate::model_file::error::ModelFileError;
 use crate::model_file::key_path::KeyPath;
 use crate::model_file::schema::{BodySection, OrientationSection, Vector};
+use crate::shape::BodyShape;
 
 /// The name markers use for the inertial frame.
 pub(crate) const GROUND: &str = "ground";
 
+/// Adds every `[[body]]` and returns their shapes; mesh files are relative to `base_dir`.
 pub(crate) fn add_bodies(
     ctx: &Context,
     sections: &[Spanned<BodySection>],
+    base_dir: &Path,
     builder: &mut ModelBuilder,
     names: &mut NameTable<BodyId>,
-) -> Result<(), ModelFileError> {
+) -> Result<Vec<BodyShape>, ModelFileError> {
+    let mut shapes = Vec::with_capacity(sections.len());
     for (index, section) in sections.iter().enumerate() {
         let element = KeyPath::root().key("body").index(index);
         let b = section.get_ref();
@@ -37,10 +44,12 @@ pub(crate) fn add_bodies(
         }
         let body = rigid_body(ctx, b, &element)?;
         check_with_engine(ctx, &body, b, &element)?;
+        let shape = body_shape(ctx, b.shape.as_ref(), &element.key("shape"), base_dir, &body)?;
         let id = builder.add_body(body);
         names.define(&b.name, &element, id);
+        shapes.push(BodyShape { body: id, shape });
     }
-    Ok(())
+    Ok(shapes)
 }
 
 fn rigid_body(ctx: &Context, b: &BodySection, element: &KeyPath) -> Result<RigidBody, ModelFileError> {

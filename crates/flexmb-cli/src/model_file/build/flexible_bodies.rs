@@ -11,7 +11,7 @@ use std::str::FromStr;
 use flexmb::body::{InitialState, ModalBody, ModalDamping};
 use flexmb::model::{BodyId, ModelError};
 use flexmb::ModelBuilder;
-use flexmb_fem::reduction::{Basis, FlexibleBody, ModeSet};
+use flexmb_fem::reduction::{Basis, BodyElement, FlexibleBody, ModeSet};
 use nalgebra::DVector;
 use toml::Spanned;
 
@@ -43,6 +43,7 @@ pub enum FlexibleBodyOrigin {
 pub struct FlexibleBodyInfo {
     /// The body's name in the model.
     pub name: String,
+    pub body: BodyId,
     /// The mode set, e.g. `4N2S`.
     pub mode_set: String,
     pub basis: Basis,
@@ -55,6 +56,8 @@ pub struct FlexibleBodyInfo {
     pub origin: FlexibleBodyOrigin,
     /// The FE model file's warnings, and the reduction's if it was reduced now.
     pub warnings: Vec<String>,
+    /// The FE mesh's elements (node indices in the order of the engine's modal nodes), for drawing.
+    pub elements: Vec<BodyElement>,
 }
 
 /// Everything the tables refer to, and where relative paths start.
@@ -110,6 +113,7 @@ pub(crate) fn add_flexible_bodies(
         );
         infos.push(FlexibleBodyInfo {
             name,
+            body: id,
             mode_set: body.mode_set.clone(),
             basis: body.basis,
             mode_labels: body.modes.iter().map(|m| m.label.clone()).collect(),
@@ -117,6 +121,7 @@ pub(crate) fn add_flexible_bodies(
             nodes: body.nodes.len(),
             origin: obtained.origin,
             warnings: obtained.warnings,
+            elements: body.elements.clone(),
         });
     }
     Ok(infos)

@@ -17,6 +17,7 @@ pub(crate) mod names;
 mod nodes;
 mod orientation;
 mod outputs;
+mod shapes;
 mod simulation;
 
 use std::path::Path;
@@ -72,7 +73,7 @@ pub(crate) fn build(
     let simulation = simulation::simulation_defaults(&ctx, file.simulation.as_ref())?;
     let mut builder = ModelBuilder::new(name).gravity(gravity);
     let mut names = Names::default();
-    bodies::add_bodies(&ctx, &file.body, &mut builder, &mut names.bodies)?;
+    let shapes = bodies::add_bodies(&ctx, &file.body, base_dir, &mut builder, &mut names.bodies)?;
     let mut flexible = FlexibleNodes::default();
     let tables = FlexibleTables { sections: &file.flexible_body, base_dir };
     let flexible_bodies =
@@ -92,5 +93,5 @@ pub(crate) fn build(
     };
     outputs::add_outputs(&ctx, &file.output, &output_references, &mut builder, &mut names.outputs)?;
     let model = builder.build().map_err(|e| engine_errors::locate(&e, &names, source))?;
-    Ok(LoadedModel { model, simulation, flexible_bodies })
+    Ok(LoadedModel { model, simulation, flexible_bodies, shapes })
 }

@@ -84,6 +84,7 @@ pub(crate) fn simulation_defaults(
         output_step: positive(&s.output_step, "output_step", defaults.output_step)?,
         rtol: positive(&s.rtol, "rtol", defaults.rtol)?,
         atol: positive(&s.atol, "atol", defaults.atol)?,
+        vtk_step: s.vtk_step.as_ref().map(|_| positive(&s.vtk_step, "vtk_step", 0.0)).transpose()?,
     })
 }
 

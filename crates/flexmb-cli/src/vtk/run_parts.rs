@@ -1,0 +1,129 @@
+//! The blocks of a run's ParaView series, each turned into a VTK grid at an output time:
+//!
+//! - a flexible body: its FE mesh at the deformed node positions `R + A (s̄ + Ψ a)`, with point data
+//!   `node` (the FE node label), `displacement` (from the first frame, t = 0), `elastic_displacement`
+//!   (`A Ψ a`: the deformation alone, global components) and `velocity`;
+//! - a rigid body: its shape (or frame glyph) moved with the body, with `displacement` and `velocity`,
+//!   and for a frame glyph the cell data `axis` (0, 1, 2 for the body's x, y, z axis);
+//! - a joint (not a driver, which repeats its joint's markers): a vertex at each of its two markers,
+//!   with `marker` (0 for marker i, 1 for marker j) and `velocity`.
+
+use flexmb::joint::JointKind;
+use flexmb::math::Vec3;
+use flexmb::model::{BodyId, MarkerId};
+use flexmb::Model;
+use vtkio::model::{Attribute, Attributes, Cells, UnstructuredGridPiece};
+
+use super::body_motion::{marker_motion, BodyMotion, PointMotion};
+use super::pvd::file_safe;
+use super::{cells, element_cells, piece};
+use crate::model_file::LoadedModel;
+use crate::shape::Shape;
+
+/// One block of the series.
+pub(crate) struct Part {
+    /// The block's name in ParaView: the body's or joint's name.
+    pub name: String,
+    /// The stem of its files, unique within the series.
+    pub file_stem: String,
+    kind: PartKind,
+    /// The point positions of the first frame, from which `displacement` is measured.
+    initial: Option<Vec<Vec3>>,
+}
+
+enum PartKind {
+    Flexible { body: BodyId, labels: Vec<u64>, cells: Cells },
+    Rigid { body: BodyId, points: Vec<Vec3>, cells: Cells, frame_glyph: bool },
+    Joint { markers: [MarkerId; 2] },
+}
+
+/// The rigid bodies, the flexible bodies, then the joints of a model.
+pub(crate) fn parts(loaded: &LoadedModel) -> Vec<Part> {
+    let model = &loaded.model;
+    let mut parts = Vec::new();
+    for s in &loaded.shapes {
+        let mesh = s.shape.mesh();
+        let cells = cells(mesh.cells.iter().map(Vec::as_slice));
+        let frame_glyph = matches!(s.shape, Shape::Frame { .. });
+        let kind = PartKind::Rigid { body: s.body, points: mesh.points, cells, frame_glyph };
+        parts.push(Part::new(&model.body(s.body).name, "body", kind, &parts));
+    }
+    for f in &loaded.flexible_bodies {
+        let labels = model.modal_body(f.body).map_or_else(Vec::new, |m| m.nodes.iter().map(|n| n.label).collect());
+        let kind = PartKind::Flexible { body: f.body, labels, cells: element_cells(&f.elements) };
+        parts.push(Part::new(&f.name, "body", kind, &parts));
+    }
+    for joint in model.joints() {
+        if matches!(joint.kind, JointKind::AngleDriver { .. } | JointKind::DisplacementDriver { .. }) {
+            continue;
+        }
+        let kind = PartKind::Joint { markers: [joint.marker_i, joint.marker_j] };
+        parts.push(Part::new(&joint.name, "joint", kind, &parts));
+    }
+    parts
+}
+
+impl Part {
+    /// A part named `name`, its file stem `<prefix>_<name>` made unique among `earlier`.
+    fn new(name: &str, prefix: &str, kind: PartKind, earlier: &[Part]) -> Self {
+        let mut file_stem = format!("{prefix}_{}", file_safe(name));
+        if earlier.iter().any(|p| p.file_stem == file_stem) {
+            file_stem = format!("{file_stem}_{}", earlier.len());
+        }
+        Self { name: name.to_string(), file_stem, kind, initial: None }
+    }
+
+    /// The block at the state `q`, `v`.
+    pub(crate) fn piece(&mut self, model: &Model, q: &[f64], v: &[f64]) -> UnstructuredGridPiece {
+        let Part { kind, initial, .. } = self;
+        match kind {
+            PartKind::Flexible { body, labels, cells } => {
+                let motion = BodyMotion::of(model, *body, q, v);
+                let nodes = model.modal_body(*body).map_or(&[][..], |m| m.nodes.as_slice());
+                let points: Vec<PointMotion> = nodes.iter().map(|n| motion.node(n)).collect();
+                let (labels, cells) = (labels.clone(), cells.clone());
+                let mut data = vec![Attribute::scalars("node", 1).with_data(labels)];
+                data.push(displacement(initial, &points));
+                data.push(vectors("elastic_displacement", points.iter().map(|p| p.elastic)));
+                data.push(vectors("velocity", points.iter().map(|p| p.velocity)));
+                piece(&positions(&points), cells, Attributes { point: data, cell: Vec::new() })
+            }
+            PartKind::Rigid { body, points, cells, frame_glyph } => {
+                let motion = BodyMotion::of(model, *body, q, v);
+                let points: Vec<PointMotion> = points.iter().map(|p| motion.point(p)).collect();
+                let cell = if *frame_glyph {
+                    vec![Attribute::scalars("axis", 1).with_data(vec![0i32, 1, 2])]
+                } else {
+                    Vec::new()
+                };
+                let cells = cells.clone();
+                let data = vec![displacement(initial, &points), vectors("velocity", points.iter().map(|p| p.velocity))];
+                piece(&positions(&points), cells, Attributes { point: data, cell })
+            }
+            PartKind::Joint { markers } => {
+                let points: Vec<PointMotion> = markers.iter().map(|&m| marker_motion(model, m, q, v)).collect();
+                let data = vec![
+                    Attribute::scalars("marker", 1).with_data(vec![0i32, 1]),
+                    vectors("velocity", points.iter().map(|p| p.velocity)),
+                ];
+                piece(&positions(&points), cells([&[0][..], &[1][..]]), Attributes { point: data, cell: Vec::new() })
+            }
+        }
+    }
+}
+
+/// `displacement`: each point's position less its position in the first frame (`initial`, set then).
+fn displacement(initial: &mut Option<Vec<Vec3>>, points: &[PointMotion]) -> Attribute {
+    let now = positions(points);
+    let initial = initial.get_or_insert_with(|| now.clone());
+    vectors("displacement", now.iter().zip(initial.iter()).map(|(p, p0)| p - p0))
+}
+
+fn positions(points: &[PointMotion]) -> Vec<Vec3> {
+    points.iter().map(|p| p.position).collect()
+}
+
+/// A point vector array.
+fn vectors(name: &str, values: impl Iterator<Item = Vec3>) -> Attribute {
+    Attribute::vectors(name).with_data(values.flat_map(|x| [x.x, x.y, x.z]).collect::<Vec<f64>>())
+}
