@@ -57,7 +57,7 @@ impl AxisScale {
     pub fn sample_ticks(&self) -> Vec<String> {
         match self {
             Self::Linear { range: (lo, hi), .. } => vec![self.tick(*lo), self.tick(*hi), self.tick(0.5 * (lo + hi))],
-            Self::Log => vec![log_tick(1.5e-5), log_tick(1234.0)],
+            Self::Log => vec![log_tick(1e-10), log_tick(2.5e-5)],
         }
     }
 }
@@ -71,12 +71,13 @@ fn nice_step(raw: f64) -> f64 {
     [1.0, 2.0, 5.0, 10.0].into_iter().map(|m| m * power).find(|s| *s >= raw * (1.0 - 1e-12)).unwrap_or(10.0 * power)
 }
 
-/// A tick of a logarithmic axis: `0.01`, `200`, or `1e-5` outside 0.001 to 10 000.
+/// A tick of a logarithmic axis: a decade as `10⁻³`, anything else as `2e-3`.
 fn log_tick(value: f64) -> String {
-    let rounded: f64 = format!("{value:.2e}").parse().unwrap_or(value);
-    if (1e-3..1e4).contains(&rounded) {
-        format!("{rounded}")
+    let exponent = value.log10().round();
+    if (value / 10f64.powf(exponent) - 1.0).abs() < 1e-9 {
+        format!("10{}", superscript(exponent as i32))
     } else {
+        let rounded: f64 = format!("{value:.2e}").parse().unwrap_or(value);
         format!("{rounded:e}")
     }
 }
@@ -135,10 +136,11 @@ mod tests {
     }
 
     #[test]
-    fn log_ticks_are_plain_near_one_and_scientific_far_from_it() {
-        assert_eq!(log_tick(0.01), "0.01");
-        assert_eq!(log_tick(200.0), "200");
-        assert_eq!(log_tick(1.0000000000000002e-5), "1e-5");
+    fn log_ticks_are_powers_of_ten() {
+        assert_eq!(log_tick(0.01), "10⁻²");
+        assert_eq!(log_tick(1.0), "10⁰");
+        assert_eq!(log_tick(1.0000000000000002e-5), "10⁻⁵");
+        assert_eq!(log_tick(2.0000000000000002e-5), "2e-5");
         assert_eq!(log_axis().label(&quantity("amplitude", Some("m"))), "amplitude [m]");
     }
 }

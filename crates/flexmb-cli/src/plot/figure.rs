@@ -9,6 +9,7 @@ use plotters::prelude::*;
 
 use super::axis::{linear_axis, log_axis, AxisScale};
 use super::font::{self, FAMILY};
+use super::legend::{draw_legend, legend_layout};
 use crate::run::CliError;
 
 /// One line of the plot and its legend entry.
@@ -81,7 +82,7 @@ const SUPERSAMPLED_PIXELS: u32 = 4_000_000;
 pub const SIZE_LIMITS: (u32, u32) = (200, 8000);
 
 /// Line colours, in order (the "tab10" palette: distinct, readable on white, printable).
-const PALETTE: [RGBColor; 10] = [
+pub(super) const PALETTE: [RGBColor; 10] = [
     RGBColor(31, 119, 180),
     RGBColor(255, 127, 14),
     RGBColor(44, 160, 44),
@@ -167,12 +168,12 @@ fn write_png(path: &Path, (width, height): (u32, u32), pixels: &[u8]) -> Result<
 }
 
 /// Sizes that grow with the image, so that text stays readable from 600 to 3000 pixels wide.
-struct Metrics {
-    title: f64,
-    axis_label: f64,
-    tick_label: f64,
-    legend: f64,
-    line_width: u32,
+pub(super) struct Metrics {
+    pub(super) title: f64,
+    pub(super) axis_label: f64,
+    pub(super) tick_label: f64,
+    pub(super) legend: f64,
+    pub(super) line_width: u32,
 }
 
 impl Metrics {
@@ -299,70 +300,6 @@ where
     Ok(())
 }
 
-/// How the legend is laid out: entries flow left to right in rows below the axes.
-struct LegendLayout {
-    /// The (x, row) of each entry, in pixels from the legend area's left edge and in rows.
-    positions: Vec<(i32, i32)>,
-    row_height: u32,
-    height: u32,
-}
-
-fn legend_layout<DB: DrawingBackend>(
-    root: &DrawingArea<DB, Shift>,
-    figure: &Figure,
-    metrics: &Metrics,
-) -> LegendLayout {
-    let font = (FAMILY, metrics.legend).into_font();
-    let (width, _) = root.dim_in_pixel();
-    let swatch = (metrics.legend * 2.5) as i32;
-    let gap = (metrics.legend * 1.5) as i32;
-    let left = (metrics.legend * 2.0) as i32;
-    let (mut x, mut row) = (0, 0);
-    let mut positions = Vec::new();
-    let mut row_widths = vec![0];
-    for series in &figure.series {
-        let text_width =
-            root.estimate_text_size(&series.label, &TextStyle::from(font.clone())).map(|(w, _)| w as i32).unwrap_or(0);
-        let entry = swatch + text_width + gap;
-        if x > 0 && x + entry - gap > width as i32 - 2 * left {
-            (x, row) = (0, row + 1);
-            row_widths.push(0);
-        }
-        positions.push((x, row));
-        x += entry;
-        row_widths[row as usize] = x - gap;
-    }
-    // Each row centred.
-    for (x, row) in &mut positions {
-        *x += (width as i32 - row_widths[*row as usize]) / 2;
-    }
-    let row_height = (metrics.legend * 1.5) as u32;
-    let rows = if figure.series.is_empty() { 0 } else { row + 1 };
-    LegendLayout { positions, row_height, height: rows as u32 * row_height + (metrics.legend * 0.8) as u32 }
-}
-
-fn draw_legend<DB: DrawingBackend>(
-    area: &DrawingArea<DB, Shift>,
-    figure: &Figure,
-    metrics: &Metrics,
-    layout: &LegendLayout,
-) -> Result<(), String> {
-    let font = (FAMILY, metrics.legend).into_font().color(&BLACK);
-    let swatch = (metrics.legend * 2.0) as i32;
-    for (k, (series, &(x, row))) in figure.series.iter().zip(&layout.positions).enumerate() {
-        let y = row * layout.row_height as i32 + layout.row_height as i32 / 2;
-        let style = PALETTE[k % PALETTE.len()].stroke_width(metrics.line_width + 1);
-        area.draw(&PathElement::new(vec![(x, y), (x + swatch, y)], style)).map_err(|e| e.to_string())?;
-        let text_style = font.clone().pos(plotters::style::text_anchor::Pos::new(
-            plotters::style::text_anchor::HPos::Left,
-            plotters::style::text_anchor::VPos::Center,
-        ));
-        area.draw(&Text::new(series.label.clone(), (x + swatch + (metrics.legend * 0.5) as i32, y), text_style))
-            .map_err(|e| e.to_string())?;
-    }
-    Ok(())
-}
-
 /// Runs of consecutive finite points: a NaN or infinity breaks the line instead of ending the plot.
 fn finite_segments(points: &[(f64, f64)]) -> Vec<&[(f64, f64)]> {
     points.split(|(x, y)| !x.is_finite() || !y.is_finite()).filter(|s| !s.is_empty()).collect()
@@ -388,11 +325,12 @@ fn padded((lo, hi): (f64, f64)) -> (f64, f64) {
     (lo - room, hi + room)
 }
 
-/// The range of a logarithmic axis: the positive values, at most 7 decades below the largest.
+/// The range of a logarithmic axis: the positive values, 2 to 7 decades below the largest, with
+/// room above it for annotations.
 fn log_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     let (lo, hi) = data_range(values.filter(|v| *v > 0.0));
-    let lo = lo.max(hi * 1e-7);
-    (lo / 1.5, hi * 1.5)
+    let lo = lo.clamp(hi * 1e-7, hi * 1e-2);
+    (lo / 1.5, hi * 4.0)
 }
 
 #[cfg(test)]
@@ -439,5 +377,6 @@ mod tests {
         let points = [(0.0, 1.0), (1.0, f64::NAN), (2.0, 2.0), (3.0, 3.0)];
         assert_eq!(finite_segments(&points).len(), 2);
         assert_eq!(log_range([1e-12, 1.0].into_iter()).0, 1e-7 / 1.5);
+        assert_eq!(log_range([0.5, 1.0].into_iter()).0, 1e-2 / 1.5);
     }
 }

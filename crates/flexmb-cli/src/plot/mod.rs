@@ -10,6 +10,7 @@ mod axis;
 pub mod csv_table;
 pub mod figure;
 mod font;
+mod legend;
 mod run_outputs;
 
 use std::path::{Path, PathBuf};

@@ -100,7 +100,7 @@ fn describe(table: &ResultTable, column: &str, unit: Option<&str>, report: &Spec
     )
     .ok();
     if report.peaks.is_empty() {
-        writeln!(text, "\nno peak above 1/T: the column holds no oscillation this record can resolve").ok();
+        writeln!(text, "\nno peak above 2/T: the column holds no oscillation this record can resolve").ok();
         return text;
     }
     let decimals = frequency_decimals(report.resolution());
