@@ -39,6 +39,10 @@ pub(crate) fn body_shape(
         table.reject_placement("frame")?;
         return Ok(Shape::Frame { size: table.positive(size, &key.key("frame"), "the frame glyph's size")? });
     }
+    let scale = match &s.scale {
+        Some(scale) => table.positive(scale, &key.key("scale"), "the mesh's scale")?,
+        None => 1.0,
+    };
     let mesh = if let Some(lengths) = &s.cuboid {
         cuboid(&table.lengths(lengths)?)
     } else if let Some(c) = &s.cylinder {
@@ -49,10 +53,6 @@ pub(crate) fn body_shape(
         table.mesh(file, base_dir)?
     } else {
         unreachable!("check_one_kind found one kind")
-    };
-    let scale = match &s.scale {
-        Some(scale) => table.positive(scale, &key.key("scale"), "the mesh's scale")?,
-        None => 1.0,
     };
     let (rotation, origin) = table.placement()?;
     Ok(Shape::Surface(mesh.placed(scale, &rotation, &origin)))
@@ -139,7 +139,7 @@ impl ShapeTable<'_> {
         let path = if path.is_absolute() { path.to_path_buf() } else { base_dir.join(path) };
         read_mesh_file(&path).map_err(|e| {
             let at = e.line.map_or(String::new(), |line| format!(":{line}"));
-            self.ctx.invalid(&file.span(), &key, format!("mesh file `{}`{at}: {}", path.display(), e.message))
+            self.ctx.invalid(&file.span(), &key, format!("mesh file {}{at}: {}", path.display(), e.message))
         })
     }
 
