@@ -58,7 +58,7 @@ enum Command {
         vtk: Option<PathBuf>,
         /// Interval between ParaView frames (s), a multiple of the output step; default the model's
         /// [simulation] vtk_step, else the output step.
-        #[arg(long, value_name = "DT")]
+        #[arg(long, value_name = "DT", requires = "vtk")]
         vtk_step: Option<f64>,
         /// After the run, plot each output (or the columns named) to PNGs next to the CSV. Put it
         /// after the model file: `flexmb run MODEL --plot [COLUMN…]`.

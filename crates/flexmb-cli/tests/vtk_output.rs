@@ -260,15 +260,33 @@ name = "arm_corner"
 body = "arm"
 origin = [0.4, 0.02, 0.01]
 
+[[marker]]
+name = "floor"
+body = "ground"
+
+[[marker]]
+name = "ball_centre"
+body = "ball"
+
 [[joint]]
 name = "hinge"
 type = "revolute"
 i = "pivot"
 j = "arm_pivot"
 
+[[joint]]
+name = "ball_plane"
+type = "point-in-plane"
+i = "floor"
+j = "ball_centre"
+
 [[output]]
 type = "marker_position"
 marker = "arm_corner"
+
+[[output]]
+type = "marker_position"
+marker = "ball_centre"
 "#;
 
 /// The twelve triangles of a cube of 10 mm edge from the origin, as ASCII STL.
@@ -326,16 +344,16 @@ fn rigid_bodies_are_drawn_as_their_shapes_and_move_with_them() {
     let stdout = text(&o.stdout);
     assert!(o.status.success(), "stdout:\n{stdout}\nstderr:\n{}", text(&o.stderr));
 
-    // vtk_step = 0.05 s of 0.1 s: three frames of seven bodies and one joint.
+    // vtk_step = 0.05 s of 0.1 s: three frames of seven bodies and two joints.
     let entries = read_pvd(&vtk.join("shapes.pvd"));
-    assert_eq!(entries.len(), 3 * 8);
-    let times: Vec<f64> = entries.iter().step_by(8).map(|e| e.time).collect();
+    assert_eq!(entries.len(), 3 * 9);
+    let times: Vec<f64> = entries.iter().step_by(9).map(|e| e.time).collect();
     assert!(times.iter().zip([0.0, 0.05, 0.1]).all(|(t, expected)| (t - expected).abs() < 1e-12), "{times:?}");
-    let names: Vec<&str> = entries[..8].iter().map(|e| e.name.as_str()).collect();
-    assert_eq!(names, ["arm", "drum", "ball", "cube", "plate", "bracket", "bare", "hinge"]);
+    let names: Vec<&str> = entries[..9].iter().map(|e| e.name.as_str()).collect();
+    assert_eq!(names, ["arm", "drum", "ball", "cube", "plate", "bracket", "bare", "hinge", "ball_plane"]);
 
     let grids: BTreeMap<&str, UnstructuredGridPiece> =
-        entries[16..].iter().map(|e| (e.name.as_str(), read_vtu(&vtk.join(&e.file)))).collect();
+        entries[18..].iter().map(|e| (e.name.as_str(), read_vtu(&vtk.join(&e.file)))).collect();
     let size = |name: &str| (points(&grids[name]).len(), cells(&grids[name]).len());
     assert_eq!(size("arm"), (24, 6), "a box: four points per face");
     assert_eq!(size("drum"), (4 * 32, 32 + 2), "a cylinder: 32 side quadrilaterals and two caps");
@@ -355,6 +373,13 @@ fn rigid_bodies_are_drawn_as_their_shapes_and_move_with_them() {
     assert!(corner[1] < -0.01, "the arm has swung down: {corner:?}");
     let on_box = points(&grids["arm"]).iter().filter(|p| close(**p, corner, 1e-9)).count();
     assert_eq!(on_box, 3, "three faces meet at the corner {corner:?}");
+    // The joint's points are its markers: the ground's at the origin, the ball's centre falling.
+    let centre = ["x", "y", "z"].map(|c| column(&header, last, &format!("ball_centre.position.{c}")));
+    assert!(centre[1] < -0.04, "the ball falls: {centre:?}");
+    let joint = points(&grids["ball_plane"]);
+    assert!(close(joint[0], [0.0; 3], 0.0) && close(joint[1], centre, 1e-9), "{joint:?} vs {centre:?}");
+    let fall = point_data(&grids["ball_plane"], "velocity")[4];
+    assert!((fall + 9.81 * 0.1).abs() < 1e-6, "the ball's centre falls at g t: {fall}");
 
     // The cube in millimetres, scaled to metres, turned 90° about z and placed 0.5 m up the body's y
     // axis, at the first frame (the body frame at [2, 0, 0], unturned).
@@ -365,8 +390,17 @@ fn rigid_bodies_are_drawn_as_their_shapes_and_move_with_them() {
     assert!(close(low, [1.99, 0.5, 0.0], 1e-12) && close(high, [2.0, 0.51, 0.01], 1e-12), "{low:?} {high:?}");
 
     let csv = dir.join("shapes.csv");
-    let blocks =
-        ["arm=24:6", "drum=128:34", "ball=482:512", "cube=36:12", "plate=6:2", "bracket=6:3", "bare=6:3", "hinge=2:2"];
+    let blocks = [
+        "arm=24:6",
+        "drum=128:34",
+        "ball=482:512",
+        "cube=36:12",
+        "plate=6:2",
+        "bracket=6:3",
+        "bare=6:3",
+        "hinge=2:2",
+        "ball_plane=2:2",
+    ];
     check_with_meshio(&vtk.join("shapes.pvd"), &csv, &blocks, None);
 }
 
@@ -380,6 +414,10 @@ fn the_frame_interval_must_be_a_multiple_of_the_output_step() {
     assert!(!o.status.success());
     let stderr = text(&o.stderr);
     assert!(stderr.contains("--vtk-step") && stderr.contains("multiple of the output step 0.01"), "{stderr}");
+    // Without --vtk there is nothing to space.
+    let o = flexmb(&["run", model.to_str().unwrap(), "--vtk-step", "0.05", "--out", dir.to_str().unwrap()]);
+    let stderr = text(&o.stderr);
+    assert!(!o.status.success() && stderr.contains("--vtk <DIR>"), "{stderr}");
 }
 
 /// Every file a `.pvd` names exists and reads as a grid; returns the entries.
@@ -398,7 +436,7 @@ fn a_run_that_fails_leaves_a_complete_series_up_to_its_last_frame() {
     shapes_model(&dir);
     let model = dir.join("runaway.toml");
     let driver = "[[driver]]\nname = \"runaway\"\njoint = \"hinge\"\nfunction = \"tan(PI/2*t/0.05)\"\n\n[[output]]";
-    std::fs::write(&model, SHAPES.replace("[[output]]", driver)).unwrap();
+    std::fs::write(&model, SHAPES.replacen("[[output]]", driver, 1)).unwrap();
     let vtk = dir.join("vtk");
     let args = ["run", model.to_str().unwrap(), "--vtk", vtk.to_str().unwrap(), "--vtk-step", "0.01"];
     let o = flexmb(&[&args[..], &["--out", dir.to_str().unwrap()]].concat());
@@ -407,7 +445,7 @@ fn a_run_that_fails_leaves_a_complete_series_up_to_its_last_frame() {
     let entries = check_series(&vtk.join("runaway.pvd"));
     let last = entries.last().expect("frames before the failure").time;
     assert!(
-        entries.len() >= 3 * 8 && entries.len() % 8 == 0 && last < 0.05,
+        entries.len() >= 3 * 9 && entries.len() % 9 == 0 && last < 0.05,
         "{} entries up to t = {last}",
         entries.len()
     );

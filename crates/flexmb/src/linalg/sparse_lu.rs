@@ -1,12 +1,19 @@
 //! A square sparse matrix with a fixed pattern and its LU factorization (`faer`, partial pivoting,
 //! COLAMD ordering). The pattern is analysed once; refactoring only recomputes the numbers, and all
 //! workspaces are allocated up front so that factor and solve do not allocate inside a time step.
+//! Small matrices (up to [`DENSE_LIMIT`]) are factored dense: the iteration matrices of small
+//! mechanisms fill in, and a blocked dense LU of them is several times faster than the sparse one.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuSymbolicParams, NumericLu, SymbolicLu};
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 use faer::{Conj, MatMut, Par};
+
+use super::dense_lu::DenseLu;
+
+/// Largest dimension factored as a dense matrix.
+pub const DENSE_LIMIT: usize = 200;
 
 /// The factorization produced a zero or non-finite pivot.
 #[derive(Clone, Copy, Debug, thiserror::Error, PartialEq, Eq)]
@@ -23,6 +30,8 @@ pub struct SparseLu {
     numeric: NumericLu<usize, f64>,
     factor_buffer: MemBuffer,
     solve_buffer: MemBuffer,
+    /// The dense factorization used instead of the sparse one when `n ≤ DENSE_LIMIT`.
+    dense: Option<DenseLu>,
     factored: bool,
 }
 
@@ -74,6 +83,7 @@ impl SparseLu {
             numeric: NumericLu::new(),
             factor_buffer,
             solve_buffer,
+            dense: (n <= DENSE_LIMIT).then(|| DenseLu::new(n)),
             factored: false,
         }
     }
@@ -123,6 +133,16 @@ impl SparseLu {
         if !self.values.iter().all(|x| x.is_finite()) {
             return Err(SingularMatrix);
         }
+        if let Some(dense) = &mut self.dense {
+            let ptr = self.pattern.col_ptr();
+            let rows = self.pattern.row_idx();
+            let columns = (0..self.n).map(|c| (&self.values[ptr[c]..ptr[c + 1]], &rows[ptr[c]..ptr[c + 1]]));
+            if !dense.factor(columns) {
+                return Err(SingularMatrix);
+            }
+            self.factored = true;
+            return Ok(());
+        }
         let a = SparseColMatRef::new(self.pattern.as_ref(), &self.values);
         let stack = MemStack::new(&mut self.factor_buffer);
         self.symbolic
@@ -136,10 +156,14 @@ impl SparseLu {
     /// Returns an error if the factors give a non-finite solution (a numerically singular matrix).
     pub fn solve_in_place(&mut self, rhs: &mut [f64]) -> Result<(), SingularMatrix> {
         assert!(self.factored, "solve before factor");
-        let lu = lu_ref(&self.symbolic, &self.numeric);
-        let stack = MemStack::new(&mut self.solve_buffer);
-        let mat = MatMut::from_column_major_slice_mut(rhs, self.n, 1);
-        lu.solve_in_place_with_conj(Conj::No, mat, Par::Seq, stack);
+        if let Some(dense) = &mut self.dense {
+            dense.solve_in_place(rhs);
+        } else {
+            let lu = lu_ref(&self.symbolic, &self.numeric);
+            let stack = MemStack::new(&mut self.solve_buffer);
+            let mat = MatMut::from_column_major_slice_mut(rhs, self.n, 1);
+            lu.solve_in_place_with_conj(Conj::No, mat, Par::Seq, stack);
+        }
         if rhs.iter().all(|x| x.is_finite()) {
             Ok(())
         } else {
@@ -170,6 +194,55 @@ fn lu_ref<'a>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A diagonally dominant unsymmetric band matrix with a few far entries, of dimension `n`.
+    fn band_matrix(n: usize) -> (Vec<(usize, usize)>, Vec<f64>) {
+        let mut entries = Vec::new();
+        let mut values = Vec::new();
+        for i in 0..n {
+            for (j, v) in [(i, 10.0 + i as f64 * 0.01), ((i + 1) % n, -1.0 - 0.001 * i as f64), ((i + 7) % n, 0.5), ((i * 13 + 5) % n, 0.25)] {
+                entries.push((i, j));
+                values.push(v);
+            }
+        }
+        (entries, values)
+    }
+
+    #[test]
+    fn the_dense_and_sparse_paths_solve_to_round_off() {
+        for n in [DENSE_LIMIT / 2, DENSE_LIMIT + 50] {
+            let (entries, values) = band_matrix(n);
+            let mut a = SparseLu::new(n, entries.iter().copied());
+            assert_eq!(a.dense.is_some(), n <= DENSE_LIMIT);
+            for ((r, c), v) in entries.iter().zip(&values) {
+                a.add(*r, *c, *v);
+            }
+            a.factor().unwrap();
+            let b: Vec<f64> = (0..n).map(|k| (k as f64 * 0.37).sin()).collect();
+            let mut x = b.clone();
+            a.solve_in_place(&mut x).unwrap();
+            let mut ax = vec![0.0; n];
+            a.multiply(&x, &mut ax);
+            let residual = ax.iter().zip(&b).map(|(p, q)| (p - q).abs()).fold(0.0, f64::max);
+            assert!(residual < 1e-13, "n = {n}: residual {residual:e}");
+        }
+    }
+
+    #[test]
+    fn a_singular_matrix_is_reported_on_both_paths() {
+        for n in [10, DENSE_LIMIT + 10] {
+            // The last row and column are empty but for a zero diagonal.
+            let entries: Vec<(usize, usize)> = (0..n - 1).map(|i| (i, i)).collect();
+            let mut a = SparseLu::new(n, entries.iter().copied());
+            for (r, c) in &entries {
+                a.add(*r, *c, 2.0);
+            }
+            // The dense path finds the zero pivot when it factors, the sparse one when it solves.
+            let mut x = vec![1.0; n];
+            let outcome = a.factor().and_then(|()| a.solve_in_place(&mut x));
+            assert_eq!(outcome, Err(SingularMatrix), "n = {n}");
+        }
+    }
 
     #[test]
     fn factor_and_solve_a_small_unsymmetric_system() {
