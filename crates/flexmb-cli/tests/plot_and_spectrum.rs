@@ -45,8 +45,11 @@ fn drawn_fraction(path: &Path) -> f64 {
     drawn as f64 / (pixels.len() / channels) as f64
 }
 
+/// A column to write: name, unit, and its value as a function of time.
+type Column<'a> = (&'a str, &'a str, &'a dyn Fn(f64) -> f64);
+
 /// A result file of `columns(t)` sampled every `dt` up to `t_end`, with a summary giving units.
-fn write_results(path: &Path, t_end: f64, dt: f64, columns: &[(&str, &str, &dyn Fn(f64) -> f64)]) {
+fn write_results(path: &Path, t_end: f64, dt: f64, columns: &[Column]) {
     let names: Vec<&str> = columns.iter().map(|c| c.0).collect();
     let mut csv = format!("t,{}\n", names.join(","));
     let rows = (t_end / dt).round() as usize + 1;

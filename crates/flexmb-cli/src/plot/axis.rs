@@ -139,8 +139,8 @@ mod tests {
     fn log_ticks_are_powers_of_ten() {
         assert_eq!(log_tick(0.01), "10⁻²");
         assert_eq!(log_tick(1.0), "10⁰");
-        assert_eq!(log_tick(1.0000000000000002e-5), "10⁻⁵");
-        assert_eq!(log_tick(2.0000000000000002e-5), "2e-5");
+        assert_eq!(log_tick(1e-5 * (1.0 + 1e-15)), "10⁻⁵");
+        assert_eq!(log_tick(2e-5 * (1.0 + 1e-15)), "2e-5");
         assert_eq!(log_axis().label(&quantity("amplitude", Some("m"))), "amplitude [m]");
     }
 }
