@@ -71,7 +71,11 @@ fn describe_animations(animations: &[crate::vtk::ModeAnimation]) -> String {
         100.0 * crate::vtk::AMPLITUDE_FRACTION
     );
     for a in animations {
-        let _ = writeln!(s, "  {}: {} (displacement = {:.4e} x the mode shape)", a.label, a.pvd.display(), a.scale);
+        let what = match a.rotation_only {
+            true => format!(", rotation only: the largest rotation {} rad", crate::vtk::AMPLITUDE_FRACTION),
+            false => String::new(),
+        };
+        let _ = writeln!(s, "  {}: {} (displacement = {:.4e} x the mode shape{what})", a.label, a.pvd.display(), a.scale);
     }
     s
 }

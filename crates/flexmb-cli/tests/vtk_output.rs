@@ -513,6 +513,15 @@ fn each_mode_of_the_cantilever_plays_as_an_animation() {
     // Half a period on, the shape is back at rest (sin π = 0, to round-off).
     let half = read_vtu(&dir.join(&entries[12].file));
     assert!(point_data(&half, "displacement").iter().all(|x| x.abs() < 1e-15));
+
+    // O6 twists the bar about its axis, where the nodes are: it turns them without moving them, so its
+    // largest rotation is scaled to 0.1 rad rather than its round-off translations to a tenth of the bar.
+    assert!(stdout.contains("rotation only"), "{stdout}");
+    let twist = read_pvd(&dir.join("cantilever_mode_O6.pvd"));
+    let peak = read_vtu(&dir.join(&twist[6].file));
+    let largest = |v: Vec<f64>| v.chunks(3).map(|d| d.iter().map(|x| x * x).sum::<f64>().sqrt()).fold(0.0, f64::max);
+    assert!((largest(point_data(&peak, "rotation")) - 0.1).abs() < 1e-12);
+    assert!(largest(point_data(&peak, "displacement")) < 1e-12);
 }
 
 #[test]

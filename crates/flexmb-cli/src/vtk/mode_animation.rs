@@ -1,8 +1,11 @@
 //! Mode animations for ParaView: per mode, a `.pvd` series of the body oscillating in that mode over one
-//! period, `FRAMES_PER_PERIOD` frames with the node positions `s̄ + c sin(2π k/N) ψ` (`ψ` the mode's
-//! translation). The scale `c` makes the largest displacement `AMPLITUDE_FRACTION` of the body's size
-//! (the diagonal of the box around its nodes). The series' time is the fraction of the period,
-//! `k/N`, the same for every mode, so that several modes play side by side.
+//! period, `FRAMES_PER_PERIOD` frames with the node positions `s̄ + c sin(2π k/N) ψ` and the point data
+//! `displacement` (`c sin(2π k/N) ψ`) and `rotation` (`c sin(2π k/N) θ`), `ψ` and `θ` the mode's
+//! translation and rotation. The scale `c` makes the largest displacement `AMPLITUDE_FRACTION` of the
+//! body's size (the diagonal of the box around its nodes); for a mode that moves the nodes only by
+//! turning them (the torsion of a beam about its nodes' line), the largest rotation `AMPLITUDE_FRACTION`
+//! rad. The series' time is the fraction of the period, `k/N`, the same for every mode, so that several
+//! modes play side by side.
 
 use std::f64::consts::TAU;
 use std::path::{Path, PathBuf};
@@ -12,12 +15,16 @@ use flexmb_fem::reduction::FlexibleBody;
 use vtkio::model::{Attribute, Attributes};
 
 use super::pvd::{file_safe, PvdEntry, PvdFile};
-use super::{element_cells, piece, write_vtu};
+use super::{element_cells, flat, piece, write_vtu};
 
 /// Frames over one period of a mode.
 pub const FRAMES_PER_PERIOD: usize = 24;
-/// The largest displacement of an animated mode, as a fraction of the body's size.
+/// The largest displacement of an animated mode, as a fraction of the body's size (or its largest
+/// rotation in rad, for a rotation-only mode).
 pub const AMPLITUDE_FRACTION: f64 = 0.1;
+/// A mode whose largest translation is below this fraction of its largest rotation times the body's
+/// size is a rotation-only mode: its translations are round-off.
+const ROTATION_ONLY: f64 = 1e-6;
 
 /// One mode's animation.
 #[derive(Clone, Debug, PartialEq)]
@@ -27,6 +34,14 @@ pub struct ModeAnimation {
     pub pvd: PathBuf,
     /// `c`: the displacement is `c sin(2π k/N)` times the mode's translation.
     pub scale: f64,
+    /// The mode turns the nodes without moving them; `c` is set by the largest rotation.
+    pub rotation_only: bool,
+}
+
+/// A mode's translation and rotation at every node.
+struct Shape {
+    translation: Vec<Vec3>,
+    rotation: Vec<Vec3>,
 }
 
 /// Writes `DIR/NAME_mode_LABEL.pvd` with its frames in `DIR/NAME_mode_LABEL/` for every mode.
@@ -40,32 +55,51 @@ fn write_mode_animation(body: &FlexibleBody, j: usize, size: f64, dir: &Path) ->
     let stem = format!("{}_mode_{}", file_safe(&body.name), file_safe(&label));
     let folder = dir.join(&stem);
     std::fs::create_dir_all(&folder).map_err(|e| format!("cannot create {}: {e}", folder.display()))?;
-    let shape: Vec<Vec3> = body.shapes[j].translation.iter().map(|t| Vec3::from(*t)).collect();
-    let largest = shape.iter().map(Vec3::norm).fold(0.0, f64::max);
-    let scale = if largest > 0.0 { AMPLITUDE_FRACTION * size / largest } else { 0.0 };
-    let name = super::mode_shapes::mode_array_name(body, j, "mode");
-    let pvd_path = dir.join(format!("{stem}.pvd"));
-    let mut pvd = PvdFile::create(&pvd_path).map_err(|e| format!("cannot write {}: {e}", pvd_path.display()))?;
-    let labels: Vec<u64> = body.nodes.iter().map(|n| n.label).collect();
-    let mut entries = Vec::with_capacity(FRAMES_PER_PERIOD);
+    let vectors = |v: &[[f64; 3]]| v.iter().map(|x| Vec3::from(*x)).collect();
+    let shape =
+        Shape { translation: vectors(&body.shapes[j].translation), rotation: vectors(&body.shapes[j].rotation) };
+    let (scale, rotation_only) = animation_scale(&shape, size);
+    let mut files = Vec::with_capacity(FRAMES_PER_PERIOD);
     for k in 0..FRAMES_PER_PERIOD {
         let phase = k as f64 / FRAMES_PER_PERIOD as f64;
-        let amplitude = scale * (TAU * phase).sin();
-        let displacement: Vec<Vec3> = shape.iter().map(|psi| amplitude * psi).collect();
-        let points: Vec<Vec3> = body.nodes.iter().zip(&displacement).map(|(n, u)| n.position + u).collect();
-        let data = vec![
-            Attribute::scalars("node", 1).with_data(labels.clone()),
-            Attribute::vectors("displacement").with_data(super::flat(&displacement)),
-        ];
         let file = format!("{stem}/frame_{k:02}.vtu");
-        let grid = piece(&points, element_cells(&body.elements), Attributes { point: data, cell: Vec::new() });
-        write_vtu(&dir.join(&file), format!("{}: {name}, phase {phase}", body.name), grid)?;
-        entries.push((phase, file));
+        write_frame(body, &shape, scale * (TAU * phase).sin(), &dir.join(&file), phase)?;
+        files.push((phase, file));
     }
+    let name = super::mode_shapes::mode_array_name(body, j, "mode");
+    let pvd_path = dir.join(format!("{stem}.pvd"));
     let entries: Vec<PvdEntry> =
-        entries.iter().map(|(phase, file)| PvdEntry { time: *phase, part: 0, name: &name, file }).collect();
+        files.iter().map(|(phase, file)| PvdEntry { time: *phase, part: 0, name: &name, file }).collect();
+    let mut pvd = PvdFile::create(&pvd_path).map_err(|e| format!("cannot write {}: {e}", pvd_path.display()))?;
     pvd.append(&entries).map_err(|e| format!("cannot write {}: {e}", pvd_path.display()))?;
-    Ok(ModeAnimation { label, pvd: pvd_path, scale })
+    Ok(ModeAnimation { label, pvd: pvd_path, scale, rotation_only })
+}
+
+/// `c` and whether the mode is rotation-only (see the module's documentation).
+fn animation_scale(shape: &Shape, size: f64) -> (f64, bool) {
+    let largest = |v: &[Vec3]| v.iter().map(Vec3::norm).fold(0.0, f64::max);
+    let (translation, rotation) = (largest(&shape.translation), largest(&shape.rotation));
+    if translation > ROTATION_ONLY * rotation * size && translation > 0.0 {
+        (AMPLITUDE_FRACTION * size / translation, false)
+    } else if rotation > 0.0 {
+        (AMPLITUDE_FRACTION / rotation, true)
+    } else {
+        (0.0, false)
+    }
+}
+
+/// One frame: the nodes displaced by `amplitude` times the mode.
+fn write_frame(body: &FlexibleBody, shape: &Shape, amplitude: f64, path: &Path, phase: f64) -> Result<(), String> {
+    let displacement: Vec<Vec3> = shape.translation.iter().map(|psi| amplitude * psi).collect();
+    let rotation: Vec<Vec3> = shape.rotation.iter().map(|theta| amplitude * theta).collect();
+    let points: Vec<Vec3> = body.nodes.iter().zip(&displacement).map(|(n, u)| n.position + u).collect();
+    let data = vec![
+        Attribute::scalars("node", 1).with_data(body.nodes.iter().map(|n| n.label).collect::<Vec<u64>>()),
+        Attribute::vectors("displacement").with_data(flat(&displacement)),
+        Attribute::vectors("rotation").with_data(flat(&rotation)),
+    ];
+    let grid = piece(&points, element_cells(&body.elements), Attributes { point: data, cell: Vec::new() });
+    write_vtu(path, format!("{}: mode shape at phase {phase} of its period", body.name), grid)
 }
 
 /// The diagonal of the box around the body's nodes.
