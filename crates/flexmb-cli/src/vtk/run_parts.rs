@@ -81,35 +81,57 @@ impl Part {
                 let motion = BodyMotion::of(model, *body, q, v);
                 let nodes = model.modal_body(*body).map_or(&[][..], |m| m.nodes.as_slice());
                 let points: Vec<PointMotion> = nodes.iter().map(|n| motion.node(n)).collect();
-                let (labels, cells) = (labels.clone(), cells.clone());
-                let mut data = vec![Attribute::scalars("node", 1).with_data(labels)];
-                data.push(displacement(initial, &points));
-                data.push(vectors("elastic_displacement", points.iter().map(|p| p.elastic)));
-                data.push(vectors("velocity", points.iter().map(|p| p.velocity)));
-                piece(&positions(&points), cells, Attributes { point: data, cell: Vec::new() })
+                flexible_piece(&points, labels, cells, initial)
             }
             PartKind::Rigid { body, points, cells, frame_glyph } => {
                 let motion = BodyMotion::of(model, *body, q, v);
                 let points: Vec<PointMotion> = points.iter().map(|p| motion.point(p)).collect();
-                let cell = if *frame_glyph {
-                    vec![Attribute::scalars("axis", 1).with_data(vec![0i32, 1, 2])]
-                } else {
-                    Vec::new()
-                };
-                let cells = cells.clone();
-                let data = vec![displacement(initial, &points), vectors("velocity", points.iter().map(|p| p.velocity))];
-                piece(&positions(&points), cells, Attributes { point: data, cell })
+                rigid_piece(&points, cells, *frame_glyph, initial)
             }
             PartKind::Joint { markers } => {
                 let points: Vec<PointMotion> = markers.iter().map(|&m| marker_motion(model, m, q, v)).collect();
-                let data = vec![
-                    Attribute::scalars("marker", 1).with_data(vec![0i32, 1]),
-                    vectors("velocity", points.iter().map(|p| p.velocity)),
-                ];
-                piece(&positions(&points), cells([&[0][..], &[1][..]]), Attributes { point: data, cell: Vec::new() })
+                joint_piece(&points)
             }
         }
     }
+}
+
+fn flexible_piece(
+    points: &[PointMotion],
+    labels: &[u64],
+    cells: &Cells,
+    initial: &mut Option<Vec<Vec3>>,
+) -> UnstructuredGridPiece {
+    let data = vec![
+        Attribute::scalars("node", 1).with_data(labels.to_vec()),
+        displacement(initial, points),
+        vectors("elastic_displacement", points.iter().map(|p| p.elastic)),
+        vectors("velocity", points.iter().map(|p| p.velocity)),
+    ];
+    piece(&positions(points), cells.clone(), Attributes { point: data, cell: Vec::new() })
+}
+
+fn rigid_piece(
+    points: &[PointMotion],
+    cells: &Cells,
+    frame_glyph: bool,
+    initial: &mut Option<Vec<Vec3>>,
+) -> UnstructuredGridPiece {
+    let data = vec![displacement(initial, points), vectors("velocity", points.iter().map(|p| p.velocity))];
+    let cell = match frame_glyph {
+        true => vec![Attribute::scalars("axis", 1).with_data(vec![0i32, 1, 2])],
+        false => Vec::new(),
+    };
+    piece(&positions(points), cells.clone(), Attributes { point: data, cell })
+}
+
+/// A joint's two marker points, `marker` 0 (i) and 1 (j).
+fn joint_piece(points: &[PointMotion]) -> UnstructuredGridPiece {
+    let data = vec![
+        Attribute::scalars("marker", 1).with_data(vec![0i32, 1]),
+        vectors("velocity", points.iter().map(|p| p.velocity)),
+    ];
+    piece(&positions(points), cells([&[0][..], &[1][..]]), Attributes { point: data, cell: Vec::new() })
 }
 
 /// `displacement`: each point's position less its position in the first frame (`initial`, set then).
