@@ -82,8 +82,9 @@ fn describe_modal(name: &str, modal: &ModalBody) -> String {
         modes.join(", ")
     };
     let (count, plural) = (modal.modes(), if modal.modes() == 1 { "" } else { "s" });
+    let modes = if count == 0 { "no modes (rigid)".to_string() } else { format!("{count} mode{plural} ({listed})") };
     format!(
-        "flexible body '{name}': {count} mode{plural} ({listed}), {} nodes, mass {:.6} kg\n",
+        "flexible body '{name}': {modes}, {} nodes, mass {:.6} kg\n",
         modal.nodes.len(),
         modal.invariants.mass
     )
@@ -92,6 +93,9 @@ fn describe_modal(name: &str, modal: &ModalBody) -> String {
 /// The natural frequencies (Hz) of the body's modal mass and stiffness, ascending (the mode labels
 /// name the basis; with the orthonormal basis the k-th frequency is the k-th mode's own).
 fn modal_frequencies(modal: &ModalBody) -> Option<Vec<f64>> {
+    if modal.modes() == 0 {
+        return Some(Vec::new());
+    }
     let mass = modal.invariants.modal_mass();
     let l_inv = nalgebra::Cholesky::new(mass)?.l().try_inverse()?;
     let reduced = &l_inv * &modal.stiffness * l_inv.transpose();

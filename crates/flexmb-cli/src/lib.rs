@@ -14,6 +14,7 @@ pub mod results;
 pub mod run;
 pub mod shape;
 pub mod spectrum;
+pub mod study;
 pub mod vtk;
 
 pub use model_file::{load_model, parse_model, LoadedModel, ModelFileError, SimulationDefaults};

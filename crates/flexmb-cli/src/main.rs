@@ -10,6 +10,7 @@ use flexmb_cli::compare::{compare_model, CompareOptions};
 use flexmb_cli::modes::{run_modes, ModesOptions};
 use flexmb_cli::plot::{plot_run_outputs, run_plot, PlotOptions, YScale, DEFAULT_SIZE};
 use flexmb_cli::run::{run_model, RunOptions};
+use flexmb_cli::spectrum::estimator::FrequencyBand;
 use flexmb_cli::spectrum::{run_spectrum, SpectrumOptions};
 use flexmb_fem::modes::EigenSolver;
 use flexmb_fem::reduction::Basis;
@@ -163,6 +164,12 @@ enum Command {
         /// Number of peaks to report, largest first.
         #[arg(long, default_value_t = 5)]
         peaks: usize,
+        /// Report only peaks at or above this frequency (Hz), e.g. a vibration over a slow gross motion.
+        #[arg(long)]
+        min_frequency: Option<f64>,
+        /// Report only peaks at or below this frequency (Hz).
+        #[arg(long)]
+        max_frequency: Option<f64>,
         /// Also plot the amplitude spectrum to this image (.png or .svg).
         #[arg(long)]
         out: Option<PathBuf>,
@@ -175,6 +182,21 @@ enum Command {
         /// Image height in pixels.
         #[arg(long, default_value_t = DEFAULT_SIZE.1)]
         height: u32,
+    },
+    /// Run a study: a model in several variants (mode sets, parameters), each with several
+    /// integrators; prints and writes a cost table and plots that overlay the variants.
+    Study {
+        /// Study file (TOML), e.g. models/door/study.toml.
+        study: PathBuf,
+        /// Directory for the runs, the table and the plots (default out/<study name>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// End time (s) of every run, instead of the study's or the model's.
+        #[arg(long)]
+        t_end: Option<f64>,
+        /// Print only the table.
+        #[arg(long, short)]
+        quiet: bool,
     },
 }
 
@@ -242,14 +264,20 @@ fn main() -> ExitCode {
             let options = PlotOptions { files: results, y, x, out, title, size: (width, height) };
             run_plot(&options).map(|image| println!("plot: {}", image.display()))
         }
-        Command::Spectrum { results, y, from, to, peaks, out, scale, width, height } => {
+        Command::Spectrum { results, y, from, to, peaks, min_frequency, max_frequency, out, scale, width, height } => {
             let y_scale = match scale {
                 ScaleArg::Log => YScale::Log,
                 ScaleArg::Linear => YScale::Linear,
             };
-            let options = SpectrumOptions { file: results, y, from, to, peaks, out, y_scale, size: (width, height) };
+            let band = FrequencyBand { min: min_frequency, max: max_frequency };
+            let options = SpectrumOptions { file: results, y, from, to, peaks, band, out, y_scale, size: (width, height) };
             run_spectrum(&options).map(|report| print!("{report}"))
         }
+        Command::Study { study, out, t_end, quiet } => flexmb_cli::study::run_study(&study, out.as_deref(), t_end, quiet).map(|report| {
+            if quiet {
+                print!("{}", report.table);
+            }
+        }),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

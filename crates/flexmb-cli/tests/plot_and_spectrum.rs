@@ -7,23 +7,7 @@ mod program;
 use std::f64::consts::TAU;
 use std::path::Path;
 
-use program::{flexmb, scratch, text};
-
-/// Runs flexmb and returns its standard output, failing the test with both streams if it fails.
-fn succeed(args: &[&str]) -> String {
-    let o = flexmb(args);
-    assert!(o.status.success(), "flexmb {args:?}\nstdout:\n{}\nstderr:\n{}", text(&o.stdout), text(&o.stderr));
-    text(&o.stdout)
-}
-
-/// Runs flexmb, which must fail, and returns its error message.
-fn fail(args: &[&str]) -> String {
-    let o = flexmb(args);
-    assert!(!o.status.success(), "flexmb {args:?} should fail:\n{}", text(&o.stdout));
-    let e = text(&o.stderr);
-    assert!(!e.contains("panicked"), "{e}");
-    e
-}
+use program::{fail, scratch, succeed};
 
 /// Width and height from a PNG's IHDR chunk (bytes 16 to 24, after the signature and chunk header).
 fn png_size(bytes: &[u8]) -> (u32, u32) {

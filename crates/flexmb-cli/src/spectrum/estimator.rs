@@ -103,13 +103,27 @@ pub struct Peak {
 }
 
 /// The `count` largest peaks, largest first, each refined to the maximum of `A(f)`.
-pub fn dominant_peaks(record: &WindowedRecord, spectrum: &AmplitudeSpectrum, count: usize) -> Vec<Peak> {
+pub fn dominant_peaks(record: &WindowedRecord, spectrum: &AmplitudeSpectrum, count: usize, band: FrequencyBand) -> Vec<Peak> {
     let mut grid_peaks = peak_bins(spectrum, record.duration());
+    grid_peaks.retain(|&k| band.contains(spectrum.frequency(k)));
     grid_peaks.sort_by(|a, b| spectrum.amplitudes[*b].total_cmp(&spectrum.amplitudes[*a]));
     grid_peaks.truncate(count);
     let mut peaks: Vec<Peak> = grid_peaks.into_iter().map(|k| refine(record, spectrum, k)).collect();
     peaks.sort_by(|a, b| b.amplitude.total_cmp(&a.amplitude));
     peaks
+}
+
+/// The frequencies a peak may have (Hz); `None` leaves that side open.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FrequencyBand {
+    pub min: Option<f64>,
+    pub max: Option<f64>,
+}
+
+impl FrequencyBand {
+    pub fn contains(&self, f: f64) -> bool {
+        self.min.is_none_or(|min| f >= min) && self.max.is_none_or(|max| f <= max)
+    }
 }
 
 /// Grid indices of the peaks: local maxima, largest within the main lobe, above 2/T and the floor.
@@ -179,7 +193,7 @@ mod tests {
 
     fn peaks_of(samples: &UniformSamples, count: usize) -> Vec<Peak> {
         let record = WindowedRecord::new(samples);
-        dominant_peaks(&record, &AmplitudeSpectrum::of(&record), count)
+        dominant_peaks(&record, &AmplitudeSpectrum::of(&record), count, FrequencyBand::default())
     }
 
     #[test]

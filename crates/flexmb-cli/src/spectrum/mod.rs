@@ -9,7 +9,7 @@ pub mod samples;
 use std::fmt::Write;
 use std::path::PathBuf;
 
-use estimator::{dominant_peaks, AmplitudeSpectrum, Peak, WindowedRecord};
+use estimator::{dominant_peaks, AmplitudeSpectrum, FrequencyBand, Peak, WindowedRecord};
 use samples::UniformSamples;
 
 use crate::plot::{render, Annotation, Figure, ImageFormat, ResultTable, Series, YScale};
@@ -26,6 +26,8 @@ pub struct SpectrumOptions {
     pub to: Option<f64>,
     /// How many peaks to report, largest first.
     pub peaks: usize,
+    /// Only peaks in this band are reported (e.g. a vibration above a slow gross motion).
+    pub band: FrequencyBand,
     /// Image of the amplitude spectrum (.png or .svg), if wanted.
     pub out: Option<PathBuf>,
     pub y_scale: YScale,
@@ -72,7 +74,7 @@ pub fn analyse(t: &[f64], y: &[f64], options: &SpectrumOptions) -> Result<Spectr
     let samples = UniformSamples::select(t, y, options.from, options.to)?;
     let record = WindowedRecord::new(&samples);
     let spectrum = AmplitudeSpectrum::of(&record);
-    let peaks = dominant_peaks(&record, &spectrum, options.peaks);
+    let peaks = dominant_peaks(&record, &spectrum, options.peaks, options.band);
     Ok(SpectrumReport { samples, spectrum, peaks })
 }
 

@@ -1,5 +1,6 @@
 //! Mode sets named as in the seed: `5S`, `5N`, `9N`, `4N5S` — counts of vibration (N) and static
-//! correction (S) modes, in the order written.
+//! correction (S) modes, in the order written — and `rigid`, no modes: the body moves rigidly with
+//! its FE model's mass properties (to compare a flexible model with its rigid counterpart).
 
 use std::fmt;
 use std::str::FromStr;
@@ -47,7 +48,11 @@ impl FromStr for ModeSet {
 
     fn from_str(text: &str) -> Result<Self, FemError> {
         let error = |message: &str| FemError::ModeSet { text: text.to_string(), message: message.to_string() };
-        let expected = "expected groups of a count and N (vibration) or S (static correction), e.g. 5S, 9N or 4N5S";
+        let expected =
+            "expected groups of a count and N (vibration) or S (static correction), e.g. 5S, 9N or 4N5S, or `rigid` for no modes";
+        if text.trim().eq_ignore_ascii_case("rigid") {
+            return Ok(ModeSet { groups: Vec::new() });
+        }
         let mut groups = Vec::new();
         let mut digits = String::new();
         for c in text.trim().chars() {
@@ -77,6 +82,9 @@ impl FromStr for ModeSet {
 
 impl fmt::Display for ModeSet {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.groups.is_empty() {
+            return write!(f, "rigid");
+        }
         for g in &self.groups {
             match g {
                 ModeGroup::Vibration(n) => write!(f, "{n}N")?,
@@ -99,7 +107,10 @@ mod tests {
         assert_eq!(set.to_string(), "4N5S");
         assert_eq!("5s".parse::<ModeSet>().unwrap().to_string(), "5S");
         assert_eq!("12N".parse::<ModeSet>().unwrap().vibration(), 12);
-        for bad in ["", "N", "5", "5X", "0N", "4N4N", "4N 5S"] {
+        let rigid: ModeSet = "rigid".parse().unwrap();
+        assert!(rigid.is_empty());
+        assert_eq!(rigid.to_string(), "rigid");
+        for bad in ["", "N", "5", "5X", "0N", "4N4N", "4N 5S", "rigidly"] {
             assert!(bad.parse::<ModeSet>().is_err(), "{bad}");
         }
     }

@@ -188,6 +188,9 @@ impl ModalBody {
     /// mass is not positive definite or a ratio list has the wrong length.
     pub fn damping_matrix(&self, damping: &ModalDamping) -> Result<DMatrix<f64>, String> {
         let m = self.modes();
+        if m == 0 {
+            return Ok(DMatrix::zeros(0, 0));
+        }
         let mass = self.invariants.modal_mass();
         match damping {
             ModalDamping::None => Ok(DMatrix::zeros(m, m)),

@@ -1,0 +1,207 @@
+//! `flexmb study STUDY.toml`: one model in several variants (mode sets, parameter values), each run
+//! with several integrators; a table with the seed's columns (type, T_end, CPU, RMS step size) plus
+//! steps and rejected steps, and plots that overlay one output column of every case.
+
+mod study_file;
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use flexmb::analysis::{output_columns, simulate, SimulationSettings};
+
+use crate::check::check_model;
+use crate::integrator_choice::parse_method;
+use crate::model_file::load_model_with;
+use crate::results::{summary_json, CsvWriter, RunRequest};
+use crate::run::CliError;
+
+pub use study_file::{load_study, parse_study, Case, Published, Study};
+
+/// One run of a study: a case with an integrator.
+#[derive(Clone, Debug)]
+pub struct StudyRun {
+    pub case: String,
+    pub integrator: String,
+    pub t_end: f64,
+    pub t_reached: f64,
+    /// Wall time of the integration (s).
+    pub cpu: f64,
+    pub rms_step: f64,
+    pub steps: usize,
+    pub rejected: usize,
+    pub csv: PathBuf,
+    pub failure: Option<String>,
+    pub published: Option<Published>,
+}
+
+/// What a study produced.
+#[derive(Clone, Debug)]
+pub struct StudyReport {
+    pub runs: Vec<StudyRun>,
+    /// The table as Markdown (also written to `table.md`).
+    pub table: String,
+    pub files: Vec<PathBuf>,
+}
+
+/// Runs every case of the study at `path` with every integrator, writing each run's CSV and JSON
+/// summary, the table and the plots into `out_dir` (default `out/<study name>`); `t_end` overrides
+/// the study's end time.
+pub fn run_study(path: &Path, out_dir: Option<&Path>, t_end: Option<f64>, quiet: bool) -> Result<StudyReport, CliError> {
+    let mut study = load_study(path).map_err(|e| CliError(e.to_string()))?;
+    if let Some(t) = t_end {
+        if !(t > 0.0 && t.is_finite()) {
+            return Err(CliError(format!("--t-end must be a positive number, got {t}")));
+        }
+        study.t_end = Some(t);
+    }
+    let out_dir = out_dir.map(Path::to_path_buf).unwrap_or_else(|| Path::new("out").join(&study.name));
+    std::fs::create_dir_all(&out_dir).map_err(|e| CliError(format!("cannot create {}: {e}", out_dir.display())))?;
+    let mut runs = Vec::new();
+    for case in &study.cases {
+        for integrator in &study.integrators {
+            let run = run_case(&study, case, integrator, &out_dir)?;
+            if !quiet {
+                println!("{}", run_line(&run));
+            }
+            runs.push(run);
+        }
+    }
+    let table = table(&study, &runs);
+    let table_path = out_dir.join("table.md");
+    std::fs::write(&table_path, &table).map_err(|e| CliError(format!("cannot write {}: {e}", table_path.display())))?;
+    let mut files = vec![table_path];
+    files.extend(plot_cases(&study, &runs, &out_dir)?);
+    if !quiet {
+        println!("\n{table}");
+        for f in &files {
+            println!("wrote {}", f.display());
+        }
+    }
+    Ok(StudyReport { runs, table, files })
+}
+
+fn run_case(study: &Study, case: &Case, integrator: &str, out_dir: &Path) -> Result<StudyRun, CliError> {
+    let loaded = load_model_with(&study.model, &case.overrides).map_err(|e| CliError(format!("{}: {e}", case.location)))?;
+    let model = &loaded.model;
+    let d = loaded.simulation;
+    let (t_end, rtol, atol) = (study.t_end.unwrap_or(d.t_end), study.rtol.unwrap_or(d.rtol), study.atol.unwrap_or(d.atol));
+    let method = parse_method(integrator, 0.9).map_err(CliError)?;
+    check_model(model, d.assembly()).map_err(|e| CliError(format!("{}: {}: {e}", case.location, study.model.display())))?;
+    let stem = format!("{}-{integrator}", case.name);
+    let csv_path = out_dir.join(format!("{stem}.csv"));
+    let columns = output_columns(model);
+    let mut csv = CsvWriter::create(&csv_path, &columns).map_err(|e| CliError(format!("cannot write {}: {e}", csv_path.display())))?;
+    let settings = SimulationSettings {
+        t_end,
+        output_step: d.output_step,
+        integrator: d.integrator(model, rtol, atol),
+        assembly: d.assembly(),
+        method,
+    };
+    let mut write_error = None;
+    let result = simulate(model, &settings, &mut |frame| {
+        if write_error.is_none() {
+            write_error = csv.write_row(frame.t, frame.values).err();
+        }
+    });
+    if let Some(e) = write_error {
+        return Err(CliError(format!("cannot write {}: {e}", csv_path.display())));
+    }
+    let (report, failure) = match result {
+        Ok(r) => (r, None),
+        Err(e) => ((*e.report).clone(), Some(e.to_string())),
+    };
+    let model_file = study.model.display().to_string();
+    let request = RunRequest {
+        model_file: &model_file,
+        model_name: model.name(),
+        t_end,
+        output_step: d.output_step,
+        rtol,
+        atol,
+        integrator,
+    };
+    let summary = summary_json(&request, &report, &columns, &csv_path, failure.as_deref());
+    let summary_path = out_dir.join(format!("{stem}.json"));
+    let text = serde_json::to_string_pretty(&summary).map_err(|e| CliError(e.to_string()))?;
+    std::fs::write(&summary_path, text + "\n").map_err(|e| CliError(format!("cannot write {}: {e}", summary_path.display())))?;
+    Ok(StudyRun {
+        case: case.name.clone(),
+        integrator: integrator.to_string(),
+        t_end,
+        t_reached: report.t_reached,
+        cpu: report.wall_time,
+        rms_step: report.stats.rms_step(),
+        steps: report.stats.steps,
+        rejected: report.stats.rejected_steps(),
+        csv: csv_path,
+        failure,
+        published: case.published,
+    })
+}
+
+fn run_line(run: &StudyRun) -> String {
+    let status = match &run.failure {
+        None => "completed".to_string(),
+        Some(e) => format!("FAILED at t = {:.6} s: {e}", run.t_reached),
+    };
+    format!(
+        "{:<8} {:<10} {:>7} steps, RMS step {:.3e} s, {:.3} s: {status}",
+        run.case, run.integrator, run.steps, run.rms_step, run.cpu
+    )
+}
+
+/// The seed's table (type, T_end, CPU, RMS step size) plus integrator, steps and rejected steps, and
+/// the published figures beside ours where the study gives them.
+fn table(study: &Study, runs: &[StudyRun]) -> String {
+    let with_published = runs.iter().any(|r| r.published.is_some());
+    let mut t = String::new();
+    let _ = writeln!(t, "Study {} ({}): {} cases × {} integrators\n", study.name, study.model.display(), study.cases.len(), study.integrators.len());
+    let _ = write!(t, "| type | integrator | T_end [s] | CPU [s] | RMS step size [s] | steps | rejected |");
+    if with_published {
+        let _ = write!(t, " published CPU [s] | published RMS step [s] | CPU ratio |");
+    }
+    let _ = writeln!(t);
+    let _ = write!(t, "|---|---|---|---|---|---|---|");
+    if with_published {
+        let _ = write!(t, "---|---|---|");
+    }
+    let _ = writeln!(t);
+    for r in runs {
+        let t_end = if r.failure.is_some() { format!("{:.4} (failed)", r.t_reached) } else { format!("{:.1}", r.t_end) };
+        let _ = write!(t, "| {} | {} | {t_end} | {:.3} | {:.4e} | {} | {} |", r.case, r.integrator, r.cpu, r.rms_step, r.steps, r.rejected);
+        if with_published {
+            let p = r.published.unwrap_or(Published { t_end: None, cpu: None, rms_step: None });
+            let cpu = p.cpu.map_or("–".to_string(), |c| format!("{c}"));
+            let step = p.rms_step.map_or("–".to_string(), |s| format!("{s:.4e}"));
+            // The ratio compares like with like only when the run went as far as the published one.
+            let same_end = p.t_end.is_none_or(|t| (t - r.t_end).abs() <= 1e-9 * t) && r.failure.is_none();
+            let ratio = match p.cpu {
+                Some(c) if same_end => format!("1 : {:.0}", c / r.cpu.max(1e-9)),
+                _ => "–".to_string(),
+            };
+            let _ = write!(t, " {cpu} | {step} | {ratio} |");
+        }
+        let _ = writeln!(t);
+    }
+    t
+}
+
+/// One plot per requested column, a curve per case, from the runs of the first integrator.
+fn plot_cases(study: &Study, runs: &[StudyRun], out_dir: &Path) -> Result<Vec<PathBuf>, CliError> {
+    let Some(first) = study.integrators.first() else { return Ok(Vec::new()) };
+    let csvs: Vec<&Path> = runs.iter().filter(|r| &r.integrator == first).map(|r| r.csv.as_path()).collect();
+    let mut files = Vec::new();
+    for column in &study.plot {
+        let options = crate::plot::PlotOptions {
+            files: csvs.iter().map(|p| p.to_path_buf()).collect(),
+            y: vec![column.clone()],
+            x: "t".to_string(),
+            out: Some(out_dir.join(format!("{column}-{first}.png"))),
+            title: Some(format!("{}: {column} ({first})", study.name)),
+            size: crate::plot::DEFAULT_SIZE,
+        };
+        files.push(crate::plot::run_plot(&options)?);
+    }
+    Ok(files)
+}

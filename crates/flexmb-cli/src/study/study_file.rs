@@ -1,0 +1,190 @@
+//! Study files: one model run in several variants (cases: mode sets of flexible bodies, parameter
+//! values) with several integrators. Read with the model file's located errors (file, key path, line).
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use serde::Deserialize;
+use toml::de::DeTable;
+use toml::Spanned;
+
+use crate::model_file::key_path::KeyPath;
+use crate::model_file::source::Source;
+use crate::model_file::{toml_errors, ErrorKind, ModelFileError, ModelOverrides};
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct StudyFile {
+    study: Spanned<StudySection>,
+    #[serde(default)]
+    case: Vec<Spanned<CaseSection>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct StudySection {
+    name: Option<Spanned<String>>,
+    model: Spanned<String>,
+    integrators: Option<Spanned<Vec<Spanned<String>>>>,
+    t_end: Option<Spanned<f64>>,
+    rtol: Option<Spanned<f64>>,
+    atol: Option<Spanned<f64>>,
+    plot: Option<Spanned<Vec<Spanned<String>>>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CaseSection {
+    name: Spanned<String>,
+    #[serde(default)]
+    modes: BTreeMap<String, Spanned<String>>,
+    #[serde(default)]
+    parameters: BTreeMap<String, Spanned<f64>>,
+    published: Option<Spanned<PublishedSection>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PublishedSection {
+    t_end: Option<f64>,
+    cpu: Option<f64>,
+    rms_step: Option<f64>,
+}
+
+/// A study, ready to run.
+#[derive(Clone, Debug)]
+pub struct Study {
+    pub name: String,
+    /// The model file, relative to the working directory.
+    pub model: PathBuf,
+    /// Integrators by name (`bdf`, `adams`, `gen-alpha`), in table order; the first one's runs are
+    /// plotted.
+    pub integrators: Vec<String>,
+    pub t_end: Option<f64>,
+    pub rtol: Option<f64>,
+    pub atol: Option<f64>,
+    /// Output columns to plot, one plot each with a curve per case.
+    pub plot: Vec<String>,
+    pub cases: Vec<Case>,
+}
+
+/// One variant of the model.
+#[derive(Clone, Debug)]
+pub struct Case {
+    pub name: String,
+    /// Where the case is written, `FILE:LINE: case[k]`, for messages about it.
+    pub location: String,
+    pub overrides: ModelOverrides,
+    /// Figures published for this case (e.g. the seed's table), shown beside the run's.
+    pub published: Option<Published>,
+}
+
+/// A published run's end time, CPU time and RMS step size, for comparison.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Published {
+    pub t_end: Option<f64>,
+    pub cpu: Option<f64>,
+    pub rms_step: Option<f64>,
+}
+
+/// Reads the study file at `path`.
+pub fn load_study(path: &Path) -> Result<Study, ModelFileError> {
+    let file = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| ModelFileError {
+        kind: ErrorKind::Io,
+        file: file.clone(),
+        line: None,
+        key_path: String::new(),
+        message: format!("cannot read the study file: {e}"),
+    })?;
+    parse_study(&text, &file, path.parent().unwrap_or(Path::new("")))
+}
+
+/// Reads a study from its text; the model path is relative to `base_dir`.
+pub fn parse_study(text: &str, file_name: &str, base_dir: &Path) -> Result<Study, ModelFileError> {
+    let source = Source::new(file_name, text);
+    let (document, syntax_errors) = DeTable::parse_recoverable(text);
+    if let Some(error) = syntax_errors.first() {
+        return Err(toml_errors::syntax_error(&source, document.get_ref(), error));
+    }
+    let parsed = StudyFile::deserialize(toml::de::Deserializer::from(document.clone()))
+        .map_err(|e| toml_errors::schema_error(&source, document.get_ref(), &e))?;
+    build_study(&source, parsed, base_dir)
+}
+
+fn build_study(source: &Source, parsed: StudyFile, base_dir: &Path) -> Result<Study, ModelFileError> {
+    let table = KeyPath::root().key("study");
+    let s = parsed.study.into_inner();
+    let default_name = Path::new(source.file()).file_stem().and_then(|n| n.to_str()).unwrap_or("study");
+    let integrators = match s.integrators {
+        Some(list) => {
+            let span = list.span();
+            let names: Vec<Spanned<String>> = list.into_inner();
+            if names.is_empty() {
+                return Err(source.invalid(&span, &table.key("integrators"), "list at least one integrator"));
+            }
+            for (k, name) in names.iter().enumerate() {
+                crate::integrator_choice::parse_method(name.get_ref(), 0.9)
+                    .map_err(|e| source.invalid(&name.span(), &table.key("integrators").index(k), e))?;
+            }
+            names.into_iter().map(|n| n.into_inner()).collect()
+        }
+        None => vec!["bdf".to_string()],
+    };
+    let positive = |value: &Option<Spanned<f64>>, key: &str| -> Result<Option<f64>, ModelFileError> {
+        match value {
+            Some(v) if !(*v.get_ref() > 0.0 && v.get_ref().is_finite()) => Err(source.invalid(
+                &v.span(),
+                &table.key(key),
+                format!("{key} must be a positive number, got {}", v.get_ref()),
+            )),
+            Some(v) => Ok(Some(*v.get_ref())),
+            None => Ok(None),
+        }
+    };
+    let cases = cases(source, parsed.case)?;
+    Ok(Study {
+        name: s.name.map(|n| n.into_inner()).unwrap_or_else(|| default_name.to_string()),
+        model: base_dir.join(s.model.get_ref()),
+        integrators,
+        t_end: positive(&s.t_end, "t_end")?,
+        rtol: positive(&s.rtol, "rtol")?,
+        atol: positive(&s.atol, "atol")?,
+        plot: s.plot.map(|p| p.into_inner().into_iter().map(|c| c.into_inner()).collect()).unwrap_or_default(),
+        cases,
+    })
+}
+
+fn cases(source: &Source, sections: Vec<Spanned<CaseSection>>) -> Result<Vec<Case>, ModelFileError> {
+    if sections.is_empty() {
+        let end = source.text().len();
+        return Err(source.invalid(&(end..end), &KeyPath::root().key("case"), "a study needs at least one [[case]]"));
+    }
+    let mut cases: Vec<Case> = Vec::new();
+    for (k, section) in sections.into_iter().enumerate() {
+        let key = KeyPath::root().key("case").index(k);
+        let location = format!("{}:{}: {key}", source.file(), source.line(section.span().start));
+        let c = section.into_inner();
+        let name = c.name.get_ref().trim().to_string();
+        if name.is_empty() || name.contains(['/', '\\']) {
+            return Err(source.invalid(&c.name.span(), &key.key("name"), "a case name must be non-empty and hold no '/' or '\\' (it names files)"));
+        }
+        if cases.iter().any(|other| other.name == name) {
+            return Err(source.invalid(&c.name.span(), &key.key("name"), format!("case '{name}' is named twice")));
+        }
+        let published = c.published.map(|p| {
+            let p = p.into_inner();
+            Published { t_end: p.t_end, cpu: p.cpu, rms_step: p.rms_step }
+        });
+        cases.push(Case {
+            name,
+            location,
+            overrides: ModelOverrides {
+                modes: c.modes.into_iter().map(|(body, set)| (body, set.into_inner())).collect(),
+                parameters: c.parameters.into_iter().map(|(name, v)| (name, v.into_inner())).collect(),
+            },
+            published,
+        });
+    }
+    Ok(cases)
+}
