@@ -2,9 +2,12 @@
 //!
 //! Cases: the shipped slider-crank for 10 s, a spatial chain of 20 bodies on spherical joints falling
 //! under gravity for 5 s, the shipped flexible pendulum for 2 s with 4 and 10 modes and made rigid
-//! ([`pendulums`]), and the lowest 20 modes of a plate of about 50,000 dofs ([`plate_modes`]). Each case runs `repeat` times; the fastest run is reported (the others measure
-//! the machine's noise, not the code).
+//! ([`pendulums`]), the seed's door (4N5S) and wiper for 2 s with their model files' settings
+//! ([`applications`]), and the lowest 20 modes of a plate of about 50,000 dofs ([`plate_modes`]).
+//! Each case runs `repeat` times; the fastest run is reported (the others measure the machine's
+//! noise, not the code).
 
+pub mod applications;
 pub mod pendulums;
 pub mod plate_modes;
 
@@ -33,6 +36,10 @@ pub enum BenchCase {
     FlexiblePendulum10n,
     /// The same strip made rigid, for 2 s.
     RigidPendulum,
+    /// models/door/door.toml with mode set 4N5S for 2 s (the seed: 7281 s of CPU).
+    Door4n5s,
+    /// models/wiper/wiper.toml (flexible arms) for 2 s.
+    Wiper,
     /// The lowest 20 modes of a 90 × 90 shell plate (about 49,000 dofs).
     PlateModes,
 }
@@ -78,18 +85,23 @@ struct CaseResult {
     t_end: f64,
 }
 
-fn run_case(model: &Model, t_end: f64, repeat: usize) -> Result<CaseResult, String> {
-    let settings = SimulationSettings {
+/// The BDF with its defaults for `model`, output every 0.01 s.
+fn default_settings(model: &Model, t_end: f64) -> SimulationSettings {
+    SimulationSettings {
         t_end,
         output_step: 0.01,
         integrator: BdfConfig::for_model(model),
         assembly: AssemblySettings::default(),
         method: Default::default(),
-    };
+    }
+}
+
+fn run_case(model: &Model, settings: &SimulationSettings, repeat: usize) -> Result<CaseResult, String> {
+    let t_end = settings.t_end;
     let mut best: Option<CaseResult> = None;
     for _ in 0..repeat {
         let start = Instant::now();
-        let report = simulate(model, &settings, &mut |_| {}).map_err(|e| e.to_string())?;
+        let report = simulate(model, settings, &mut |_| {}).map_err(|e| e.to_string())?;
         let wall = start.elapsed().as_secs_f64();
         if best.as_ref().is_none_or(|b| wall < b.wall) {
             best = Some(CaseResult { report, wall, t_end });
@@ -109,25 +121,36 @@ pub fn run_benchmarks(case: Option<BenchCase>, repeat: usize) -> Result<(), Stri
             BenchCase::RigidPendulum,
             BenchCase::FlexiblePendulum,
             BenchCase::FlexiblePendulum10n,
+            BenchCase::Door4n5s,
+            BenchCase::Wiper,
         ],
     };
     println!(
         "{:<15} {:>6} {:>7} {:>9} {:>10} {:>11} {:>12} {:>13}",
         "case", "t_end", "steps", "rms h", "wall [s]", "us/step", "res.ev/step", "wall/sim [-]"
     );
+    let mut door_note = None;
     for c in cases {
-        let (name, model, t_end) = match c {
+        let with_defaults = |model: Model, t_end: f64| {
+            let settings = default_settings(&model, t_end);
+            (model, settings)
+        };
+        let (name, (model, settings)) = match c {
             BenchCase::SliderCrank => {
                 let loaded = parse_model(SLIDER_CRANK, "models/slider_crank.toml").map_err(|e| e.to_string())?;
-                ("slider-crank", loaded.model, 10.0)
+                ("slider-crank", with_defaults(loaded.model, 10.0))
             }
-            BenchCase::Chain20 => ("chain-20", spherical_chain(20), 5.0),
-            BenchCase::RigidPendulum => ("rigid-pend.", pendulums::rigid_pendulum()?, 2.0),
-            BenchCase::FlexiblePendulum => ("flex-pend. 4N", pendulums::flexible_pendulum(None)?, 2.0),
-            BenchCase::FlexiblePendulum10n => ("flex-pend. 10N", pendulums::flexible_pendulum(Some("10N"))?, 2.0),
+            BenchCase::Chain20 => ("chain-20", with_defaults(spherical_chain(20), 5.0)),
+            BenchCase::RigidPendulum => ("rigid-pend.", with_defaults(pendulums::rigid_pendulum()?, 2.0)),
+            BenchCase::FlexiblePendulum => ("flex-pend. 4N", with_defaults(pendulums::flexible_pendulum(None)?, 2.0)),
+            BenchCase::FlexiblePendulum10n => {
+                ("flex-pend. 10N", with_defaults(pendulums::flexible_pendulum(Some("10N"))?, 2.0))
+            }
+            BenchCase::Door4n5s => ("door 4N5S", applications::door_4n5s()?),
+            BenchCase::Wiper => ("wiper", applications::wiper()?),
             BenchCase::PlateModes => unreachable!("run on its own above"),
         };
-        let r = run_case(&model, t_end, repeat)?;
+        let r = run_case(&model, &settings, repeat)?;
         let s = &r.report.stats;
         println!(
             "{:<15} {:>6.1} {:>7} {:>9.3e} {:>10.4} {:>11.1} {:>12.1} {:>13.4}",
@@ -140,8 +163,18 @@ pub fn run_benchmarks(case: Option<BenchCase>, repeat: usize) -> Result<(), Stri
             s.residual_evaluations as f64 / s.steps as f64,
             r.wall / r.t_end,
         );
+        if c == BenchCase::Door4n5s {
+            door_note = Some(r.wall);
+        }
     }
-    println!("(best of {repeat} runs each; wall time includes assembly and the 0.01 s output frames)");
+    println!("(best of {repeat} runs each; wall time includes assembly and the output frames)");
+    if let Some(wall) = door_note {
+        println!(
+            "door 4N5S: the seed reports {} s of CPU (Prime 750) for the same 2 s: {:.0} times this run",
+            applications::SEED_DOOR_4N5S_CPU,
+            applications::SEED_DOOR_4N5S_CPU / wall
+        );
+    }
     if case.is_none() {
         println!();
         plate_modes::run(repeat)?;
