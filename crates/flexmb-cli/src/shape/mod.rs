@@ -95,6 +95,18 @@ impl MeshFileError {
     }
 }
 
+/// The three coordinates after `keyword` on line `line` of a text mesh file (OBJ `v`, STL `vertex`).
+fn point<'a>(mut words: impl Iterator<Item = &'a str>, line: usize, keyword: &str) -> Result<Vec3, MeshFileError> {
+    let mut p = Vec3::zeros();
+    for k in 0..3 {
+        let word = words.next().unwrap_or("");
+        p[k] = word
+            .parse()
+            .map_err(|_| MeshFileError::at(line, format!("expected three numbers after `{keyword}`, got `{word}`")))?;
+    }
+    Ok(p)
+}
+
 /// The mesh file formats read, by extension.
 pub const MESH_EXTENSIONS: &str = "`.stl` (ASCII or binary) or `.obj`";
 

@@ -2,9 +2,7 @@
 //! counting back from the last vertex, each optionally `i/t/n`). Everything else (normals, texture
 //! coordinates, groups, materials, lines) is skipped.
 
-use flexmb::math::Vec3;
-
-use super::{MeshFileError, SurfaceMesh};
+use super::{point, MeshFileError, SurfaceMesh};
 
 /// Reads an OBJ file's bytes.
 pub(super) fn read_obj(bytes: &[u8]) -> Result<SurfaceMesh, MeshFileError> {
@@ -15,7 +13,7 @@ pub(super) fn read_obj(bytes: &[u8]) -> Result<SurfaceMesh, MeshFileError> {
         let number = index + 1;
         let mut words = line.split_whitespace();
         match words.next() {
-            Some("v") => mesh.points.push(vertex(words, number)?),
+            Some("v") => mesh.points.push(point(words, number, "v")?),
             Some("f") => {
                 let face = words.map(|w| vertex_index(w, mesh.points.len(), number)).collect::<Result<Vec<_>, _>>()?;
                 if face.len() < 3 {
@@ -32,16 +30,6 @@ pub(super) fn read_obj(bytes: &[u8]) -> Result<SurfaceMesh, MeshFileError> {
     Ok(mesh)
 }
 
-fn vertex<'a>(mut words: impl Iterator<Item = &'a str>, line: usize) -> Result<Vec3, MeshFileError> {
-    let mut p = Vec3::zeros();
-    for k in 0..3 {
-        let word = words.next().unwrap_or("");
-        p[k] = word
-            .parse()
-            .map_err(|_| MeshFileError::at(line, format!("expected three numbers after `v`, got `{word}`")))?;
-    }
-    Ok(p)
-}
 
 /// The 0-based index of a face's vertex reference (`i`, `i/t`, `i//n`, `i/t/n`; `-1` is the last vertex
 /// so far), checked against the `count` vertices read so far.

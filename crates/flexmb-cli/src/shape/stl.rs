@@ -7,7 +7,7 @@
 
 use flexmb::math::Vec3;
 
-use super::{MeshFileError, SurfaceMesh};
+use super::{point, MeshFileError, SurfaceMesh};
 
 const HEADER: usize = 80;
 const RECORD: usize = 50;
@@ -63,7 +63,7 @@ fn read_ascii(text: &str) -> Result<SurfaceMesh, MeshFileError> {
                 if open.is_none() {
                     return Err(MeshFileError::at(number, "`vertex` outside `outer loop` … `endloop`"));
                 }
-                mesh.points.push(vertex(words, number)?);
+                mesh.points.push(point(words, number, "vertex")?);
             }
             Some("endloop") => {
                 let Some((start, _)) = open.take() else {
@@ -84,17 +84,6 @@ fn read_ascii(text: &str) -> Result<SurfaceMesh, MeshFileError> {
     }
 }
 
-/// The three coordinates after `vertex`.
-fn vertex<'a>(mut words: impl Iterator<Item = &'a str>, line: usize) -> Result<Vec3, MeshFileError> {
-    let mut p = Vec3::zeros();
-    for k in 0..3 {
-        let word = words.next().unwrap_or("");
-        p[k] = word
-            .parse()
-            .map_err(|_| MeshFileError::at(line, format!("expected three numbers after `vertex`, got `{}`", word)))?;
-    }
-    Ok(p)
-}
 
 #[cfg(test)]
 mod tests {
