@@ -5,8 +5,11 @@ use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
-use flexmb::analysis::{OutputColumn, SimulationReport};
+use flexmb::analysis::{output_columns, simulate, OutputColumn, OutputFrame, SimulationReport, SimulationSettings};
+use flexmb::Model;
 use serde_json::{json, Value};
+
+use crate::run::CliError;
 
 /// Streams output frames into a CSV file with a header `t,<column>,…`.
 pub struct CsvWriter {
@@ -157,4 +160,51 @@ pub fn summary_text(report: &SimulationReport) -> String {
         report.energy_final,
         report.energy_final - report.energy_initial,
     )
+}
+
+/// A run recorded to files: its report, the failure if it stopped early, and the rows written.
+pub struct RecordedRun {
+    pub report: SimulationReport,
+    pub error: Option<String>,
+    pub rows: usize,
+}
+
+/// Simulates `model`, writing every output frame to `csv` as it comes (a run that fails keeps what
+/// it computed) and the JSON summary to `summary` at the end; `observe` sees every frame too.
+pub fn record_run(
+    model: &Model,
+    settings: &SimulationSettings,
+    model_file: &str,
+    (csv_path, summary_path): (&Path, &Path),
+    observe: &mut dyn FnMut(&OutputFrame),
+) -> Result<RecordedRun, CliError> {
+    let columns = output_columns(model);
+    let mut csv = CsvWriter::create(csv_path, &columns).map_err(|e| CliError(format!("cannot write {}: {e}", csv_path.display())))?;
+    let mut write_error: Option<std::io::Error> = None;
+    let result = simulate(model, settings, &mut |frame| {
+        if write_error.is_none() {
+            write_error = csv.write_row(frame.t, frame.values).err();
+        }
+        observe(frame);
+    });
+    if let Some(e) = write_error {
+        return Err(CliError(format!("cannot write {}: {e}", csv_path.display())));
+    }
+    let (report, error) = match result {
+        Ok(r) => (r, None),
+        Err(e) => ((*e.report).clone(), Some(e.to_string())),
+    };
+    let request = RunRequest {
+        model_file,
+        model_name: model.name(),
+        t_end: settings.t_end,
+        output_step: settings.output_step,
+        rtol: settings.integrator.rtol,
+        atol: settings.integrator.atol,
+        integrator: if report.method.is_empty() { "bdf" } else { report.method },
+    };
+    let summary = summary_json(&request, &report, &columns, csv_path, error.as_deref());
+    let text = serde_json::to_string_pretty(&summary).map_err(|e| CliError(e.to_string()))?;
+    std::fs::write(summary_path, text + "\n").map_err(|e| CliError(format!("cannot write {}: {e}", summary_path.display())))?;
+    Ok(RecordedRun { report, error, rows: csv.rows() })
 }

@@ -2,12 +2,12 @@
 
 use std::path::{Path, PathBuf};
 
-use flexmb::analysis::{output_columns, simulate, SimulationSettings};
+use flexmb::analysis::SimulationSettings;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::check::{check_model, describe, describe_flexible_bodies};
 use crate::model_file::load_model;
-use crate::results::{summary_json, summary_text, CsvWriter, RunRequest};
+use crate::results::{record_run, summary_text, RecordedRun};
 use crate::vtk::RunSeries;
 
 /// Command-line overrides of the model file's `[simulation]` defaults.
@@ -76,9 +76,6 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
     let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("model");
     let csv_path = options.out_dir.join(format!("{stem}.csv"));
     let summary_path = options.out_dir.join(format!("{stem}.json"));
-    let columns = output_columns(model);
-    let mut csv = CsvWriter::create(&csv_path, &columns)
-        .map_err(|e| CliError(format!("cannot write {}: {e}", csv_path.display())))?;
     let mut vtk = options
         .vtk_dir
         .as_deref()
@@ -97,13 +94,8 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
     bar.set_style(
         ProgressStyle::with_template("{bar:40} t = {msg} s  [{elapsed_precise}]").unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
-    let mut write_error: Option<std::io::Error> = None;
-    let result = simulate(model, &settings, &mut |frame| {
-        if write_error.is_none() {
-            if let Err(e) = csv.write_row(frame.t, frame.values) {
-                write_error = Some(e);
-            }
-        }
+    let file_name = path.display().to_string();
+    let run = record_run(model, &settings, &file_name, (&csv_path, &summary_path), &mut |frame| {
         if let Some(series) = vtk.as_mut() {
             series.observe(frame);
         }
@@ -111,32 +103,12 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
         bar.set_message(format!("{:.4}", frame.t));
     });
     bar.finish_and_clear();
-    if let Some(e) = write_error {
-        return Err(CliError(format!("cannot write {}: {e}", csv_path.display())));
-    }
+    let RecordedRun { report, error, rows } = run?;
     let vtk_written = vtk.map(RunSeries::finish).transpose().map_err(CliError)?;
-    let file_name = path.display().to_string();
-    let (report, error) = match &result {
-        Ok(r) => (r.clone(), None),
-        Err(e) => ((*e.report).clone(), Some(e.to_string())),
-    };
-    let request = RunRequest {
-        model_file: &file_name,
-        model_name: model.name(),
-        t_end,
-        output_step,
-        rtol,
-        atol,
-        integrator: if report.method.is_empty() { "bdf" } else { report.method },
-    };
-    let summary = summary_json(&request, &report, &columns, &csv_path, error.as_deref());
-    let text = serde_json::to_string_pretty(&summary).map_err(|e| CliError(e.to_string()))?;
-    std::fs::write(&summary_path, text + "\n")
-        .map_err(|e| CliError(format!("cannot write {}: {e}", summary_path.display())))?;
     if !options.quiet {
         println!("{}", if error.is_some() { "run stopped early:" } else { "run completed:" });
         println!("{}", summary_text(&report));
-        println!("results: {} ({} rows), {}", csv_path.display(), csv.rows(), summary_path.display());
+        println!("results: {} ({rows} rows), {}", csv_path.display(), summary_path.display());
         if let Some(s) = &vtk_written {
             println!("ParaView: {} ({} frames of {} blocks)", s.pvd.display(), s.frames, s.blocks);
         }
@@ -146,7 +118,7 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
         Some(e) => Err(CliError(format!(
             "{}: simulation failed: {e}\nthe {} output rows computed before the failure are in {}",
             path.display(),
-            csv.rows(),
+            rows,
             csv_path.display()
         ))),
     }

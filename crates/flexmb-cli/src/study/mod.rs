@@ -7,12 +7,12 @@ mod study_file;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use flexmb::analysis::{output_columns, simulate, SimulationSettings};
+use flexmb::analysis::SimulationSettings;
 
 use crate::check::check_model;
 use crate::integrator_choice::parse_method;
 use crate::model_file::load_model_with;
-use crate::results::{summary_json, CsvWriter, RunRequest};
+use crate::results::{record_run, RecordedRun};
 use crate::run::CliError;
 
 pub use study_file::{load_study, parse_study, Case, Published, Study};
@@ -89,8 +89,7 @@ fn run_case(study: &Study, case: &Case, integrator: &str, out_dir: &Path) -> Res
     check_model(model, d.assembly()).map_err(|e| CliError(format!("{}: {}: {e}", case.location, study.model.display())))?;
     let stem = format!("{}-{integrator}", case.name);
     let csv_path = out_dir.join(format!("{stem}.csv"));
-    let columns = output_columns(model);
-    let mut csv = CsvWriter::create(&csv_path, &columns).map_err(|e| CliError(format!("cannot write {}: {e}", csv_path.display())))?;
+    let summary_path = out_dir.join(format!("{stem}.json"));
     let settings = SimulationSettings {
         t_end,
         output_step: d.output_step,
@@ -98,33 +97,9 @@ fn run_case(study: &Study, case: &Case, integrator: &str, out_dir: &Path) -> Res
         assembly: d.assembly(),
         method,
     };
-    let mut write_error = None;
-    let result = simulate(model, &settings, &mut |frame| {
-        if write_error.is_none() {
-            write_error = csv.write_row(frame.t, frame.values).err();
-        }
-    });
-    if let Some(e) = write_error {
-        return Err(CliError(format!("cannot write {}: {e}", csv_path.display())));
-    }
-    let (report, failure) = match result {
-        Ok(r) => (r, None),
-        Err(e) => ((*e.report).clone(), Some(e.to_string())),
-    };
     let model_file = study.model.display().to_string();
-    let request = RunRequest {
-        model_file: &model_file,
-        model_name: model.name(),
-        t_end,
-        output_step: d.output_step,
-        rtol,
-        atol,
-        integrator,
-    };
-    let summary = summary_json(&request, &report, &columns, &csv_path, failure.as_deref());
-    let summary_path = out_dir.join(format!("{stem}.json"));
-    let text = serde_json::to_string_pretty(&summary).map_err(|e| CliError(e.to_string()))?;
-    std::fs::write(&summary_path, text + "\n").map_err(|e| CliError(format!("cannot write {}: {e}", summary_path.display())))?;
+    let RecordedRun { report, error: failure, .. } =
+        record_run(model, &settings, &model_file, (&csv_path, &summary_path), &mut |_| {})?;
     Ok(StudyRun {
         case: case.name.clone(),
         integrator: integrator.to_string(),
