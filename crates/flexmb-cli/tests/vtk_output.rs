@@ -9,7 +9,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use program::{flexmb, scratch, text, workspace};
+use program::{flexmb, scratch, text, workspace, ResultCsv};
 use vtkio::model::{Attribute, DataSet, Piece, UnstructuredGridPiece, VertexNumbers};
 
 /// One `<DataSet …/>` of a `.pvd` file.
@@ -82,19 +82,6 @@ fn cells(grid: &UnstructuredGridPiece) -> Vec<Vec<u64>> {
         .collect()
 }
 
-/// The CSV's rows by column name.
-fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
-    let csv = std::fs::read_to_string(path).unwrap();
-    let mut lines = csv.lines();
-    let header = lines.next().unwrap().split(',').map(str::to_string).collect();
-    let rows = lines.map(|l| l.split(',').map(|x| x.parse().unwrap()).collect()).collect();
-    (header, rows)
-}
-
-fn column(header: &[String], row: &[f64], name: &str) -> f64 {
-    row[header.iter().position(|h| h == name).unwrap_or_else(|| panic!("column {name}"))]
-}
-
 fn close(a: [f64; 3], b: [f64; 3], tolerance: f64) -> bool {
     (0..3).all(|k| (a[k] - b[k]).abs() <= tolerance)
 }
@@ -120,14 +107,13 @@ fn the_flexible_pendulum_series_puts_the_nodes_where_the_engine_does() {
     }
 
     // At t = 0.1 s the tip (node 21) is where the engine's node outputs put it, and moves as they say.
-    let (header, rows) = read_csv(&out.join("flexible_pendulum.csv"));
-    let row = &rows[50];
-    assert!((row[0] - 0.1).abs() < 1e-12 && (entries[100].time - 0.1).abs() < 1e-12);
+    let csv = ResultCsv::read(&out.join("flexible_pendulum.csv"));
+    assert!((csv.at(50, "t") - 0.1).abs() < 1e-12 && (entries[100].time - 0.1).abs() < 1e-12);
     let beam = read_vtu(&vtk.join(&entries[100].file));
     assert_eq!((points(&beam).len(), cells(&beam).len()), (21, 20));
     assert!(cells(&beam).iter().all(|c| c.len() == 2), "beam elements are lines");
     let tip = point_data(&beam, "node").iter().position(|&label| label == 21.0).expect("node 21");
-    let csv3 = |what: &str| ["x", "y", "z"].map(|c| column(&header, row, &format!("beam.node21.{what}.{c}")));
+    let csv3 = |what: &str| ["x", "y", "z"].map(|c| csv.at(50, &format!("beam.node21.{what}.{c}")));
     assert!(close(points(&beam)[tip], csv3("position"), 1e-9), "{:?} vs {:?}", points(&beam)[tip], csv3("position"));
     let velocity = point_data(&beam, "velocity");
     assert!(close([velocity[3 * tip], velocity[3 * tip + 1], velocity[3 * tip + 2]], csv3("velocity"), 1e-8));
@@ -366,15 +352,14 @@ fn rigid_bodies_are_drawn_as_their_shapes_and_move_with_them() {
     assert_eq!(cells(&grids["bracket"]), vec![vec![0, 1, 2, 3], vec![0, 4, 5, 1], vec![4, 5, 1]]);
 
     // The box's corner is where the engine puts a marker at that corner of the swinging arm.
-    let (header, rows) = read_csv(&dir.join("shapes.csv"));
-    let last = rows.last().unwrap();
-    assert!((last[0] - 0.1).abs() < 1e-12);
-    let corner = ["x", "y", "z"].map(|c| column(&header, last, &format!("arm_corner.position.{c}")));
+    let csv = ResultCsv::read(&dir.join("shapes.csv"));
+    assert!((csv.at(-1, "t") - 0.1).abs() < 1e-12);
+    let corner = ["x", "y", "z"].map(|c| csv.at(-1, &format!("arm_corner.position.{c}")));
     assert!(corner[1] < -0.01, "the arm has swung down: {corner:?}");
     let on_box = points(&grids["arm"]).iter().filter(|p| close(**p, corner, 1e-9)).count();
     assert_eq!(on_box, 3, "three faces meet at the corner {corner:?}");
     // The joint's points are its markers: the ground's at the origin, the ball's centre falling.
-    let centre = ["x", "y", "z"].map(|c| column(&header, last, &format!("ball_centre.position.{c}")));
+    let centre = ["x", "y", "z"].map(|c| csv.at(-1, &format!("ball_centre.position.{c}")));
     assert!(centre[1] < -0.04, "the ball falls: {centre:?}");
     let joint = points(&grids["ball_plane"]);
     assert!(close(joint[0], [0.0; 3], 0.0) && close(joint[1], centre, 1e-9), "{joint:?} vs {centre:?}");

@@ -56,6 +56,13 @@ impl ResultCsv {
         Self { header, rows }
     }
 
+    /// The value of column `name` in row `row` (negative: counted from the end, −1 the last).
+    pub fn at(&self, row: isize, name: &str) -> f64 {
+        let k = self.header.iter().position(|h| h == name).unwrap_or_else(|| panic!("no column {name} in {:?}", self.header));
+        let r = if row < 0 { (self.rows.len() as isize + row) as usize } else { row as usize };
+        self.rows[r][k]
+    }
+
     /// The values of column `name`, one per row.
     pub fn column(&self, name: &str) -> Vec<f64> {
         let k = self.header.iter().position(|h| h == name).unwrap_or_else(|| panic!("no column {name} in {:?}", self.header));
