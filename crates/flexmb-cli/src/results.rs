@@ -123,6 +123,8 @@ pub fn summary_json(
             "initial": report.energy_initial,
             "final": report.energy_final,
             "change": report.energy_final - report.energy_initial,
+            "nonconservative_work": report.nonconservative_work,
+            "balance_error": balance_error(report),
         },
         "output": {
             "csv": csv.display().to_string(),
@@ -142,7 +144,8 @@ pub fn summary_text(report: &SimulationReport) -> String {
          steps per order     {}\n  RMS step size       {:.4e} s\n  Newton iterations   {}\n  \
          Jacobians / factorizations  {} / {}\n  wall time           {:.3} s\n  \
          max constraint residual  position {:.2e}, velocity {:.2e}\n  \
-         energy              initial {:.6e} J, final {:.6e} J, change {:.3e} J",
+         energy              initial {:.6e} J, final {:.6e} J, change {:.3e} J\n  \
+         energy balance      work of non-conservative forces {:.3e} J; change − work = {:.2e} J",
         report.t_reached,
         s.steps,
         s.rejected_steps(),
@@ -159,7 +162,15 @@ pub fn summary_text(report: &SimulationReport) -> String {
         report.energy_initial,
         report.energy_final,
         report.energy_final - report.energy_initial,
+        report.nonconservative_work,
+        balance_error(report),
     )
+}
+
+/// How far the run's energy is from its balance: `E_final − E_initial − W_nc` (J), where `W_nc` is the
+/// work of the non-conservative forces (trapezoidal rule over the output times).
+pub fn balance_error(report: &SimulationReport) -> f64 {
+    report.energy_final - report.energy_initial - report.nonconservative_work
 }
 
 /// A run recorded to files: its report, the failure if it stopped early, and the rows written.

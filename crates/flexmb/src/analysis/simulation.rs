@@ -13,7 +13,7 @@ use crate::integrate::{Bdf, BdfConfig, IntegrationError, Integrator, Method, Sta
 use crate::integrate::Adams;
 use crate::integrate::{GeneralizedAlpha, GeneralizedAlphaConfig};
 use crate::model::Model;
-use crate::stage::{constraint_equations, energy, kinematics};
+use crate::stage::{constraint_equations, energy, kinematics, nonconservative_power};
 
 /// What to simulate and how.
 #[derive(Clone, Copy, Debug)]
@@ -73,6 +73,13 @@ pub struct SimulationReport {
     /// Total mechanical energy at the start and at the last output (J).
     pub energy_initial: f64,
     pub energy_final: f64,
+    /// Work of the non-conservative forces (dampers, actuators, applied loads, modal damping, drivers)
+    /// from the start to the last output (J), by the trapezoidal rule over the output times: with a
+    /// correct solution `energy_final − energy_initial − nonconservative_work` is the quadrature's
+    /// error, small when the output step resolves the power.
+    pub nonconservative_work: f64,
+    /// Power of the non-conservative forces and time at the last output (W, s).
+    pub last_power: (f64, f64),
     pub output_frames: usize,
 }
 
@@ -156,11 +163,16 @@ fn run(
         let acc = acc_solver
             .solve(model, data, t, q, v, &active)
             .map_err(|_| SimulationFailure::SingularAccelerations { t, detail: String::new() })?;
+        let power = nonconservative_power(model, data, t, &acc.lambda);
         evaluate_outputs(model, data, q, v, acc, &active, values);
         let e = energy(model, data, q, v).total();
         if report.output_frames == 0 {
             report.energy_initial = e;
+        } else {
+            let (p0, t0) = report.last_power;
+            report.nonconservative_work += 0.5 * (p0 + power) * (t - t0);
         }
+        report.last_power = (power, t);
         report.energy_final = e;
         report.output_frames += 1;
         observer(&OutputFrame { t, values, q, v });

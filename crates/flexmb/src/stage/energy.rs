@@ -6,6 +6,7 @@ use crate::force::ForceKind;
 use crate::joint::Equation;
 use crate::model::Model;
 use crate::stage::body_mass_entries;
+use crate::stage::forces::applied_load;
 
 /// Mechanical energy of a state (J).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -60,4 +61,52 @@ pub(crate) fn energy(model: &Model, data: &Data, q: &[f64], v: &[f64]) -> Energy
         }
     }
     e
+}
+
+/// Power of the non-conservative forces (W) at the state of the last kinematics, measures and
+/// constraint stages, with multipliers `lambda`: the dampers' and actuators' part of the spring-dampers,
+/// applied forces and torques, modal damping `−ȧᵀ D ȧ`, and the constraints that depend on time
+/// (drivers), `λᵀ Φ_t` (the constraint forces are `−Φ_qᵀ λ` and `Φ_q v = −Φ_t`). Gravity, spring
+/// stiffness and strain are conservative: their work is in the potential and strain energy. So
+/// `dE/dt = P` along a solution, and `E(t) − E(0) − ∫ P dt` measures how well a run keeps its energy
+/// balance.
+pub(crate) fn nonconservative_power(model: &Model, data: &Data, t: f64, lambda: &[f64]) -> f64 {
+    let mut p = 0.0;
+    for (b, modal) in model.modal.iter().enumerate() {
+        if let Some(modal) = modal {
+            let a_dot = &data.modal[b].a_dot;
+            p -= a_dot.dot(&(&modal.damping * a_dot));
+        }
+    }
+    for force in &model.forces {
+        p += match &force.kind {
+            ForceKind::TranslationalSpringDamper { marker_i, marker_j, damping, actuator, .. } => {
+                let (mi, mj) = (&data.markers[marker_i.0], &data.markers[marker_j.0]);
+                let d = mj.position - mi.position;
+                let l = d.norm();
+                if l == 0.0 {
+                    continue;
+                }
+                let rate = (d / l).dot(&(mj.velocity - mi.velocity));
+                let act = actuator.as_ref().map_or(0.0, |e| e.eval(t, &data.measures));
+                (-damping * rate + act) * rate
+            }
+            ForceKind::RotationalSpringDamper { joint, damping, actuator, .. } => {
+                let jt = &model.joints[joint.0];
+                let (mi, mj) = (&data.markers[jt.marker_i.0], &data.markers[jt.marker_j.0]);
+                let rate = Equation::Angle.evaluate(mi, mj, [0.0; 3], data.angle_reference[joint.0]).rate(mi, mj);
+                let act = actuator.as_ref().map_or(0.0, |e| e.eval(t, &data.measures));
+                (-damping * rate + act) * rate
+            }
+            ForceKind::AppliedForce { marker, .. } => {
+                let m = &data.markers[marker.0];
+                applied_load(model, data, force, t).dot(&m.velocity)
+            }
+            ForceKind::AppliedTorque { marker, .. } => {
+                let m = &data.markers[marker.0];
+                applied_load(model, data, force, t).dot(&m.angular_velocity)
+            }
+        };
+    }
+    p + data.equations.iter().zip(lambda).map(|(e, l)| l * e.phi_t).sum::<f64>()
 }

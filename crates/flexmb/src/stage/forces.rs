@@ -82,6 +82,17 @@ pub(crate) fn applied_forces(model: &Model, data: &mut Data, t: f64) {
     }
 }
 
+/// The global force or torque of an applied force or torque element at the current state (zero for
+/// the spring-dampers).
+pub(crate) fn applied_load(model: &Model, data: &Data, force: &crate::force::ForceElement, t: f64) -> Vec3 {
+    match &force.kind {
+        ForceKind::AppliedForce { marker, components, frame } | ForceKind::AppliedTorque { marker, components, frame } => {
+            in_global(model, &data.bodies, *marker, &data.markers[marker.0], *frame, components, t, &data.measures)
+        }
+        _ => Vec3::zeros(),
+    }
+}
+
 #[allow(clippy::too_many_arguments)]
 fn in_global(
     model: &Model,

@@ -13,7 +13,7 @@ mod residual;
 
 pub(crate) use constraints::{add_jacobian_transpose, constraint_equations, jacobian_entries};
 pub use energy::Energy;
-pub(crate) use energy::energy;
+pub(crate) use energy::{energy, nonconservative_power};
 pub(crate) use forces::applied_forces;
 pub(crate) use inertia::{body_mass_entries, inertia_forces};
 pub use kinematics::{BodyState, MarkerState};
