@@ -183,7 +183,7 @@ def main():
     if groups['rigid']:
         rigid = part(groups['rigid'])
         r = Show(rigid, view)
-        ColorBy(r, None)
+        r.ColorArrayName = ['POINTS', '']   # one plain colour
         r.AmbientColor = r.DiffuseColor = GREY
         r.LineWidth, r.RenderLinesAsTubes = 3, 1
         shown.append(rigid)
@@ -194,7 +194,7 @@ def main():
         if a.undeformed:
             ref = WarpByVector(Input=flex, Vectors=['POINTS', a.array], ScaleFactor=-1.0)
             r = Show(ref, view)
-            ColorBy(r, None)
+            r.ColorArrayName = ['POINTS', '']   # one plain colour
             r.Representation, r.AmbientColor, r.DiffuseColor, r.Opacity = 'Wireframe', DARK, DARK, 0.5
             shown.append(ref)
         if a.warp != 1.0:
@@ -216,7 +216,7 @@ def main():
                                           [max(p[k] for p in pts) for k in range(3)])
     if groups['joint']:
         r = Show(part(groups['joint']), view)
-        ColorBy(r, None)
+        r.ColorArrayName = ['POINTS', '']   # one plain colour
         r.Representation, r.ShaderPreset, r.GaussianRadius = 'Point Gaussian', 'Sphere', radius
         r.AmbientColor = r.DiffuseColor = RED
     for ends in a.line:
