@@ -54,7 +54,13 @@ pub(crate) fn double_pendulum_with_spring() -> Model {
 /// A pendulum whose bob slides along the rod on a translational joint, held by a stiff, critically
 /// damped spring (1e7 N/m): a fast mode along a joint's free direction.
 pub(crate) fn pendulum_with_stiff_slider() -> Model {
-    let (l, mass, stiffness) = (1.0, 1.0, 1e7);
+    pendulum_with_stiff_slider_of(1e7)
+}
+
+/// [`pendulum_with_stiff_slider`] with a spring of `stiffness` (N/m), still critically damped: the
+/// fast eigenvalue is a double `−√(k/m)` (m = 1 kg).
+pub(crate) fn pendulum_with_stiff_slider_of(stiffness: f64) -> Model {
+    let (l, mass) = (1.0, 1.0);
     let mut b = ModelBuilder::new("pendulum with a stiff slider").gravity(Vec3::new(0.0, -9.81, 0.0));
     let theta0 = 1.0_f64;
     let pose = EulerParameters::from_axis_angle(&Vec3::z(), theta0);

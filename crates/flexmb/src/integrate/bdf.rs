@@ -5,10 +5,15 @@
 //! `F(t, y⁽⁰⁾ + d, (ψ + d)/c) = 0` for the correction `d` by a simplified Newton iteration with a
 //! reused iteration matrix, `c = h/γ_k`, `ψ = Σ_{1≤j≤k} γ_j ∇ʲyₙ / γ_k`, `γ_k = Σ_{j≤k} 1/j`. The local
 //! error estimate is `d/(k+1)`, tested on positions and velocities only (not on the multipliers), in the
-//! RMS norm weighted by `atol + rtol |y|`. A step that fails the error test or whose Newton iteration does
-//! not converge is rejected and retried with a smaller step; nothing unconverged is ever accepted. Step
-//! size changes re-interpolate the difference array; the order moves by at most one after `k + 1` steps
-//! of equal size, to the order whose error estimate allows the largest next step.
+//! RMS norm weighted by `atol + rtol |y|`. When it fails the test, the estimate is also filtered through
+//! the iteration matrix (Shampine's device, restricted to the free motions: see
+//! [`filtered_norm`](Bdf::filtered_norm)); if stiff components inflated it (the filtered one is below half
+//! of it), the filtered estimates decide the error test and the order and step size while that lasts. A
+//! step that fails the error test or whose Newton iteration does not converge is rejected and retried with
+//! a smaller step; nothing unconverged is ever accepted. A Newton failure with a Jacobian evaluated
+//! elsewhere than at the current predictor first re-evaluates it there. Step size changes re-interpolate
+//! the difference array; the order moves by at most one after `k + 1` steps of equal size, to the order
+//! whose error estimate allows the largest next step.
 
 use crate::analysis::{Accelerations, State};
 use crate::data::Data;
@@ -26,6 +31,13 @@ const MAX_FACTOR: f64 = 10.0;
 /// Range of `c/c_f` in which the factors made for `c_f` are reused.
 const REUSE_MIN: f64 = 0.6;
 const REUSE_MAX: f64 = 1.0 / 0.6;
+/// The filtered error estimate counts as evidence of stiff components when it is below this fraction of
+/// the classical one; it is then used for [`FILTER_HOLD`] accepted steps (renewed while the evidence lasts).
+const FILTER_RATIO: f64 = 0.5;
+const FILTER_HOLD: usize = 20;
+/// Once the Jacobians of two consecutive steps have failed at their first reuse, one is evaluated at the
+/// predictor of each of this many following steps before their Newton iteration.
+const REFRESH_AHEAD: usize = 10;
 
 /// `γ_k = Σ_{j=1..k} 1/j` for `k = 0..=MAX_ORDER`.
 const GAMMA: [f64; MAX_ORDER + 1] =
@@ -56,7 +68,17 @@ pub struct Bdf<'m> {
     d: Vec<f64>,
     jac: IterationMatrix,
     factored_c: Option<f64>,
-    jac_current: bool,
+    /// The Jacobian was evaluated at the predictor of the current attempt.
+    jac_at_attempt: bool,
+    /// Accepted steps since the Jacobian was evaluated.
+    jac_age: usize,
+    /// Consecutive steps whose Jacobian, evaluated during the step before, failed at its first reuse.
+    first_reuse_failures: usize,
+    /// Steps left that evaluate the Jacobian at their predictor before iterating.
+    refresh_ahead: usize,
+    /// Accepted steps left during which the error estimates are filtered.
+    filter_steps: usize,
+    filtered: Vec<f64>,
     newton_tol: f64,
     y_pred: Vec<f64>,
     psi: Vec<f64>,
@@ -131,7 +153,12 @@ impl<'m> Bdf<'m> {
             d,
             jac,
             factored_c: None,
-            jac_current: false,
+            jac_at_attempt: false,
+            jac_age: 0,
+            first_reuse_failures: 0,
+            refresh_ahead: 0,
+            filter_steps: 0,
+            filtered: vec![0.0; n],
             newton_tol,
             y_pred: vec![0.0; n],
             psi: vec![0.0; n],
@@ -204,6 +231,7 @@ impl<'m> Bdf<'m> {
         self.stats.jacobian_evaluations += 1;
         self.stats.residual_evaluations += evals;
         self.factored_c = None;
+        self.jac_age = 0;
     }
 
     /// Rescales the differences for a step size change by `factor` at the current order.
@@ -287,12 +315,16 @@ impl<'m> Bdf<'m> {
                 self.scale[k] = self.config.atol + self.config.rtol * self.y_pred[k].abs();
             }
             let c = h / alpha;
+            if self.refresh_ahead > 0 && self.jac_age > 0 {
+                self.refresh_ahead -= 1;
+                self.refresh_jacobian(t_new, c);
+            }
             // Reuse the factors of a nearby c (DASSL): the increments are then scaled by 2/(1 + c_f/c).
             let reusable = self.factored_c.is_some_and(|cf| (REUSE_MIN..=REUSE_MAX).contains(&(c / cf)));
             if !reusable {
                 if self.jac.factor(c).is_err() {
                     self.stats.factorizations += 1;
-                    if !self.jac_current {
+                    if !self.jac_at_attempt {
                         self.refresh_jacobian(t_new, c);
                         continue;
                     }
@@ -307,7 +339,16 @@ impl<'m> Bdf<'m> {
             let (converged, iterations) = self.newton(t_new, c, c_factored);
             if !converged {
                 self.stats.newton_failures += 1;
-                if !self.jac_current {
+                // A Jacobian evaluated elsewhere (an earlier step, or this step's predictor for another
+                // step size) is re-evaluated here before the step is reduced: F_y of a stiff spring or of
+                // the constraints turns with the bodies, and a chord iteration with a turned one diverges.
+                if !self.jac_at_attempt {
+                    if self.jac_age == 1 {
+                        self.first_reuse_failures += 1;
+                        if self.first_reuse_failures >= 2 {
+                            self.refresh_ahead = REFRESH_AHEAD;
+                        }
+                    }
                     self.refresh_jacobian(t_new, c);
                     continue;
                 }
@@ -315,11 +356,24 @@ impl<'m> Bdf<'m> {
                 self.reduce_step(0.5);
                 continue;
             }
+            if self.jac_age > 0 {
+                self.first_reuse_failures = 0;
+            }
             let safety = 0.9 * (2 * NEWTON_MAXITER + 1) as f64 / (2 * NEWTON_MAXITER + iterations) as f64;
             for k in 0..self.n_diff {
                 self.scale[k] = self.config.atol + self.config.rtol * self.y_new[k].abs();
             }
-            let error_norm = self.rms_norm(&self.corr, error_const(order));
+            let mut error_norm = self.rms_norm(&self.corr, error_const(order));
+            if self.filter_steps > 0 || error_norm > 1.0 {
+                self.rhs.copy_from_slice(&self.corr);
+                let filtered = self.filtered_norm(error_const(order));
+                if filtered < FILTER_RATIO * error_norm {
+                    self.filter_steps = FILTER_HOLD;
+                }
+                if self.filter_steps > 0 {
+                    error_norm = filtered;
+                }
+            }
             if error_norm > 1.0 {
                 self.stats.error_test_failures += 1;
                 let factor = MIN_FACTOR.max(safety * error_norm.powf(-1.0 / (order + 1) as f64));
@@ -330,23 +384,27 @@ impl<'m> Bdf<'m> {
             break (t_new, safety);
         };
         self.accept(t_new);
+        let filtering = self.filter_steps > 0;
+        self.filter_steps = self.filter_steps.saturating_sub(1);
 
         // Order and step-size selection after k + 1 steps of equal size.
         if self.n_equal_steps < self.order + 1 {
             return Ok(());
         }
         let order = self.order;
-        let error_m = if order > 1 {
-            self.rms_norm(&self.d[order * n..(order + 1) * n], error_const(order - 1))
-        } else {
-            f64::INFINITY
+        // The estimates at orders k − 1, k, k + 1 from ∇ᵏy, ∇ᵏ⁺¹y, ∇ᵏ⁺²y, filtered like the error test's.
+        let estimate = |bdf: &mut Self, row: usize, k: usize| {
+            let x = if row == order + 1 { &bdf.corr[..] } else { &bdf.d[row * n..(row + 1) * n] };
+            if filtering {
+                bdf.rhs.copy_from_slice(x);
+                bdf.filtered_norm(error_const(k))
+            } else {
+                bdf.rms_norm(x, error_const(k))
+            }
         };
-        let error_p = if order < self.config.max_order {
-            self.rms_norm(&self.d[(order + 2) * n..(order + 3) * n], error_const(order + 1))
-        } else {
-            f64::INFINITY
-        };
-        let error = self.rms_norm(&self.corr, error_const(order));
+        let error_m = if order > 1 { estimate(self, order, order - 1) } else { f64::INFINITY };
+        let error_p = if order < self.config.max_order { estimate(self, order + 2, order + 1) } else { f64::INFINITY };
+        let error = estimate(self, order + 1, order);
         let factor_of = |e: f64, k: usize| if e.is_finite() { e.max(1e-300).powf(-1.0 / k as f64) } else { 0.0 };
         let factors = [factor_of(error_m, order), factor_of(error, order + 1), factor_of(error_p, order + 2)];
         let (best, best_factor) =
@@ -362,6 +420,7 @@ impl<'m> Bdf<'m> {
     }
 
     fn reduce_step(&mut self, factor: f64) {
+        self.jac_at_attempt = false;
         self.h *= factor;
         self.change_differences(self.order, factor);
         self.factored_c = None;
@@ -375,7 +434,7 @@ impl<'m> Bdf<'m> {
         self.evaluate_jacobian_at(t_new, &y, &yp);
         self.y_pred = y;
         self.yp = yp;
-        self.jac_current = true;
+        self.jac_at_attempt = true;
     }
 
     /// Simplified Newton iteration on the corrector; returns (converged, iterations).
@@ -442,6 +501,25 @@ impl<'m> Bdf<'m> {
         (sum / self.n.max(1) as f64).sqrt()
     }
 
+    /// The error estimate `rhs` filtered through the iteration matrix, `x = J⁻¹ [F_ẏ e; F_y e]` with
+    /// `J = [F_ẏ + c F_y; F_y]` (differential; algebraic rows), in the norm of [`rms_norm`](Self::rms_norm).
+    ///
+    /// On the differential rows this is Shampine's filter `(I − c ∂f/∂y)⁻¹ e` of the local error of an
+    /// implicit formula: a component of eigenvalue `λ` is divided by `1 − c λ`, so that the estimate of a
+    /// stiff, damped component (`c λ ≪ −1`) shrinks to what the corrector actually leaves of it, while a
+    /// non-stiff one is unchanged to `O(c λ)`. The algebraic rows keep `F_y x = F_y e`: the part of `e`
+    /// that the constraints determine (across the constraint manifold) is not filtered, only the free
+    /// motions are. A fully driven mechanism (no degree of freedom) therefore keeps its classical estimate,
+    /// which its dense output and multipliers need. Uses the factors of the last step (`c_f`); infinite if
+    /// the solve fails.
+    fn filtered_norm(&mut self, factor: f64) -> f64 {
+        self.jac.filter_rhs(&self.rhs, &mut self.filtered);
+        if self.jac.solve_in_place(&mut self.filtered).is_err() {
+            return f64::INFINITY;
+        }
+        self.rms_norm(&self.filtered, factor)
+    }
+
     /// Weighted RMS norm of `factor · x` over the differential components.
     fn rms_norm(&self, x: &[f64], factor: f64) -> f64 {
         let sum: f64 = (0..self.n_diff).map(|k| (factor * x[k] / self.scale[k]).powi(2)).sum();
@@ -466,7 +544,8 @@ impl<'m> Bdf<'m> {
         self.stats.steps += 1;
         self.stats.sum_h_squared += h * h;
         self.stats.order_counts[self.order] += 1;
-        self.jac_current = false;
+        self.jac_at_attempt = false;
+        self.jac_age += 1;
         self.n_equal_steps += 1;
         let order = self.order;
         for k in 0..n {
@@ -632,3 +711,7 @@ impl Integrator for Bdf<'_> {
         "bdf"
     }
 }
+
+#[cfg(test)]
+#[path = "bdf_tests.rs"]
+mod tests;

@@ -234,6 +234,19 @@ impl IterationMatrix {
         self.lu.factor()
     }
 
+    /// `out = [F_ẏ x; F_y x]`: `F_ẏ x` on the differential rows, `F_y x` on the algebraic rows (the
+    /// right-hand side of the filtered error estimate, see `Bdf`).
+    pub fn filter_rhs(&self, x: &[f64], out: &mut [f64]) {
+        out.fill(0.0);
+        for c in 0..self.lu.n() {
+            let (range, rows) = self.lu.column(c);
+            for (s, &r) in range.zip(rows) {
+                let entry = if r < self.n_differential { self.f_yp[s] } else { self.f_y[s] };
+                out[r] += entry * x[c];
+            }
+        }
+    }
+
     /// Solves with the current factors in place.
     pub fn solve_in_place(&mut self, rhs: &mut [f64]) -> Result<(), SingularMatrix> {
         self.lu.solve_in_place(rhs)
