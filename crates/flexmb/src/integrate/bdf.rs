@@ -13,7 +13,10 @@
 //! a smaller step; nothing unconverged is ever accepted. A Newton failure with a Jacobian evaluated
 //! elsewhere than at the current predictor first re-evaluates it there. Step size changes re-interpolate
 //! the difference array; the order moves by at most one after `k + 1` steps of equal size, to the order
-//! whose error estimate allows the largest next step.
+//! whose error estimate allows the largest next step. With [`BdfConfig::stability_limits`] each order
+//! above 2 also has a step bound learned from error-test failures that betray an instability (the
+//! estimate grew fast at an unchanged step), and an order held back by its bound drops straight to 2
+//! when order 2 allows a longer step.
 
 use crate::analysis::{Accelerations, State};
 use crate::data::Data;
@@ -38,6 +41,13 @@ const FILTER_HOLD: usize = 20;
 /// Once the Jacobians of two consecutive steps have failed at their first reuse, one is evaluated at the
 /// predictor of each of this many following steps before their Newton iteration.
 const REFRESH_AHEAD: usize = 10;
+/// Stability limits of orders 3–5 ([`BdfConfig::stability_limits`]): an error-test failure at the step size of
+/// the step before whose estimate grew by more than `STABILITY_GROWTH` marks that step size as unstable for
+/// the order; the order's steps are then kept below `STABILITY_MARGIN` times it, a bound that relaxes by
+/// `STABILITY_RELAX` per accepted step (doubling in about 700 steps) so that the order is retried.
+const STABILITY_GROWTH: f64 = 1.5;
+const STABILITY_MARGIN: f64 = 0.7;
+const STABILITY_RELAX: f64 = 1.001;
 
 /// `γ_k = Σ_{j=1..k} 1/j` for `k = 0..=MAX_ORDER`.
 const GAMMA: [f64; MAX_ORDER + 1] =
@@ -79,6 +89,11 @@ pub struct Bdf<'m> {
     /// Accepted steps left during which the error estimates are filtered.
     filter_steps: usize,
     filtered: Vec<f64>,
+    /// Largest step for each order found stable (infinite until a limit is found; orders 1, 2 never).
+    h_limit: [f64; MAX_ORDER + 1],
+    /// Step size and error estimate of the last accepted step.
+    last_h: f64,
+    last_error: f64,
     newton_tol: f64,
     y_pred: Vec<f64>,
     psi: Vec<f64>,
@@ -159,6 +174,9 @@ impl<'m> Bdf<'m> {
             refresh_ahead: 0,
             filter_steps: 0,
             filtered: vec![0.0; n],
+            h_limit: [f64::INFINITY; MAX_ORDER + 1],
+            last_h: 0.0,
+            last_error: f64::INFINITY,
             newton_tol,
             y_pred: vec![0.0; n],
             psi: vec![0.0; n],
@@ -375,15 +393,29 @@ impl<'m> Bdf<'m> {
                 }
             }
             if error_norm > 1.0 {
+                // The estimate grew fast at an unchanged step size: a lightly damped oscillation that
+                // orders 3–5 amplify at this h λ (they are not A-stable), not the smooth solution.
+                if self.config.stability_limits
+                    && order >= 3
+                    && h == self.last_h
+                    && error_norm > STABILITY_GROWTH * self.last_error
+                {
+                    self.h_limit[order] = self.h_limit[order].min(STABILITY_MARGIN * h);
+                }
                 self.stats.error_test_failures += 1;
                 let factor = MIN_FACTOR.max(safety * error_norm.powf(-1.0 / (order + 1) as f64));
                 failure = AttemptFailure::ErrorTest { error_norm };
                 self.reduce_step(factor);
                 continue;
             }
+            self.last_h = h;
+            self.last_error = error_norm;
             break (t_new, safety);
         };
         self.accept(t_new);
+        if self.config.stability_limits {
+            self.h_limit.iter_mut().for_each(|l| *l *= STABILITY_RELAX);
+        }
         let filtering = self.filter_steps > 0;
         self.filter_steps = self.filter_steps.saturating_sub(1);
 
@@ -406,10 +438,25 @@ impl<'m> Bdf<'m> {
         let error_p = if order < self.config.max_order { estimate(self, order + 2, order + 1) } else { f64::INFINITY };
         let error = estimate(self, order + 1, order);
         let factor_of = |e: f64, k: usize| if e.is_finite() { e.max(1e-300).powf(-1.0 / k as f64) } else { 0.0 };
-        let factors = [factor_of(error_m, order), factor_of(error, order + 1), factor_of(error_p, order + 2)];
-        let (best, best_factor) =
+        let mut factors = [factor_of(error_m, order), factor_of(error, order + 1), factor_of(error_p, order + 2)];
+        // Each order's step is also bounded by its stability limit (infinite for orders 1 and 2).
+        for (i, f) in factors.iter_mut().enumerate() {
+            let k = (order + i - 1).min(MAX_ORDER);
+            *f = f.min(self.h_limit[k] / (safety * self.h));
+        }
+        let (best, mut best_factor) =
             factors.iter().enumerate().fold((1, factors[1]), |acc, (i, f)| if *f > acc.1 { (i, *f) } else { acc });
         self.order = order + best - 1;
+        // Held back by stability at order ≥ 3: order 2 (A-stable) may allow a larger step. The order drops
+        // directly, not one at a time: the orders in between are not A-stable either (for 2 % damping their
+        // unstable bands start at h ω = 0.47 to 0.81).
+        if self.order >= 3 && self.h_limit[self.order] <= safety * self.h * best_factor * (1.0 + 1e-12) {
+            let factor_2 = factor_of(estimate(self, 3, 2), 3);
+            if factor_2 > best_factor {
+                self.order = 2;
+                best_factor = factor_2;
+            }
+        }
         let factor = MAX_FACTOR.min(safety * best_factor);
         self.h *= factor;
         let new_order = self.order;
