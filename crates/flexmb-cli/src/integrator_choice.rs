@@ -20,3 +20,16 @@ pub fn parse_method(name: &str, spectral_radius: f64) -> Result<Method, String> 
 /// The integrators [`parse_method`] knows.
 pub const METHOD_NAMES: &[&str] = &["bdf", "adams", "gen-alpha"];
 
+
+/// A study's integrator: a method name, or `bdf:K` for the BDF with orders up to `K` (1 to 5), e.g.
+/// `bdf:2` for the A-stable orders only. Returns the method and the order limit, if any.
+pub fn parse_study_integrator(name: &str) -> Result<(Method, Option<usize>), String> {
+    match name.split_once(':') {
+        Some(("bdf", k)) => match k.parse::<usize>() {
+            Ok(k) if (1..=5).contains(&k) => Ok((Method::Bdf, Some(k))),
+            _ => Err(format!("`{name}`: the BDF's highest order after `bdf:` must be 1 to 5")),
+        },
+        Some(_) => Err(format!("`{name}`: only the BDF takes an order limit (`bdf:2`)")),
+        None => parse_method(name, 0.9).map(|m| (m, None)),
+    }
+}

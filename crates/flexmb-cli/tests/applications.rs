@@ -45,6 +45,17 @@ fn door_mode_sets_reproduce_the_seeds_observations() {
         let d = largest_difference(&x(&format!("{case}-bdf")), &x(&format!("{case}-adams")));
         assert!(d < 1e-3, "{case}: BDF and Adams differ by {d} m");
     }
+    // The seed's cost signature: keeping the vibration modes (4N5S) over 5S, the same motion, costs the
+    // non-stiff Adams method many times the steps, its step limited by stability; the BDF on its
+    // A-stable orders (bdf:2) follows the motion and hardly needs more.
+    let steps = |case: &str, integrator: &str| -> f64 {
+        let row = table.lines().find(|l| l.starts_with(&format!("| {case} | {integrator} |"))).unwrap();
+        row.split('|').nth(6).unwrap().trim().parse().unwrap()
+    };
+    let adams_growth = steps("4N5S", "adams") / steps("5S", "adams");
+    let bdf_growth = steps("4N5S", "bdf:2") / steps("5S", "bdf:2");
+    println!("door: steps 4N5S / 5S: Adams {adams_growth:.1}, BDF (orders 1-2) {bdf_growth:.1}");
+    assert!(adams_growth > 8.0 && bdf_growth < 3.0, "Adams ×{adams_growth}, BDF ×{bdf_growth}");
     // No damping and no gravity: kinetic plus strain energy is constant.
     for case in ["5S", "4N5S"] {
         let e = ResultCsv::read(&out.join(format!("{case}-adams.csv"))).column("energy.total");
@@ -99,6 +110,7 @@ fn study_file_errors_name_file_key_and_line() {
         ("integrator.toml", "integrators = [\"bdf\", \"rk4\"]\n[[case]]\nname = \"a\"\n", ":3: study.integrators[1]"),
         ("key.toml", "[[case]]\nname = \"a\"\nmode = { door = \"5S\" }\n", ":5: case[0]"),
         ("none.toml", "", "at least one [[case]]"),
+        ("order.toml", "integrators = [\"bdf:7\"]\n[[case]]\nname = \"a\"\n", ":3: study.integrators[0]: `bdf:7`"),
         ("twice.toml", "[[case]]\nname = \"a\"\n[[case]]\nname = \"a\"\n", ":6: case[1].name: case 'a' is named twice"),
     ];
     for (name, body, expected) in cases {

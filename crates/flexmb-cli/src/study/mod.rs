@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use flexmb::analysis::SimulationSettings;
 
 use crate::check::check_model;
-use crate::integrator_choice::parse_method;
+use crate::integrator_choice::parse_study_integrator;
 use crate::model_file::load_model_with;
 use crate::results::{record_run, RecordedRun};
 use crate::run::CliError;
@@ -85,15 +85,18 @@ fn run_case(study: &Study, case: &Case, integrator: &str, out_dir: &Path) -> Res
     let model = &loaded.model;
     let d = loaded.simulation;
     let (t_end, rtol, atol) = (study.t_end.unwrap_or(d.t_end), study.rtol.unwrap_or(d.rtol), study.atol.unwrap_or(d.atol));
-    let method = parse_method(integrator, 0.9).map_err(CliError)?;
+    let (method, max_order) = parse_study_integrator(integrator).map_err(CliError)?;
     check_model(model, d.assembly()).map_err(|e| CliError(format!("{}: {}: {e}", case.location, study.model.display())))?;
-    let stem = format!("{}-{integrator}", case.name);
+    let stem = format!("{}-{}", case.name, integrator.replace(':', "-order"));
     let csv_path = out_dir.join(format!("{stem}.csv"));
     let summary_path = out_dir.join(format!("{stem}.json"));
     let settings = SimulationSettings {
         t_end,
         output_step: d.output_step,
-        integrator: d.integrator(model, rtol, atol),
+        integrator: flexmb::integrate::BdfConfig {
+            max_order: max_order.unwrap_or(d.integrator(model, rtol, atol).max_order),
+            ..d.integrator(model, rtol, atol)
+        },
         assembly: d.assembly(),
         method,
     };

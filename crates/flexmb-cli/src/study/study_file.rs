@@ -57,8 +57,8 @@ pub struct Study {
     pub name: String,
     /// The model file, relative to the working directory.
     pub model: PathBuf,
-    /// Integrators by name (`bdf`, `adams`, `gen-alpha`), in table order; the first one's runs are
-    /// plotted.
+    /// Integrators by name (`bdf`, `adams`, `gen-alpha`, or `bdf:K` for the BDF with orders up to `K`),
+    /// in table order; the first one's runs are plotted.
     pub integrators: Vec<String>,
     pub t_end: Option<f64>,
     pub rtol: Option<f64>,
@@ -124,7 +124,7 @@ fn build_study(source: &Source, parsed: StudyFile, base_dir: &Path) -> Result<St
                 return Err(source.invalid(&span, &table.key("integrators"), "list at least one integrator"));
             }
             for (k, name) in names.iter().enumerate() {
-                crate::integrator_choice::parse_method(name.get_ref(), 0.9)
+                crate::integrator_choice::parse_study_integrator(name.get_ref())
                     .map_err(|e| source.invalid(&name.span(), &table.key("integrators").index(k), e))?;
             }
             names.into_iter().map(|n| n.into_inner()).collect()
