@@ -56,7 +56,8 @@ pub struct SimulationDefaults {
     /// The integration method (`integrator`, with `spectral_radius` for the generalized-α method).
     /// Default BDF.
     pub method: flexmb::integrate::Method,
-    /// Highest BDF order (`max_order`, 1 to 5); `None`: 5, or 2 with flexible bodies.
+    /// Highest BDF order (`max_order`, 1 to 5); `None`: 5 (with stability limits on orders 3–5 for
+    /// models with flexible bodies, see `BdfConfig::for_model`).
     pub max_order: Option<usize>,
     /// Interval between the frames of the ParaView output (`vtk_step`, s); `None`: the output step.
     pub vtk_step: Option<f64>,
