@@ -477,3 +477,28 @@ fn partitioning_against_projection() {
         }
     }
 }
+
+/// Dense output is projected too: at every output time between the steps, a free slider-crank run with
+/// Adams keeps its position constraints to the projection's tolerance (1e-2 atol) and its velocity
+/// constraints to round-off, as the accepted steps do, not only to the local error of the interpolant.
+#[test]
+fn interpolated_outputs_keep_the_constraints() {
+    let mut b = ModelBuilder::new("slider-crank").gravity(Vec3::new(0.0, -9.81, 0.0));
+    slider_crank_linkage(&mut b, CRANK, ROD, Some(Vec3::new(0.0, 0.0, 8.0)));
+    b.add_output("residual", OutputKind::ConstraintResidual);
+    let model = b.build().unwrap();
+    let tol = 1e-6;
+    let run = run(&model, &with_adams(settings(2.0, 0.001, tol)));
+    let (position, velocity) = (run.col("residual.position"), run.col("residual.velocity"));
+    let worst = |x: &[f64]| x.iter().fold(0.0_f64, |m, r| m.max(r.abs()));
+    eprintln!(
+        "Adams slider-crank, {} steps, {} output times: largest residual at the outputs {:.1e} m, {:.1e} m/s",
+        run.report.stats.steps,
+        run.t.len(),
+        worst(&position),
+        worst(&velocity)
+    );
+    assert!(run.t.len() > 5 * run.report.stats.steps, "most outputs fall between steps");
+    assert!(worst(&position) <= 1e-2 * tol, "{:e}", worst(&position));
+    assert!(worst(&velocity) < 1e-12, "{:e}", worst(&velocity));
+}

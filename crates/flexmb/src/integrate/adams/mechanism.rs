@@ -337,6 +337,12 @@ impl Integrator for Adams<'_> {
             System::Projection(s) => {
                 q.copy_from_slice(&self.y_interp[..s.nq]);
                 v.copy_from_slice(&self.y_interp[s.nq..]);
+                // Onto the constraints, as the accepted steps are; should the projection not converge,
+                // the interpolated state (off by about the local error) is kept.
+                if s.project_output(t, q, v).is_err() {
+                    q.copy_from_slice(&self.y_interp[..s.nq]);
+                    v.copy_from_slice(&self.y_interp[s.nq..]);
+                }
             }
             System::Partitioning(s) => s.positions_and_velocities(t, &self.y_interp, q, v),
         }

@@ -18,8 +18,8 @@
 //! `Φ̂_u`); `order_counts[k]` the steps at predictor order `k` (1–12); no Jacobian is evaluated.
 //!
 //! **Dense output**: the interpolating polynomial of the last step (INTRP) at any time in it; with
-//! projection the interpolated state is not projected (it misses the constraints by about the local
-//! error), with partitioning the dependent coordinates are recovered from the interpolated independent
+//! projection the interpolated state is projected onto the constraints as an accepted step is, with
+//! partitioning the dependent coordinates are recovered from the interpolated independent
 //! ones.
 
 mod kkt;

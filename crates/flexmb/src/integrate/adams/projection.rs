@@ -160,6 +160,38 @@ impl<'m> ProjectedMechanism<'m> {
         }
         Err(NO_CONVERGENCE)
     }
+
+    /// Corrects `v` at the (projected) positions `q` by the minimum-norm change that satisfies the
+    /// velocity constraints, with the KKT factors made there; returns the residual before.
+    fn project_velocities(&mut self, t: f64, q: &[f64], v: &mut [f64]) -> Result<f64, EvaluationFailure> {
+        let model = self.model;
+        kinematics(model, &mut self.data, q, v);
+        constraint_equations(model, &mut self.data, t);
+        self.kkt.factor(model, &self.data)?;
+        let active = &self.kkt.active;
+        let residual =
+            (0..active.len()).filter(|r| active[*r]).map(|r| constraint_rate(model, &self.data, r).abs()).fold(0.0, f64::max);
+        self.kkt.min_norm_correction(&self.data, |data, r| -constraint_rate(model, data, r))?;
+        for k in 0..self.nv {
+            v[k] += self.kkt.rhs[k];
+        }
+        Ok(residual)
+    }
+
+    /// Projects an interpolated state at `t` onto the constraints as an accepted step is (Euler
+    /// parameters normalized, positions by minimum-norm Newton, velocities by a minimum-norm
+    /// correction), so that dense output keeps the constraints to the projection's tolerance and not
+    /// only to the local error. The drift statistics, which describe the accepted steps, are left as
+    /// they were.
+    pub fn project_output(&mut self, t: f64, q: &mut [f64], v: &mut [f64]) -> Result<(), EvaluationFailure> {
+        let model = self.model;
+        let drift = self.drift;
+        normalize_euler_parameters(model, q);
+        let projected = self.project_positions(t, q, v);
+        self.drift = drift;
+        projected?;
+        self.project_velocities(t, q, v).map(|_| ())
+    }
 }
 
 impl OdeSystem for ProjectedMechanism<'_> {
@@ -179,19 +211,8 @@ impl OdeSystem for ProjectedMechanism<'_> {
         self.drift.max_normalization_error = self.drift.max_normalization_error.max(normalization);
         self.project_positions(t, q, v)?;
         // Velocities at the projected positions, with factors made there (used for v̇ too).
-        kinematics(model, &mut self.data, q, v);
-        constraint_equations(model, &mut self.data, t);
-        self.kkt.factor(model, &self.data)?;
-        let active = &self.kkt.active;
-        let velocity_residual = (0..active.len())
-            .filter(|r| active[*r])
-            .map(|r| constraint_rate(model, &self.data, r).abs())
-            .fold(0.0, f64::max);
+        let velocity_residual = self.project_velocities(t, q, v)?;
         self.drift.max_velocity_residual = self.drift.max_velocity_residual.max(velocity_residual);
-        self.kkt.min_norm_correction(&self.data, |data, r| -constraint_rate(model, data, r))?;
-        for k in 0..self.nv {
-            v[k] += self.kkt.rhs[k];
-        }
         kinematics(model, &mut self.data, q, v);
         constraint_equations(model, &mut self.data, t);
         self.derivatives(t, q, v, dy)?;
