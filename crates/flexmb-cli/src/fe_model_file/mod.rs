@@ -26,8 +26,6 @@ mod value;
 
 use std::path::{Path, PathBuf};
 
-use serde::Deserialize;
-use toml::de::DeTable;
 
 use flexmb_fem::reduction::{Basis, ModeSet};
 
@@ -97,12 +95,7 @@ pub fn load_fe_model(path: &Path) -> Result<LoadedFeModel, ModelFileError> {
 /// model's `sources` are the mesh file and its includes (the text itself has no file).
 pub fn parse_fe_model(text: &str, file_name: &str, base_dir: &Path) -> Result<LoadedFeModel, ModelFileError> {
     let source = Source::new(file_name, text);
-    let (document, syntax_errors) = DeTable::parse_recoverable(text);
-    if let Some(error) = syntax_errors.first() {
-        return Err(toml_errors::syntax_error(&source, document.get_ref(), error));
-    }
-    let file = FeModelFile::deserialize(toml::de::Deserializer::from(document.clone()))
-        .map_err(|e| toml_errors::schema_error(&source, document.get_ref(), &e))?;
+    let file: FeModelFile = toml_errors::deserialize_located(&source)?;
     build::build(&file, &source, file_name, base_dir, &file_stem(file_name))
 }
 

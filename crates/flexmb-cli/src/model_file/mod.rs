@@ -16,8 +16,6 @@ pub(crate) mod value;
 
 use std::path::Path;
 
-use serde::Deserialize;
-use toml::de::DeTable;
 
 pub use build::body_cache::CACHE_DIR;
 pub use build::flexible_bodies::{FlexibleBodyInfo, FlexibleBodyOrigin};
@@ -132,12 +130,7 @@ fn parse_model_with(
     overrides: &ModelOverrides,
 ) -> Result<LoadedModel, ModelFileError> {
     let source = Source::new(file_name, text);
-    let (document, syntax_errors) = DeTable::parse_recoverable(text);
-    if let Some(error) = syntax_errors.first() {
-        return Err(toml_errors::syntax_error(&source, document.get_ref(), error));
-    }
-    let mut file = ModelFile::deserialize(toml::de::Deserializer::from(document.clone()))
-        .map_err(|e| toml_errors::schema_error(&source, document.get_ref(), &e))?;
+    let mut file: ModelFile = toml_errors::deserialize_located(&source)?;
     overrides.apply(&mut file).map_err(|message| ModelFileError {
         kind: ErrorKind::Invalid,
         file: file_name.to_string(),

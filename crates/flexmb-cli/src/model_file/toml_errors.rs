@@ -11,6 +11,15 @@ use super::key_path::KeyPath;
 use super::source::Source;
 use super::suggest::did_you_mean;
 
+/// Parses `source`'s text into `T`, with the syntax and schema errors located in the file.
+pub(crate) fn deserialize_located<'de, T: serde::Deserialize<'de>>(source: &Source<'de>) -> Result<T, ModelFileError> {
+    let (document, syntax_errors) = DeTable::parse_recoverable(source.text());
+    if let Some(error) = syntax_errors.first() {
+        return Err(syntax_error(source, document.get_ref(), error));
+    }
+    T::deserialize(toml::de::Deserializer::from(document.clone())).map_err(|e| schema_error(source, document.get_ref(), &e))
+}
+
 /// A syntax error; `document` is what the parser recovered, used to name the key near the error.
 pub(crate) fn syntax_error(source: &Source, document: &DeTable, error: &toml::de::Error) -> ModelFileError {
     let span = error.span().unwrap_or(source.text().len()..source.text().len());

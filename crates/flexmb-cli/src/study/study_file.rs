@@ -5,7 +5,6 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
-use toml::de::DeTable;
 use toml::Spanned;
 
 use crate::model_file::key_path::KeyPath;
@@ -103,12 +102,7 @@ pub fn load_study(path: &Path) -> Result<Study, ModelFileError> {
 /// Reads a study from its text; the model path is relative to `base_dir`.
 pub fn parse_study(text: &str, file_name: &str, base_dir: &Path) -> Result<Study, ModelFileError> {
     let source = Source::new(file_name, text);
-    let (document, syntax_errors) = DeTable::parse_recoverable(text);
-    if let Some(error) = syntax_errors.first() {
-        return Err(toml_errors::syntax_error(&source, document.get_ref(), error));
-    }
-    let parsed = StudyFile::deserialize(toml::de::Deserializer::from(document.clone()))
-        .map_err(|e| toml_errors::schema_error(&source, document.get_ref(), &e))?;
+    let parsed: StudyFile = toml_errors::deserialize_located(&source)?;
     build_study(&source, parsed, base_dir)
 }
 
