@@ -6,7 +6,7 @@
 
 mod support;
 
-use flexmb::analysis::{assemble, velocity_analysis, AccelerationSolver, SimulationReport, SimulationSettings, State};
+use flexmb::analysis::{SimulationReport, SimulationSettings};
 use flexmb::force::{ForceElement, ForceKind};
 use flexmb::function::TimeFunction;
 use flexmb::integrate::adams::ConstraintHandling;
@@ -15,7 +15,6 @@ use flexmb::joint::JointKind;
 use flexmb::math::{EulerParameters, Mat3, Vec3};
 use flexmb::measure::{Measure, MeasureKind};
 use flexmb::model::{BodyRef, Model, ModelBuilder, OutputKind};
-use flexmb::Data;
 use std::f64::consts::PI;
 use support::*;
 
@@ -314,23 +313,12 @@ fn stiff_spring_makes_adams_take_many_more_steps_than_the_bdf() {
     assert!(adams_steps.windows(2).all(|w| w[1] > 2.0 * w[0]), "{adams_steps:?}");
 }
 
-/// Consistent initial state of `model` and its accelerations.
-fn initial(model: &Model) -> (State, flexmb::analysis::Accelerations) {
-    let mut data = Data::new(model);
-    let mut state = State::initial(model);
-    assemble(model, &mut data, &mut state, Default::default()).unwrap();
-    velocity_analysis(model, &mut data, &mut state).unwrap();
-    let acc =
-        AccelerationSolver::new(model).solve(model, &mut data, 0.0, &state.q, &state.v, &state.active).unwrap().clone();
-    (state, acc)
-}
-
 /// The projection keeps the difference table: it moves the state by a small fraction of the tolerance
 /// per step, and the solution never leaves the constraints by more than the local error.
 #[test]
 fn projection_moves_the_state_by_much_less_than_the_tolerance() {
     let model = free_slider_crank();
-    let (state, acc) = initial(&model);
+    let (state, acc) = consistent_start(&model);
     eprintln!("free slider-crank, 2 s: drift before projection and the projection's change");
     for tol in [1e-5, 1e-8] {
         let config = BdfConfig { rtol: tol, atol: tol, ..Default::default() };
@@ -445,7 +433,7 @@ fn partitioning_against_projection() {
         let (ep, eg) =
             (largest_distance(&projection, &reference, output), largest_distance(&partitioning, &reference, output));
         // The partition's history, from a direct run.
-        let (state, acc) = initial(&model);
+        let (state, acc) = consistent_start(&model);
         let config = BdfConfig { rtol: tol, atol: tol, ..Default::default() };
         let mut direct = Adams::new(&model, &state, &acc, config, partitioning_config).unwrap();
         while direct.t() < t_end {

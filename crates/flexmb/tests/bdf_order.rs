@@ -8,13 +8,11 @@
 
 mod support;
 
-use flexmb::analysis::{assemble, velocity_analysis, AccelerationSolver, State};
 use flexmb::force::{ForceElement, ForceKind};
 use flexmb::integrate::{Bdf, BdfConfig};
 use flexmb::joint::JointKind;
 use flexmb::math::{EulerParameters, Mat3, Vec3};
 use flexmb::model::{BodyRef, Model, ModelBuilder};
-use flexmb::Data;
 use support::*;
 
 const K: f64 = 40.0; // N/m
@@ -56,12 +54,7 @@ fn oscillator() -> Model {
 
 /// (steps, global error in position and velocity at `T_END`, fraction of steps at order `k`).
 fn run_at(model: &Model, max_order: usize, tol: f64) -> (usize, f64, f64) {
-    let mut data = Data::new(model);
-    let mut state = State::initial(model);
-    assemble(model, &mut data, &mut state, Default::default()).unwrap();
-    velocity_analysis(model, &mut data, &mut state).unwrap();
-    let acc =
-        AccelerationSolver::new(model).solve(model, &mut data, 0.0, &state.q, &state.v, &state.active).unwrap().clone();
+    let (state, acc) = consistent_start(model);
     let config = BdfConfig { rtol: tol, atol: tol, max_order, ..Default::default() };
     let mut bdf = Bdf::new(model, &state, &acc, config).unwrap();
     while bdf.t() < T_END {

@@ -14,7 +14,6 @@ use std::cell::Cell;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 
-use flexmb::analysis::{assemble, velocity_analysis, AccelerationSolver, State};
 use flexmb::force::{ForceElement, ForceFrame, ForceKind};
 use flexmb::function::{Expression, TimeFunction};
 use flexmb::integrate::{
@@ -24,7 +23,6 @@ use flexmb::joint::JointKind;
 use flexmb::math::Vec3;
 use flexmb::measure::{Measure, MeasureKind};
 use flexmb::model::{BodyRef, Model, ModelBuilder};
-use flexmb::Data;
 use support::*;
 
 struct Counting;
@@ -173,12 +171,7 @@ fn in_faer_lu(trace: &str) -> bool {
 /// Jacobian re-evaluations and refactorizations). Returns (allocations outside faer's LU factorization
 /// with their backtraces, allocations inside it).
 fn allocations_while_stepping(model: &Model, window: usize) -> (Vec<String>, usize) {
-    let mut data = Data::new(model);
-    let mut state = State::initial(model);
-    assemble(model, &mut data, &mut state, Default::default()).unwrap();
-    velocity_analysis(model, &mut data, &mut state).unwrap();
-    let acc =
-        AccelerationSolver::new(model).solve(model, &mut data, 0.0, &state.q, &state.v, &state.active).unwrap().clone();
+    let (state, acc) = consistent_start(model);
     let mut bdf = Bdf::new(model, &state, &acc, BdfConfig { rtol: 1e-7, atol: 1e-7, ..Default::default() }).unwrap();
     let t_end = 3.0;
     for _ in 0..20 {
@@ -255,12 +248,7 @@ fn bdf_step_of_a_flexible_model_does_not_allocate() {
 /// interpolation inside each (the window must include rejected steps). Returns their backtraces and the
 /// projection iterations made in the window.
 fn adams_allocations_while_stepping(model: &Model, window: usize) -> (Vec<String>, usize) {
-    let mut data = Data::new(model);
-    let mut state = State::initial(model);
-    assemble(model, &mut data, &mut state, Default::default()).unwrap();
-    velocity_analysis(model, &mut data, &mut state).unwrap();
-    let acc =
-        AccelerationSolver::new(model).solve(model, &mut data, 0.0, &state.q, &state.v, &state.active).unwrap().clone();
+    let (state, acc) = consistent_start(model);
     let config = BdfConfig { rtol: 1e-7, atol: 1e-7, ..Default::default() };
     let mut adams = Adams::new(model, &state, &acc, config, AdamsConfig::default()).unwrap();
     let t_end = 3.0;
@@ -321,12 +309,7 @@ fn generalized_alpha_allocations_while_stepping(
     alpha: GeneralizedAlphaConfig,
     window: usize,
 ) -> (Vec<String>, Stats) {
-    let mut data = Data::new(model);
-    let mut state = State::initial(model);
-    assemble(model, &mut data, &mut state, Default::default()).unwrap();
-    velocity_analysis(model, &mut data, &mut state).unwrap();
-    let acc =
-        AccelerationSolver::new(model).solve(model, &mut data, 0.0, &state.q, &state.v, &state.active).unwrap().clone();
+    let (state, acc) = consistent_start(model);
     let config = BdfConfig { rtol: 1e-7, atol: 1e-7, ..Default::default() };
     let mut ga = GeneralizedAlpha::new(model, &state, &acc, config, alpha).unwrap();
     let t_end = 3.0;

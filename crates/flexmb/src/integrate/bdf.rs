@@ -21,7 +21,7 @@
 use crate::analysis::{Accelerations, State};
 use crate::data::Data;
 use crate::integrate::iteration_matrix::IterationMatrix;
-use crate::integrate::{BdfConfig, IntegrationError, Integrator, Stats};
+use crate::integrate::{AttemptFailure, BdfConfig, IntegrationError, Integrator, Stats};
 use crate::math::euler_parameters::g_matrix;
 use crate::math::{Vec3, Vec4};
 use crate::model::Model;
@@ -349,7 +349,7 @@ impl<'m> Bdf<'m> {
                         self.refresh_jacobian(t_new, c);
                         continue;
                     }
-                    failure = AttemptFailure::Singular { t_new, c };
+                    failure = AttemptFailure::Singular { t_new, step: c };
                     self.reduce_step(0.5);
                     continue;
                 }
@@ -373,7 +373,7 @@ impl<'m> Bdf<'m> {
                     self.refresh_jacobian(t_new, c);
                     continue;
                 }
-                failure = AttemptFailure::Newton { t_new, c };
+                failure = AttemptFailure::Newton { t_new, step: c };
                 self.reduce_step(0.5);
                 continue;
             }
@@ -613,18 +613,7 @@ impl<'m> Bdf<'m> {
     /// The message of a step-size underflow after `failure`. The predictor of the failed attempt is still
     /// in `y_pred` and `psi` (a step-size reduction changes only the differences).
     fn describe_failure(&mut self, failure: AttemptFailure) -> String {
-        match failure {
-            AttemptFailure::None => String::new(),
-            AttemptFailure::Singular { t_new, c } => {
-                format!("the iteration matrix is singular; {}", self.worst_equation(t_new, c))
-            }
-            AttemptFailure::Newton { t_new, c } => {
-                format!("the Newton iteration does not converge; {}", self.worst_equation(t_new, c))
-            }
-            AttemptFailure::ErrorTest { error_norm } => {
-                format!("the local error test fails (weighted error {error_norm:.2e})")
-            }
-        }
+        failure.describe(|t_new, step| self.worst_equation(t_new, step))
     }
 
     /// What went wrong at the predictor, named for a person: the largest residual of the equations of
@@ -659,15 +648,6 @@ impl<'m> Bdf<'m> {
     }
 }
 
-/// Why the last attempt at a step failed, kept without allocating so that recoverable failures cost
-/// nothing; [`Bdf::describe_failure`] turns it into a message if the step size underflows.
-#[derive(Clone, Copy, Debug)]
-enum AttemptFailure {
-    None,
-    Singular { t_new: f64, c: f64 },
-    Newton { t_new: f64, c: f64 },
-    ErrorTest { error_norm: f64 },
-}
 
 /// Names row `row` of the residual.
 fn describe_y_row(model: &Model, yl: &YLayout, row: usize) -> String {

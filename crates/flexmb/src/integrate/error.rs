@@ -10,3 +10,34 @@ pub enum IntegrationError {
     #[error("inconsistent initial conditions at t = {t:.6} s: {reason}")]
     InitialConditions { t: f64, reason: String },
 }
+
+/// Why the last attempt at a step of an implicit method failed, kept without allocating so that
+/// recoverable failures cost nothing; [`describe`](Self::describe) turns it into a message if the step
+/// size underflows. `step` is what the method needs to rebuild the failed attempt's predictor: the BDF's
+/// `c = α/h`, the generalized-α method's `h`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum AttemptFailure {
+    None,
+    Singular { t_new: f64, step: f64 },
+    Newton { t_new: f64, step: f64 },
+    ErrorTest { error_norm: f64 },
+}
+
+impl AttemptFailure {
+    /// The reason of a step-size underflow; `worst_equation(t_new, step)` names the worst residuals at
+    /// the failed attempt's predictor (only called here, so it may allocate).
+    pub(crate) fn describe(self, mut worst_equation: impl FnMut(f64, f64) -> String) -> String {
+        match self {
+            AttemptFailure::None => String::new(),
+            AttemptFailure::Singular { t_new, step } => {
+                format!("the iteration matrix is singular; {}", worst_equation(t_new, step))
+            }
+            AttemptFailure::Newton { t_new, step } => {
+                format!("the Newton iteration does not converge; {}", worst_equation(t_new, step))
+            }
+            AttemptFailure::ErrorTest { error_norm } => {
+                format!("the local error test fails (weighted error {error_norm:.2e})")
+            }
+        }
+    }
+}

@@ -34,6 +34,7 @@ pub use adams::{Adams, AdamsConfig};
 pub use bdf::Bdf;
 pub use config::{BdfConfig, Method};
 pub use config::GeneralizedAlphaConfig;
+pub(crate) use error::AttemptFailure;
 pub use error::IntegrationError;
 pub use generalized_alpha::GeneralizedAlpha;
 pub use integrator::Integrator;

@@ -117,6 +117,18 @@ pub fn run(model: &Model, settings: &SimulationSettings) -> Run {
     try_run(model, settings).unwrap_or_else(|(e, _)| panic!("simulation of '{}' failed: {e}", model.name()))
 }
 
+/// The assembled, velocity-analysed initial state of `model` and its accelerations: where an
+/// integrator starts.
+pub fn consistent_start(model: &Model) -> (flexmb::analysis::State, flexmb::analysis::Accelerations) {
+    use flexmb::analysis::{assemble, velocity_analysis, AccelerationSolver, State};
+    let mut data = flexmb::Data::new(model);
+    let mut state = State::initial(model);
+    assemble(model, &mut data, &mut state, Default::default()).unwrap();
+    velocity_analysis(model, &mut data, &mut state).unwrap();
+    let acc = AccelerationSolver::new(model).solve(model, &mut data, 0.0, &state.q, &state.v, &state.active).unwrap().clone();
+    (state, acc)
+}
+
 /// Largest absolute value of `f(k)` over the frames.
 pub fn max_over(n: usize, f: impl Fn(usize) -> f64) -> f64 {
     (0..n).map(f).fold(0.0, f64::max)

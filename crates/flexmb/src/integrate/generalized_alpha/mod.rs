@@ -88,7 +88,7 @@ use lie_group::{position_sum_of_squares, retract, right_jacobian_inverse};
 
 use crate::analysis::{Accelerations, State};
 use crate::data::Data;
-use crate::integrate::{BdfConfig, GeneralizedAlphaConfig, IntegrationError, Integrator, Stats};
+use crate::integrate::{AttemptFailure, BdfConfig, GeneralizedAlphaConfig, IntegrationError, Integrator, Stats};
 use crate::math::Vec3;
 use crate::model::Model;
 use crate::stage::{add_jacobian_transpose, constraint_equations, kinematics, update_angle_references};
@@ -349,9 +349,9 @@ impl<'m> GeneralizedAlpha<'m> {
                     continue;
                 }
                 failure = if factored {
-                    AttemptFailure::Newton { t_new, h: h_step }
+                    AttemptFailure::Newton { t_new, step: h_step }
                 } else {
-                    AttemptFailure::Singular { t_new, h: h_step }
+                    AttemptFailure::Singular { t_new, step: h_step }
                 };
                 h = 0.5 * h_step;
                 rejected = true;
@@ -617,18 +617,7 @@ impl<'m> GeneralizedAlpha<'m> {
 
     /// The message of a step-size underflow after `failure` (allocates; only called then).
     fn describe_failure(&mut self, failure: AttemptFailure) -> String {
-        match failure {
-            AttemptFailure::None => String::new(),
-            AttemptFailure::Singular { t_new, h } => {
-                format!("the iteration matrix is singular; {}", self.worst_equation(t_new, h))
-            }
-            AttemptFailure::Newton { t_new, h } => {
-                format!("the Newton iteration does not converge; {}", self.worst_equation(t_new, h))
-            }
-            AttemptFailure::ErrorTest { error_norm } => {
-                format!("the local error test fails (weighted error {error_norm:.2e})")
-            }
-        }
+        failure.describe(|t_new, step| self.worst_equation(t_new, step))
     }
 
     /// The largest residuals of the equations of motion and of the constraints at the predictor of the
@@ -668,14 +657,6 @@ impl<'m> GeneralizedAlpha<'m> {
     }
 }
 
-/// Why the last attempt at a step failed, kept without allocating.
-#[derive(Clone, Copy, Debug)]
-enum AttemptFailure {
-    None,
-    Singular { t_new: f64, h: f64 },
-    Newton { t_new: f64, h: f64 },
-    ErrorTest { error_norm: f64 },
-}
 
 /// Names row `row` of the residual `[dynamics; velocity constraints; position constraints]`.
 fn describe_row(model: &Model, row: usize) -> String {
