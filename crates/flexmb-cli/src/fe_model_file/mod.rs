@@ -29,7 +29,7 @@ use std::path::{Path, PathBuf};
 
 use flexmb_fem::reduction::{Basis, ModeSet};
 
-use crate::model_file::source::Source;
+use crate::model_file::source::{read_text_file, Source};
 use crate::model_file::toml_errors;
 use crate::model_file::ErrorKind;
 pub use crate::model_file::ModelFileError;
@@ -75,15 +75,7 @@ pub fn load_fe_model(path: &Path) -> Result<LoadedFeModel, ModelFileError> {
             sources: mesh_file::deck_files(path),
         });
     }
-    let io_error = |message: String| ModelFileError {
-        kind: ErrorKind::Io,
-        file: file.clone(),
-        line: None,
-        key_path: String::new(),
-        message,
-    };
-    let bytes = std::fs::read(path).map_err(|e| io_error(format!("cannot read the FE model file: {e}")))?;
-    let text = String::from_utf8(bytes).map_err(|e| io_error(format!("the FE model file is not UTF-8 text: {e}")))?;
+    let text = read_text_file(path, "FE model")?;
     let base_dir = path.parent().unwrap_or(Path::new(""));
     let mut loaded = parse_fe_model(&text, &file, base_dir)?;
     loaded.sources.insert(0, path.to_path_buf());

@@ -97,15 +97,7 @@ pub fn load_model(path: &Path) -> Result<LoadedModel, ModelFileError> {
 /// [`load_model`] with some of the file's values replaced (a study's case).
 pub fn load_model_with(path: &Path, overrides: &ModelOverrides) -> Result<LoadedModel, ModelFileError> {
     let file = path.display().to_string();
-    let io_error = |message: String| ModelFileError {
-        kind: ErrorKind::Io,
-        file: file.clone(),
-        line: None,
-        key_path: String::new(),
-        message,
-    };
-    let bytes = std::fs::read(path).map_err(|e| io_error(format!("cannot read the model file: {e}")))?;
-    let text = String::from_utf8(bytes).map_err(|e| io_error(format!("the model file is not UTF-8 text: {e}")))?;
+    let text = source::read_text_file(path, "model")?;
     let base_dir = path.parent().unwrap_or(Path::new(""));
     parse_model_with(&text, &file, base_dir, overrides)
 }

@@ -8,8 +8,8 @@ use serde::Deserialize;
 use toml::Spanned;
 
 use crate::model_file::key_path::KeyPath;
-use crate::model_file::source::Source;
-use crate::model_file::{toml_errors, ErrorKind, ModelFileError, ModelOverrides};
+use crate::model_file::source::{read_text_file, Source};
+use crate::model_file::{toml_errors, ModelFileError, ModelOverrides};
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -89,13 +89,7 @@ pub struct Published {
 /// Reads the study file at `path`.
 pub fn load_study(path: &Path) -> Result<Study, ModelFileError> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| ModelFileError {
-        kind: ErrorKind::Io,
-        file: file.clone(),
-        line: None,
-        key_path: String::new(),
-        message: format!("cannot read the study file: {e}"),
-    })?;
+    let text = read_text_file(path, "study")?;
     parse_study(&text, &file, path.parent().unwrap_or(Path::new("")))
 }
 
