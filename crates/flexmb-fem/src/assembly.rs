@@ -1,12 +1,14 @@
-//! Assembly of the global stiffness and lumped mass: equation numbers for the free degrees of
-//! freedom (supports removed), element matrices added at their rows, sparse storage.
+//! Assembly of the global stiffness and mass: equation numbers for the free degrees of freedom
+//! (supports removed), element matrices added at their rows, sparse storage. The mass is held as
+//! mass points (one per node for the lumped mass, the elements' Gauss points for the consistent
+//! one), from which the mass matrix and its square-root factor follow.
 
 use faer::sparse::{SparseColMat, Triplet};
 use nalgebra::{Matrix3, Vector3};
 
-use crate::element::{element_matrices, NodalMass};
+use crate::element::{element_matrices, MassPoint, NodalMass};
 use crate::error::FemError;
-use crate::mesh::{Dof, DofSet, FeModel};
+use crate::mesh::{Dof, DofSet, FeModel, MassModel};
 
 /// Equation numbers of the nodal degrees of freedom: 6 per node, supported ones have none.
 #[derive(Clone, Debug, PartialEq)]
@@ -65,13 +67,21 @@ impl DofMap {
 }
 
 /// The assembled model: equation numbers, sparse stiffness and mass over the free dofs (both
-/// triangles stored), and the lumped mass per node (for the inertia invariants).
+/// triangles stored), the mass points the mass is made of, and the lumped mass per node.
 #[derive(Clone, Debug)]
 pub struct AssembledModel {
     pub dofs: DofMap,
     pub stiffness: SparseColMat<usize, f64>,
+    /// `M = Σ_g G_gᵀ diag(m_g I, J_g) G_g` over the mass points.
     pub mass: SparseColMat<usize, f64>,
-    /// Lumped mass and rotary inertia at each node, elements and point masses together.
+    /// A square-root factor `F` of the mass, `Fᵀ F = M`: rows `√m_g G_g` (translations) and
+    /// `J_g^{1/2} G_g` (rotations) of every mass point with mass or rotary inertia.
+    pub mass_root: SparseColMat<usize, f64>,
+    /// The mass points (interpolation indices are mesh node indices): what the inertia invariants
+    /// and the mass properties sum over.
+    pub mass_points: Vec<MassPoint>,
+    /// Lumped mass and rotary inertia at each node, elements and point masses together: the mass
+    /// points of the lumped mass, and each node's share of the mass with the consistent one.
     pub nodal_masses: Vec<NodalMass>,
 }
 
@@ -93,6 +103,7 @@ pub fn assemble(model: &FeModel) -> Result<AssembledModel, FemError> {
         return Err(FemError::NoFreeDofs);
     }
     let mut nodal_masses = vec![NodalMass { mass: 0.0, rotary_inertia: Matrix3::zeros() }; n_nodes];
+    let mut mass_points = Vec::new();
     let mut stiffness_triplets = Vec::new();
     // Every nodal dof, supported or not, must be resisted by some element.
     let mut stiff_dof = vec![false; 6 * n_nodes];
@@ -118,6 +129,12 @@ pub fn assemble(model: &FeModel) -> Result<AssembledModel, FemError> {
             nodal_masses[node].mass += lumped.mass;
             nodal_masses[node].rotary_inertia += lumped.rotary_inertia;
         }
+        for mut point in matrices.consistent_mass {
+            for (node, _) in point.interpolation.iter_mut() {
+                *node = element.nodes[*node];
+            }
+            mass_points.push(point);
+        }
     }
     for pm in &mesh.point_masses {
         let label = mesh.nodes[pm.node].label;
@@ -126,6 +143,18 @@ pub fn assemble(model: &FeModel) -> Result<AssembledModel, FemError> {
         }
         nodal_masses[pm.node].mass += pm.mass;
         nodal_masses[pm.node].rotary_inertia += Matrix3::from_diagonal(&pm.rotary_inertia);
+        if model.options.mass == MassModel::Consistent {
+            let position = mesh.nodes[pm.node].position;
+            mass_points.push(MassPoint::at_node(pm.node, position, pm.mass, Matrix3::from_diagonal(&pm.rotary_inertia)));
+        }
+    }
+    if model.options.mass == MassModel::Lumped {
+        mass_points = nodal_masses
+            .iter()
+            .enumerate()
+            .filter(|(_, m)| m.mass != 0.0 || m.rotary_inertia != Matrix3::zeros())
+            .map(|(node, m)| MassPoint::at_node(node, mesh.nodes[node].position, m.mass, m.rotary_inertia))
+            .collect();
     }
     for (global, stiff) in stiff_dof.iter().enumerate() {
         if !stiff && dofs.equation_of(global).is_some() {
@@ -142,27 +171,44 @@ pub fn assemble(model: &FeModel) -> Result<AssembledModel, FemError> {
     let n = dofs.n_free();
     let stiffness = SparseColMat::try_new_from_triplets(n, n, &stiffness_triplets)
         .map_err(|e| FemError::LinearAlgebra(format!("stiffness assembly: {e:?}")))?;
-    let mass = mass_matrix(&dofs, &nodal_masses)?;
-    Ok(AssembledModel { dofs, stiffness, mass, nodal_masses })
+    let mass = mass_matrix(&dofs, &mass_points)?;
+    let mass_root = mass_root(&dofs, &mass_points)?;
+    Ok(AssembledModel { dofs, stiffness, mass, mass_root, mass_points, nodal_masses })
 }
 
-/// The lumped mass matrix over the free dofs: `m I` on the translations of each node, the rotary
-/// inertia on its rotations.
-fn mass_matrix(dofs: &DofMap, nodal: &[NodalMass]) -> Result<SparseColMat<usize, f64>, FemError> {
-    let mut triplets = Vec::new();
-    for (node, m) in nodal.iter().enumerate() {
-        for dof in [Dof::Ux, Dof::Uy, Dof::Uz] {
-            if let Some(e) = dofs.equation(node, dof) {
-                triplets.push(Triplet::new(e, e, m.mass));
+/// The rows of `G` of `point` over the free dofs: for each of its 6 rows, (equation, value) pairs.
+fn free_rows(dofs: &DofMap, point: &MassPoint) -> [Vec<(usize, f64)>; 6] {
+    let mut rows: [Vec<(usize, f64)>; 6] = Default::default();
+    for (node, block) in &point.interpolation {
+        for dof in Dof::ALL {
+            let Some(e) = dofs.equation(*node, dof) else { continue };
+            for (r, row) in rows.iter_mut().enumerate() {
+                let value = block[(r, dof.index())];
+                if value != 0.0 {
+                    row.push((e, value));
+                }
             }
         }
-        let rot = [Dof::Rx, Dof::Ry, Dof::Rz];
-        for (a, da) in rot.into_iter().enumerate() {
-            for (b, db) in rot.into_iter().enumerate() {
-                let value = m.rotary_inertia[(a, b)];
-                if let (Some(r), Some(c)) = (dofs.equation(node, da), dofs.equation(node, db)) {
-                    if value != 0.0 || a == b {
-                        triplets.push(Triplet::new(r, c, value));
+    }
+    rows
+}
+
+/// The mass matrix over the free dofs, `Σ_g G_gᵀ diag(m_g I, J_g) G_g`, with the whole diagonal
+/// stored.
+fn mass_matrix(dofs: &DofMap, points: &[MassPoint]) -> Result<SparseColMat<usize, f64>, FemError> {
+    let mut triplets: Vec<Triplet<usize, usize, f64>> = (0..dofs.n_free()).map(|e| Triplet::new(e, e, 0.0)).collect();
+    for point in points {
+        let rows = free_rows(dofs, point);
+        let inertia = point.inertia_block();
+        for a in 0..6 {
+            for b in 0..6 {
+                let d = inertia[(a, b)];
+                if d == 0.0 {
+                    continue;
+                }
+                for &(ea, ga) in &rows[a] {
+                    for &(eb, gb) in &rows[b] {
+                        triplets.push(Triplet::new(ea, eb, ga * d * gb));
                     }
                 }
             }
@@ -171,6 +217,31 @@ fn mass_matrix(dofs: &DofMap, nodal: &[NodalMass]) -> Result<SparseColMat<usize,
     let n = dofs.n_free();
     SparseColMat::try_new_from_triplets(n, n, &triplets)
         .map_err(|e| FemError::LinearAlgebra(format!("mass assembly: {e:?}")))
+}
+
+/// The square-root factor `F` of the mass (`Fᵀ F = M`), one row per massive translation or rotation
+/// of every mass point; rows of supported motions that vanish are dropped.
+fn mass_root(dofs: &DofMap, points: &[MassPoint]) -> Result<SparseColMat<usize, f64>, FemError> {
+    let mut triplets = Vec::new();
+    let mut row_count = 0;
+    for point in points {
+        let rows = free_rows(dofs, point);
+        for root in point.inertia_root_rows() {
+            let mut entries: Vec<(usize, f64)> = Vec::new();
+            for (k, r) in root.iter().enumerate() {
+                if *r != 0.0 {
+                    entries.extend(rows[k].iter().map(|&(e, g)| (e, r * g)));
+                }
+            }
+            if entries.is_empty() {
+                continue;
+            }
+            triplets.extend(entries.into_iter().map(|(e, v)| Triplet::new(row_count, e, v)));
+            row_count += 1;
+        }
+    }
+    SparseColMat::try_new_from_triplets(row_count, dofs.n_free(), &triplets)
+        .map_err(|e| FemError::LinearAlgebra(format!("mass factor: {e:?}")))
 }
 
 /// Total mass, centre of mass and inertia about the centre of mass of the lumped model (rotary
@@ -184,16 +255,16 @@ pub struct MassProperties {
 }
 
 impl MassProperties {
-    /// The mass properties of nodes at `positions` with lumped `masses`.
-    pub fn of_lumped(positions: &[Vector3<f64>], masses: &[NodalMass]) -> MassProperties {
-        let mass: f64 = masses.iter().map(|m| m.mass).sum();
-        let first: Vector3<f64> = positions.iter().zip(masses).map(|(x, m)| m.mass * x).sum();
+    /// The mass properties of mass points.
+    pub fn of_points(points: &[MassPoint]) -> MassProperties {
+        let mass: f64 = points.iter().map(|p| p.mass).sum();
+        let first: Vector3<f64> = points.iter().map(|p| p.mass * p.position).sum();
         let com = if mass > 0.0 { first / mass } else { Vector3::zeros() };
         let mut inertia = Matrix3::zeros();
-        for (x, m) in positions.iter().zip(masses) {
-            let r = x - com;
-            inertia += m.mass * (Matrix3::identity() * r.norm_squared() - r * r.transpose());
-            inertia += m.rotary_inertia;
+        for p in points {
+            let r = p.position - com;
+            inertia += p.mass * (Matrix3::identity() * r.norm_squared() - r * r.transpose());
+            inertia += p.rotary_inertia;
         }
         MassProperties { mass, center_of_mass: com, inertia }
     }

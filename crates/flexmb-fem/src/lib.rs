@@ -26,5 +26,5 @@ pub use error::FemError;
 
 pub use mesh::{
     BeamSection, Dof, DofSet, Element, ElementKind, FeModel, Material, Mesh, Node, PointMass,
-    ModelOptions, ShellSection, StaticLoad, StaticLoadKind, Support,
+    MassModel, ModelOptions, ShellSection, StaticLoad, StaticLoadKind, Support,
 };

@@ -23,11 +23,22 @@
 //! polar second moment `Iy + Iz`, not J), and `m L² / 24 + ρ Iy L / 2` about y,
 //! `m L² / 24 + ρ Iz L / 2` about z (a slender rod of mass m/2 and length L/2 about its end, plus the
 //! sections' own rotary inertia); in body axes this is `Λᵀ diag(…) Λ`.
+//!
+//! **Consistent mass.** The mass `ρ A` per length moves with the Euler–Bernoulli displacement field
+//! of the beam's axis: linear in the axial displacement, Hermite cubics in the deflections,
+//! `v = H₁ v_a + L H₂ θz_a + H₃ v_b + L H₄ θz_b` with `H₁ = 1 − 3ξ² + 2ξ³`, `H₂ = ξ − 2ξ² + ξ³`,
+//! `H₃ = 3ξ² − 2ξ³`, `H₄ = ξ³ − ξ²` (ξ = x / L), and `w` the same in `(w, −θy)`. The rotations
+//! follow: `θx` linear, `θz = dv/dx`, `θy = −dw/dx`. Four Gauss points carry the mass (exact for
+//! the products of cubics): `Σ m_g N_gᵀ N_g` is Przemieniecki's consistent mass (1968, eq. 11.31,
+//! `ρ A L / 420 · [156, 22L, 54, −13L; …]` in bending, `ρ A L / 6 · [2, 1; 1, 2]` axially). With
+//! rotary inertia the points also carry the sections' own rotary inertia, `ρ (Iy + Iz)` about x,
+//! `ρ Iy` about y and `ρ Iz` about z per length (Rayleigh's rotary inertia; the translations
+//! already hold the rest). A Timoshenko beam uses the same field for its mass.
 
-use nalgebra::{DMatrix, Matrix3, Vector3};
+use nalgebra::{DMatrix, Matrix3, Matrix6, Vector3};
 
 use super::validate::{positive, Elastic};
-use super::{ElementError, ElementMatrices, NodalMass};
+use super::{gauss_legendre_4, ElementError, ElementMatrices, MassPoint, NodalMass};
 use crate::mesh::{BeamSection, Material};
 
 /// Below this length relative to the distance of the nodes from the body origin, the two nodes are
@@ -95,7 +106,81 @@ pub fn beam_matrices(
     Ok(ElementMatrices {
         stiffness,
         lumped_mass: vec![nodal, nodal],
+        consistent_mass: Vec::new(),
     })
+}
+
+/// The consistent mass of the beam from `a` to `b` as four mass points (see the module
+/// documentation); interpolation indices 0 (node a) and 1 (node b).
+pub fn consistent_mass_points(
+    a: &Vector3<f64>,
+    b: &Vector3<f64>,
+    section: &BeamSection,
+    material: &Material,
+    rotary_inertia: bool,
+) -> Result<Vec<MassPoint>, ElementError> {
+    let elastic = Elastic::new(material)?;
+    let area = positive("beam section area", section.area)?;
+    let axes = local_axes(a, b, &section.orientation)?;
+    let length = (b - a).norm();
+    let rho = elastic.density;
+    let section_rotary = Matrix3::from_diagonal(&Vector3::new(
+        rho * (section.iy + section.iz),
+        rho * section.iy,
+        rho * section.iz,
+    ));
+    let mut to_body = Matrix6::zeros();
+    to_body.fixed_view_mut::<3, 3>(0, 0).copy_from(&axes.transpose());
+    to_body.fixed_view_mut::<3, 3>(3, 3).copy_from(&axes.transpose());
+    Ok(gauss_legendre_4()
+        .into_iter()
+        .map(|(xi, weight)| {
+            let [at_a, at_b] = axis_field(xi, length);
+            let rotary = if rotary_inertia {
+                axes.transpose() * section_rotary * axes * (weight * length)
+            } else {
+                Matrix3::zeros()
+            };
+            MassPoint {
+                position: a + xi * (b - a),
+                mass: rho * area * length * weight,
+                rotary_inertia: rotary,
+                interpolation: vec![
+                    (0, to_body * at_a * to_body.transpose()),
+                    (1, to_body * at_b * to_body.transpose()),
+                ],
+            }
+        })
+        .collect())
+}
+
+/// The axis' displacement field at ξ = x / L in local axes: for each node, the 6 × 6 block from
+/// its local `u v w θx θy θz` to the point's translation and rotation.
+fn axis_field(xi: f64, length: f64) -> [Matrix6<f64>; 2] {
+    let l = length;
+    let (x2, x3) = (xi * xi, xi * xi * xi);
+    // Hermite cubics and their derivatives d/dξ.
+    let h = [1.0 - 3.0 * x2 + 2.0 * x3, xi - 2.0 * x2 + x3, 3.0 * x2 - 2.0 * x3, x3 - x2];
+    let dh = [-6.0 * xi + 6.0 * x2, 1.0 - 4.0 * xi + 3.0 * x2, 6.0 * xi - 6.0 * x2, 3.0 * x2 - 2.0 * xi];
+    let linear = [1.0 - xi, xi];
+    let mut blocks = [Matrix6::zeros(), Matrix6::zeros()];
+    for (node, g) in blocks.iter_mut().enumerate() {
+        let (h_disp, h_rot) = (h[2 * node], l * h[2 * node + 1]);
+        let (dh_disp, dh_rot) = (dh[2 * node] / l, dh[2 * node + 1]);
+        g[(0, 0)] = linear[node]; // u
+        g[(3, 3)] = linear[node]; // θx
+        // x–y plane: v and θz = dv/dx.
+        g[(1, 1)] = h_disp;
+        g[(1, 5)] = h_rot;
+        g[(5, 1)] = dh_disp;
+        g[(5, 5)] = dh_rot;
+        // x–z plane: w and θy = −dw/dx, the same field in (w, −θy).
+        g[(2, 2)] = h_disp;
+        g[(2, 4)] = -h_rot;
+        g[(4, 2)] = -dh_disp;
+        g[(4, 4)] = dh_rot;
+    }
+    blocks
 }
 
 /// The checked section properties.

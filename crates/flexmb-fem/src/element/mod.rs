@@ -1,11 +1,13 @@
-//! Element matrices: stiffness and lumped mass of one element, in body-frame components, 6 degrees of
+//! Element matrices: stiffness and mass of one element, in body-frame components, 6 degrees of
 //! freedom per node (`ux uy uz rx ry rz`) in the order of the element's nodes.
 //!
 //! A lumped mass is, at each node, a point mass (the same in all three translations) and optionally a
 //! 3×3 rotary inertia about the node; with rotary inertia off the mass matrix is diagonal, as in the
-//! seed.
+//! seed. A consistent mass is a set of [`MassPoint`]s at the element's Gauss points that move with
+//! its displacement field.
 
 pub mod beam;
+mod mass_point;
 pub mod shell;
 #[cfg(test)]
 mod test_support;
@@ -13,13 +15,20 @@ mod validate;
 
 use nalgebra::{DMatrix, Matrix3};
 
-use crate::mesh::{Element, ElementKind, Mesh, ModelOptions};
+pub use mass_point::MassPoint;
+pub(crate) use mass_point::gauss_legendre_4;
 
-/// The stiffness matrix (symmetric, 6n × 6n) and the lumped mass (one entry per node) of one element.
+use crate::mesh::{Element, ElementKind, MassModel, Mesh, ModelOptions};
+
+/// The stiffness matrix (symmetric, 6n × 6n) and the mass of one element.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ElementMatrices {
     pub stiffness: DMatrix<f64>,
+    /// The lumped mass, one entry per node (always computed: the nodes' share of the mass).
     pub lumped_mass: Vec<NodalMass>,
+    /// With [`MassModel::Consistent`], the mass points of the consistent mass (interpolation indices
+    /// are the element's node positions 0..n); empty with the lumped mass.
+    pub consistent_mass: Vec<MassPoint>,
 }
 
 /// The mass an element lumps at one of its nodes.
@@ -67,7 +76,12 @@ pub fn element_matrices(
             if points.len() != 2 {
                 return Err(ElementError::NodeCount { kind: "beam", expected: "2", found: points.len() });
             }
-            beam::beam_matrices(&points[0], &points[1], section, material, options.rotary_inertia)
+            let mut matrices = beam::beam_matrices(&points[0], &points[1], section, material, options.rotary_inertia)?;
+            if options.mass == MassModel::Consistent {
+                matrices.consistent_mass =
+                    beam::consistent_mass_points(&points[0], &points[1], section, material, options.rotary_inertia)?;
+            }
+            Ok(matrices)
         }
         ElementKind::Shell { section } => {
             let section = &mesh.shell_sections[section];

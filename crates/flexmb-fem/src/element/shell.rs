@@ -34,6 +34,12 @@
 //! **Lumped mass.** `ρ t A / n` at each of the n nodes; with rotary inertia also
 //! `(ρ t³ / 12)(A / n)` about each of the three axes (the bending rotary inertia of the node's share
 //! of the plate, taken isotropic, so it is the same in body axes).
+//!
+//! **Consistent mass.** `ρ t` per area moves with the field interpolated from the nodes by the
+//! bilinear (quadrilateral) or linear (triangle) shape functions, translations and rotations alike:
+//! the mass points are the 2 × 2 Gauss points of the quadrilateral or the three midpoint-rule points
+//! of the triangle, exact for the products of these shape functions. With rotary inertia each point
+//! also carries `ρ t³ / 12` per area about each axis, as the lumped mass does.
 
 mod bilinear;
 mod dkt;
@@ -47,8 +53,8 @@ use nalgebra::{DMatrix, Matrix3, Matrix6, Vector2, Vector3};
 pub use frame::WARP_TOLERANCE;
 
 use super::validate::{non_negative, positive, Elastic};
-use super::{ElementError, ElementMatrices, NodalMass};
-use crate::mesh::{Material, ModelOptions, ShellSection};
+use super::{ElementError, ElementMatrices, MassPoint, NodalMass};
+use crate::mesh::{MassModel, Material, ModelOptions, ShellSection};
 use frame::ElementFrame;
 
 /// Stiffness and lumped mass of a 3- or 4-node flat shell.
@@ -141,10 +147,53 @@ pub fn shell_matrices(
         mass: elastic.density * t * share,
         rotary_inertia,
     };
+    let consistent_mass = match options.mass {
+        MassModel::Lumped => Vec::new(),
+        MassModel::Consistent => {
+            let rotary_per_area = if options.rotary_inertia { elastic.density * t * t * t / 12.0 } else { 0.0 };
+            consistent_mass_points(points, &frame, elastic.density * t, rotary_per_area)
+        }
+    };
     Ok(ElementMatrices {
         stiffness,
         lumped_mass: vec![nodal; n],
+        consistent_mass,
     })
+}
+
+/// The mass points of the consistent mass: `mass_per_area` and `rotary_per_area` (about every axis)
+/// at the quadrature points of the element's shape functions; interpolation indices are the nodes'
+/// positions in `points`.
+fn consistent_mass_points(
+    points: &[Vector3<f64>],
+    frame: &ElementFrame,
+    mass_per_area: f64,
+    rotary_per_area: f64,
+) -> Vec<MassPoint> {
+    // (shape function values, area weight) at each quadrature point.
+    let rule: Vec<(Vec<f64>, f64)> = if points.len() == 3 {
+        let third = frame.area / 3.0;
+        [[2.0 / 3.0, 1.0 / 6.0, 1.0 / 6.0], [1.0 / 6.0, 2.0 / 3.0, 1.0 / 6.0], [1.0 / 6.0, 1.0 / 6.0, 2.0 / 3.0]]
+            .into_iter()
+            .map(|n| (n.to_vec(), third))
+            .collect()
+    } else {
+        bilinear::gauss_points()
+            .into_iter()
+            .map(|[xi, eta]| {
+                let det = bilinear::jacobian(&frame.plane, xi, eta).determinant();
+                (bilinear::shape(xi, eta).to_vec(), det)
+            })
+            .collect()
+    };
+    rule.into_iter()
+        .map(|(shape, area)| MassPoint {
+            position: points.iter().zip(&shape).map(|(p, n)| *n * p).sum(),
+            mass: mass_per_area * area,
+            rotary_inertia: Matrix3::identity() * (rotary_per_area * area),
+            interpolation: shape.iter().enumerate().map(|(i, n)| (i, Matrix6::identity() * *n)).collect(),
+        })
+        .collect()
 }
 
 #[cfg(test)]

@@ -127,3 +127,19 @@ impl DenseModel {
         u
     }
 }
+
+/// The element mass matrix (6n × 6n, element node order) of mass points: `Σ_g G_gᵀ diag(m I, J) G_g`.
+pub(super) fn mass_matrix_of_points(points: &[super::MassPoint], nodes: usize) -> DMatrix<f64> {
+    let mut m = DMatrix::zeros(6 * nodes, 6 * nodes);
+    for p in points {
+        let d = p.inertia_block();
+        for (a, ga) in &p.interpolation {
+            for (b, gb) in &p.interpolation {
+                let block = ga.transpose() * d * gb;
+                let mut view = m.view_mut((6 * a, 6 * b), (6, 6));
+                view += block;
+            }
+        }
+    }
+    m
+}

@@ -15,6 +15,7 @@ use nalgebra::Vector3;
 pub use dof::{Dof, DofSet};
 pub use generate::ShellShape;
 
+
 /// A node of the mesh: its label in the input and its undeformed position in the body frame (m).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Node {
@@ -185,10 +186,37 @@ pub struct StaticLoad {
     pub kind: StaticLoadKind,
 }
 
+/// How the elements' mass is distributed over the degrees of freedom.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum MassModel {
+    /// Each element's mass lumped at its nodes: a diagonal mass matrix (block-diagonal with rotary
+    /// inertia), as in the seed. The inertia invariants are sums over the nodes.
+    #[default]
+    Lumped,
+    /// The element's mass spread along its displacement field (the Hermite cubics of a beam, the
+    /// bilinear or linear field of a shell): the consistent mass matrix, `∫ ρ Nᵀ N`. The inertia
+    /// invariants are integrals over the elements (Gauss points, exact for these fields).
+    Consistent,
+}
+
+impl MassModel {
+    /// The name used in files and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            MassModel::Lumped => "lumped",
+            MassModel::Consistent => "consistent",
+        }
+    }
+}
+
 /// Modelling options that change the element matrices.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ModelOptions {
-    /// Lump rotary inertia at the nodes as well as translational mass (default false, as in the seed).
+    /// Lumped (default, as in the seed) or consistent mass.
+    pub mass: MassModel,
+    /// Rotary inertia as well as translational mass (default false, as in the seed): lumped at the
+    /// nodes, or with a consistent mass the sections' own rotary inertia along the element.
     pub rotary_inertia: bool,
     /// Drilling stiffness of shells (about the element normal), as a fraction α of the plate
     /// bending stiffness E t³ / (12 (1 − ν²)) (see [`element::shell`](crate::element::shell)).
@@ -198,7 +226,7 @@ pub struct ModelOptions {
 
 impl Default for ModelOptions {
     fn default() -> Self {
-        Self { rotary_inertia: false, drilling_stiffness: 1e-3 }
+        Self { mass: MassModel::Lumped, rotary_inertia: false, drilling_stiffness: 1e-3 }
     }
 }
 

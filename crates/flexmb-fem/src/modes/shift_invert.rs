@@ -1,33 +1,35 @@
 //! The shift-invert operator of the generalized problem `K φ = λ M φ`, in a symmetric form that
 //! allows a singular (lumped, rotations without inertia) mass matrix:
 //!
-//! `B = P S (K + σ M)⁻¹ S P`, with `S = M^{1/2}` (block-diagonal, per node) and `P` the projector
-//! that removes the rigid motions `S R`.
+//! `B = P F (K + σ M)⁻¹ Fᵀ P`, with `F` the mass points' square-root factor of the mass
+//! (`Fᵀ F = M`, one row per massive motion of a mass point; see
+//! [`AssembledModel::mass_root`](crate::assembly::AssembledModel::mass_root)) and `P` the projector
+//! that removes the rigid motions `F R`.
 //!
-//! If `B z = μ z` with `μ > 0`, then `φ = (K + σM)⁻¹ S z` satisfies `(K + σM)⁻¹ M φ = μ φ`, i.e.
+//! If `B z = μ z` with `μ > 0`, then `φ = (K + σM)⁻¹ Fᵀ z` satisfies `(K + σM)⁻¹ M φ = μ φ`, i.e.
 //! `K φ = λ M φ` with `λ = 1/μ − σ`. The largest `μ` are the lowest frequencies; massless
-//! degrees of freedom give `μ = 0` (infinite frequency) and the rigid motions, projected out, too.
-//! Distinct eigenvectors `z` give M-orthogonal `φ`, repeated frequencies included.
+//! motions give `μ = 0` (infinite frequency) and the rigid motions, projected out, too. Distinct
+//! eigenvectors `z` give M-orthogonal `φ`, repeated frequencies included.
 
 use faer::linalg::solvers::Solve;
 use faer::matrix_free::LinOp;
 use faer::prelude::*;
 use faer::sparse::linalg::LltError;
-use faer::sparse::{SparseColMat, Triplet};
+use faer::sparse::SparseColMat;
 use faer::{dyn_stack::MemStack, dyn_stack::StackReq, MatMut, MatRef, Par, Side};
-use nalgebra::{Matrix3, SymmetricEigen};
 
-use crate::assembly::{AssembledModel, DofMap};
-use crate::element::NodalMass;
-use crate::mesh::Dof;
+use crate::assembly::AssembledModel;
 
-/// The factored shifted stiffness, the mass square root and the rigid-motion projector.
+/// The factored shifted stiffness, the mass factor and the rigid-motion projector.
 #[derive(Debug)]
 pub struct ShiftInvert {
     pub shift: f64,
     factor: faer::sparse::linalg::solvers::Llt<usize, f64>,
-    sqrt_mass: SparseColMat<usize, f64>,
-    /// Orthonormal basis of `S R` (the rigid motions in the mass-weighted space).
+    /// `F` (r × n).
+    mass_root: SparseColMat<usize, f64>,
+    /// `Fᵀ` (n × r).
+    mass_root_transpose: SparseColMat<usize, f64>,
+    /// Orthonormal basis of `F R` (the rigid motions in the mass-weighted space).
     deflation: Mat<f64>,
 }
 
@@ -41,15 +43,17 @@ impl ShiftInvert {
             &assembled.stiffness + &scaled
         };
         let factor = shifted.sp_cholesky(Side::Lower)?;
-        let sqrt_mass = mass_square_root(&assembled.dofs, &assembled.nodal_masses);
-        let mut deflation = &sqrt_mass * rigid;
+        let mass_root = assembled.mass_root.clone();
+        let mass_root_transpose = mass_root.transpose().to_col_major().expect("the transpose of a valid sparse matrix");
+        let mut deflation = &mass_root * rigid;
         super::rigid::orthonormalize_columns(&mut deflation);
-        Ok(ShiftInvert { shift, factor, sqrt_mass, deflation })
+        Ok(ShiftInvert { shift, factor, mass_root, mass_root_transpose, deflation })
     }
 
-    /// Dimension of the operator (the free dofs).
+    /// Dimension of the operator (the rows of the mass factor: the massive motions of the mass
+    /// points).
     pub fn dim(&self) -> usize {
-        self.sqrt_mass.nrows()
+        self.mass_root.nrows()
     }
 
     /// Removes the rigid components from the columns of `x`: `x ← (I − Z Zᵀ) x`.
@@ -65,16 +69,16 @@ impl ShiftInvert {
     pub fn apply_to(&self, x: MatRef<'_, f64>) -> Mat<f64> {
         let mut projected = x.to_owned();
         self.deflate(projected.as_mut());
-        let mut y = &self.sqrt_mass * &projected;
+        let mut y = &self.mass_root_transpose * &projected;
         self.factor.solve_in_place(y.as_mut());
-        let mut z = &self.sqrt_mass * &y;
+        let mut z = &self.mass_root * &y;
         self.deflate(z.as_mut());
         z
     }
 
-    /// The mode shapes `φ = (K + σM)⁻¹ S z` of eigenvectors `z` of `B`.
+    /// The mode shapes `φ = (K + σM)⁻¹ Fᵀ z` of eigenvectors `z` of `B`.
     pub fn mode_shapes(&self, z: MatRef<'_, f64>) -> Mat<f64> {
-        let mut phi = &self.sqrt_mass * z;
+        let mut phi = &self.mass_root_transpose * z;
         self.factor.solve_in_place(phi.as_mut());
         phi
     }
@@ -113,41 +117,4 @@ fn scale_sparse(m: &SparseColMat<usize, f64>, factor: f64) -> SparseColMat<usize
         *v *= factor;
     }
     scaled
-}
-
-/// `M^{1/2}` over the free dofs: `√m` on each free translation, the symmetric square root of the
-/// free part of each node's rotary inertia on its rotations.
-fn mass_square_root(dofs: &DofMap, nodal: &[NodalMass]) -> SparseColMat<usize, f64> {
-    let mut triplets = Vec::new();
-    for (node, m) in nodal.iter().enumerate() {
-        for dof in [Dof::Ux, Dof::Uy, Dof::Uz] {
-            if let Some(e) = dofs.equation(node, dof) {
-                triplets.push(Triplet::new(e, e, m.mass.max(0.0).sqrt()));
-            }
-        }
-        let free: Vec<(usize, usize)> = [Dof::Rx, Dof::Ry, Dof::Rz]
-            .into_iter()
-            .enumerate()
-            .filter_map(|(k, d)| dofs.equation(node, d).map(|e| (k, e)))
-            .collect();
-        if free.is_empty() || m.rotary_inertia == Matrix3::zeros() {
-            continue;
-        }
-        let mut block = Matrix3::zeros();
-        for &(a, _) in &free {
-            for &(b, _) in &free {
-                block[(a, b)] = m.rotary_inertia[(a, b)];
-            }
-        }
-        let eigen = SymmetricEigen::new(block);
-        let roots = eigen.eigenvalues.map(|v| v.max(0.0).sqrt());
-        let root = eigen.eigenvectors * Matrix3::from_diagonal(&roots) * eigen.eigenvectors.transpose();
-        for &(a, ea) in &free {
-            for &(b, eb) in &free {
-                triplets.push(Triplet::new(ea, eb, root[(a, b)]));
-            }
-        }
-    }
-    let n = dofs.n_free();
-    SparseColMat::try_new_from_triplets(n, n, &triplets).expect("indices are within the free dofs")
 }

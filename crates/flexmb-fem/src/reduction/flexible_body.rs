@@ -7,6 +7,7 @@ use nalgebra::{DMatrix, Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
 
 use super::invariants::InertiaInvariants;
+use crate::mesh::MassModel;
 use super::serde_matrix;
 
 /// The value of [`FlexibleBody::format`].
@@ -52,7 +53,7 @@ pub struct ModeInfo {
 }
 
 /// A node of the body: label, undeformed position in the body frame, lumped mass and rotary
-/// inertia.
+/// inertia (with a consistent mass, the node's share of the element masses).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BodyNode {
     pub label: u64,
@@ -101,6 +102,11 @@ pub struct FlexibleBody {
     /// The mode set, e.g. `4N5S`.
     pub mode_set: String,
     pub basis: Basis,
+    /// The FE model's mass: `lumped` (the invariants are sums over the nodes' masses) or
+    /// `consistent` (integrals over the elements; the nodes' masses are then their shares, for
+    /// drawing and checking). Files without it are lumped.
+    #[serde(default)]
+    pub mass: MassModel,
     pub nodes: Vec<BodyNode>,
     pub elements: Vec<BodyElement>,
     /// The modes, in basis order.

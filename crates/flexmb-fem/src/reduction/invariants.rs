@@ -1,7 +1,8 @@
 //! The inertia invariants of a flexible body (formulation section 3; the seed's "constants from the
-//! finite-element model"): sums over the lumped-mass nodes of the undeformed positions `s̄ᵢ` and the
-//! translational mode matrices `Ψᵢ`, from which the mass matrix and the velocity terms of the
-//! equations of motion follow for any modal state `a`.
+//! finite-element model"): sums over the mass points (the lumped-mass nodes, or the Gauss points of
+//! a consistent mass) of the undeformed positions `s̄ᵢ` and the translational mode matrices `Ψᵢ`,
+//! from which the mass matrix and the velocity terms of the equations of motion follow for any
+//! modal state `a`.
 
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
@@ -56,7 +57,7 @@ fn skew(v: &Vector3<f64>) -> Matrix3<f64> {
 }
 
 impl InertiaInvariants {
-    /// The invariants of nodes at `positions` with `masses`, rotary inertias `rotary` (3×3 each),
+    /// The invariants of mass points at `positions` with `masses`, rotary inertias `rotary` (3×3 each),
     /// translational mode matrices `psi` and rotational ones `theta` (3×m each).
     pub fn new(
         positions: &[Vector3<f64>],

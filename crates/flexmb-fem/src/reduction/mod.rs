@@ -177,7 +177,7 @@ fn massive_modes(
     modal_mass: &Mat<f64>,
     modes: &[ModeInfo],
 ) -> Result<(), FemError> {
-    let total_mass: f64 = assembled.nodal_masses.iter().map(|m| m.mass).sum();
+    let total_mass: f64 = assembled.mass_points.iter().map(|p| p.mass).sum();
     let size = model.mesh.size();
     for (j, mode) in modes.iter().enumerate() {
         let nodal = assembled.dofs.expand(&(0..basis.nrows()).map(|i| basis[(i, j)]).collect::<Vec<_>>());
@@ -260,20 +260,32 @@ fn flexible_body(
             rotation: (0..mesh.nodes.len()).map(|i| [v[6 * i + 3], v[6 * i + 4], v[6 * i + 5]]).collect(),
         })
         .collect();
-    let positions: Vec<Vector3<f64>> = mesh.nodes.iter().map(|n| n.position).collect();
-    let masses: Vec<f64> = assembled.nodal_masses.iter().map(|n| n.mass).collect();
-    let rotary: Vec<Matrix3<f64>> = assembled.nodal_masses.iter().map(|n| n.rotary_inertia).collect();
-    let psi: Vec<DMatrix<f64>> = (0..mesh.nodes.len()).map(|i| DMatrix::from_fn(3, m, |r, j| nodal[j][6 * i + r])).collect();
-    let theta: Vec<DMatrix<f64>> =
-        (0..mesh.nodes.len()).map(|i| DMatrix::from_fn(3, m, |r, j| nodal[j][6 * i + 3 + r])).collect();
+    let points = &assembled.mass_points;
+    let positions: Vec<Vector3<f64>> = points.iter().map(|p| p.position).collect();
+    let masses: Vec<f64> = points.iter().map(|p| p.mass).collect();
+    let rotary: Vec<Matrix3<f64>> = points.iter().map(|p| p.rotary_inertia).collect();
+    // Ψ and Θ of each mass point: its interpolation applied to the nodal mode shapes.
+    let (psi, theta): (Vec<DMatrix<f64>>, Vec<DMatrix<f64>>) = points
+        .iter()
+        .map(|p| {
+            let motion = DMatrix::from_fn(6, m, |r, j| {
+                p.interpolation
+                    .iter()
+                    .map(|(node, g)| (0..6).map(|c| g[(r, c)] * nodal[j][6 * node + c]).sum::<f64>())
+                    .sum()
+            });
+            (motion.rows(0, 3).into_owned(), motion.rows(3, 3).into_owned())
+        })
+        .unzip();
     let invariants = InertiaInvariants::new(&positions, &masses, &rotary, &psi, &theta, m);
-    let properties = MassProperties::of_lumped(&positions, &assembled.nodal_masses);
+    let properties = MassProperties::of_points(points);
     FlexibleBody {
         format: FORMAT.to_string(),
         version: VERSION,
         name: name.to_string(),
         mode_set: settings.mode_set.to_string(),
         basis: settings.basis,
+        mass: model.options.mass,
         nodes: mesh
             .nodes
             .iter()

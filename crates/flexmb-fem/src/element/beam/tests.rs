@@ -285,3 +285,69 @@ fn bad_geometry_and_properties_are_reported() {
         Err(ElementError::OutOfRange { .. })
     ));
 }
+
+/// Przemieniecki's consistent mass (1968, eqs. 11.31 and 11.41) in local axes, dofs
+/// `u v w θx θy θz` of both nodes: axial, bending (Hermite cubics), and with rotary inertia the
+/// torsion and Rayleigh terms.
+fn przemieniecki_consistent_mass(s: &BeamSection, l: f64, rotary: bool) -> DMatrix<f64> {
+    let m = rho_a_l(s, l);
+    let mut k = DMatrix::zeros(12, 12);
+    let pair = |k: &mut DMatrix<f64>, i: usize, j: usize, c: f64| {
+        k[(i, i)] += 2.0 * c;
+        k[(j, j)] += 2.0 * c;
+        k[(i, j)] += c;
+        k[(j, i)] += c;
+    };
+    pair(&mut k, 0, 6, m / 6.0);
+    let translation = [
+        [156.0, 22.0 * l, 54.0, -13.0 * l],
+        [22.0 * l, 4.0 * l * l, 13.0 * l, -3.0 * l * l],
+        [54.0, 13.0 * l, 156.0, -22.0 * l],
+        [-13.0 * l, -3.0 * l * l, -22.0 * l, 4.0 * l * l],
+    ];
+    let rayleigh = [
+        [36.0, 3.0 * l, -36.0, 3.0 * l],
+        [3.0 * l, 4.0 * l * l, -3.0 * l, -l * l],
+        [-36.0, -3.0 * l, 36.0, -3.0 * l],
+        [3.0 * l, -l * l, -3.0 * l, 4.0 * l * l],
+    ];
+    let planes = [([1, 5, 7, 11], [1.0; 4], s.iz), ([2, 4, 8, 10], [1.0, -1.0, 1.0, -1.0], s.iy)];
+    for (dofs, sign, i) in planes {
+        for r in 0..4 {
+            for c in 0..4 {
+                let mut value = m / 420.0 * translation[r][c];
+                if rotary {
+                    value += RHO * i / (30.0 * l) * rayleigh[r][c];
+                }
+                k[(dofs[r], dofs[c])] += sign[r] * sign[c] * value;
+            }
+        }
+    }
+    if rotary {
+        pair(&mut k, 3, 9, RHO * (s.iy + s.iz) * l / 6.0);
+    }
+    k
+}
+
+#[test]
+fn consistent_mass_points_give_przemieniecki_consistent_mass() {
+    let (a, b, orientation, axes) = oblique_beam();
+    let l = (b - a).norm();
+    let s = section(orientation, None);
+    let t = crate::element::test_support::block_rotation(2, &axes);
+    for rotary in [false, true] {
+        let points = consistent_mass_points(&a, &b, &s, &steel(), rotary).unwrap();
+        assert_eq!(points.len(), 4);
+        let body = crate::element::test_support::mass_matrix_of_points(&points, 2);
+        let expected = t.transpose() * przemieniecki_consistent_mass(&s, l, rotary) * &t;
+        let error = (&body - &expected).amax() / expected.amax();
+        assert!(error < 1e-13, "rotary inertia {rotary}: relative error {error:.2e}");
+        // The points sit on the axis and carry the whole mass.
+        let total: f64 = points.iter().map(|p| p.mass).sum();
+        assert!((total / rho_a_l(&s, l) - 1.0).abs() < 1e-14);
+        for p in &points {
+            let along = (p.position - a).dot(&(b - a)) / (l * l);
+            assert!((p.position - (a + along * (b - a))).norm() < 1e-14 && (0.0..=1.0).contains(&along));
+        }
+    }
+}

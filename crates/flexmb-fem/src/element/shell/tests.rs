@@ -32,6 +32,7 @@ fn options(rotary_inertia: bool, drilling_stiffness: f64) -> ModelOptions {
     ModelOptions {
         rotary_inertia,
         drilling_stiffness,
+        ..Default::default()
     }
 }
 
@@ -561,6 +562,42 @@ fn lumped_mass_shares_rho_t_a_equally() {
                 (m.rotary_inertia - expected).amax() < 1e-14 * expected.amax(),
                 "{name}"
             );
+        }
+    }
+}
+
+/// The consistent mass of a rectangle `a × b` is `ρ t a b / 36 · [4 2 1 2; 2 4 2 1; 1 2 4 2; 2 1 2 4]`
+/// on each translation (bilinear fields), that of a triangle `ρ t A / 12 · [2 1 1; 1 2 1; 1 1 2]`;
+/// rotary inertia follows the same pattern with `ρ t³ / 12`. Checked on elements placed obliquely.
+#[test]
+fn consistent_mass_of_rectangle_and_triangle() {
+    let (t, q, origin) = (0.02, oblique(), Vector3::new(0.4, -0.3, 1.2));
+    let rectangle = place(&[[0.0, 0.0], [0.6, 0.0], [0.6, 0.4], [0.0, 0.4]], &q, origin);
+    let triangle = place(&[[0.0, 0.0], [0.7, 0.1], [0.2, 0.5]], &q, origin);
+    let rectangle_pattern = [[4.0, 2.0, 1.0, 2.0], [2.0, 4.0, 2.0, 1.0], [1.0, 2.0, 4.0, 2.0], [2.0, 1.0, 2.0, 4.0]];
+    let cases: [(&[Vector3<f64>], f64, Vec<Vec<f64>>); 2] = [
+        (&rectangle, 0.24 / 36.0, rectangle_pattern.iter().map(|r| r.to_vec()).collect()),
+        (&triangle, 0.5 * (0.7 * 0.5 - 0.1 * 0.2) / 12.0, vec![vec![2.0, 1.0, 1.0], vec![1.0, 2.0, 1.0], vec![1.0, 1.0, 2.0]]),
+    ];
+    for (points, scale, pattern) in cases {
+        for rotary in [false, true] {
+            let options = ModelOptions { mass: crate::mesh::MassModel::Consistent, ..options(rotary, 1e-3) };
+            let m = shell_matrices(points, &section(t), &material(0.3), &options).unwrap();
+            let matrix = crate::element::test_support::mass_matrix_of_points(&m.consistent_mass, points.len());
+            let n = points.len();
+            let mut expected = DMatrix::zeros(6 * n, 6 * n);
+            for a in 0..n {
+                for b in 0..n {
+                    for k in 0..3 {
+                        expected[(6 * a + k, 6 * b + k)] = RHO * t * scale * pattern[a][b];
+                        if rotary {
+                            expected[(6 * a + 3 + k, 6 * b + 3 + k)] = RHO * t.powi(3) / 12.0 * scale * pattern[a][b];
+                        }
+                    }
+                }
+            }
+            let error = (&matrix - &expected).amax() / expected.amax();
+            assert!(error < 1e-13, "{n} nodes, rotary {rotary}: relative error {error:.2e}");
         }
     }
 }
