@@ -6,7 +6,9 @@ mod support;
 use faer::Mat;
 use flexmb_fem::modes::prepare;
 use flexmb_fem::reduction::{reduce, Basis, FlexibleBody, ModeKind, ReductionSettings};
-use flexmb_fem::FeModel;
+use flexmb_fem::assembly::assemble;
+use flexmb_fem::mesh::ShellShape;
+use flexmb_fem::{FeModel, MassModel};
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 use support::*;
 
@@ -174,6 +176,97 @@ fn invariant_expansions_equal_node_sums_for_a_deformed_state() {
         let c8: f64 = body.nodes.iter().enumerate().map(|(i, n)| n.mass * n.position.dot(&body.psi(i).column(j).into_owned().fixed_rows::<3>(0).into_owned())).sum();
         assert!((c8 - inv.c8[j]).abs() < 1e-12 * inv.c8.amax());
     }
+}
+
+/// The FE mass over all nodal dofs (supports removed), as assembled for the model's mass.
+fn unsupported_mass(model: &FeModel) -> DMatrix<f64> {
+    let free = FeModel { supports: Vec::new(), ..model.clone() };
+    let m: Mat<f64> = assemble(&free).unwrap().mass.to_dense();
+    DMatrix::from_fn(m.nrows(), m.ncols(), |i, j| m[(i, j)])
+}
+
+/// The rigid translations (3 columns) and rotations about the frame origin (3 columns; nodal
+/// translations `e × x`, nodal rotations `e`) over all nodal dofs.
+fn rigid_motions(body: &FlexibleBody) -> (DMatrix<f64>, DMatrix<f64>) {
+    let n = body.nodes.len();
+    let mut translations = DMatrix::zeros(6 * n, 3);
+    let mut rotations = DMatrix::zeros(6 * n, 3);
+    for (i, node) in body.nodes.iter().enumerate() {
+        for k in 0..3 {
+            let e = Vector3::ith(k, 1.0);
+            translations[(6 * i + k, k)] = 1.0;
+            let u = e.cross(&node.position);
+            for d in 0..3 {
+                rotations[(6 * i + d, k)] = u[d];
+            }
+            rotations[(6 * i + 3 + k, k)] = 1.0;
+        }
+    }
+    (translations, rotations)
+}
+
+/// Every invariant that is linear or quadratic in the motion is a product with the FE mass matrix
+/// `M` itself, whatever the mass points are: with the rigid translations `R_t` and rotations `R_r`,
+/// `m I = R_tᵀ M R_t`, `−C̃1 = R_tᵀ M R_r`, `−C3 + ΣJ = R_rᵀ M R_r`, `C2 = R_tᵀ M Φ`,
+/// `C6 + Σ J Θ = R_rᵀ M Φ`, `C9 + Σ Θᵀ J Θ = Φᵀ M Φ`. Checked for the lumped and the consistent
+/// mass, with and without rotary inertia, on beams (a cantilever) and shells (a plate).
+#[test]
+fn invariants_are_products_with_the_fe_mass_matrix_for_both_masses() {
+    let (mut plate, grid) = plate(0.6, 0.4, 0.004, 6, 4, ShellShape::Quadrilateral);
+    for &node in &grid[0] {
+        plate.supports.push(flexmb_fem::Support { node, dofs: flexmb_fem::DofSet::ALL });
+    }
+    plate.static_loads = vec![force("corner_fz", plate.mesh.nodes.len() - 1, [0.0, 0.0, 1.0])];
+    for (name, base) in [("cantilever", arm()), ("plate", plate)] {
+        for mass in [MassModel::Lumped, MassModel::Consistent] {
+            for rotary_inertia in [false, true] {
+                let mut model = base.clone();
+                model.options.mass = mass;
+                model.options.rotary_inertia = rotary_inertia;
+                let case = format!("{name}, {}, rotary inertia {rotary_inertia}", mass.name());
+                let body = reduce(&model, name, &settings("3N1S", Basis::Raw)).unwrap_or_else(|e| panic!("{case}: {e}")).body;
+                assert_eq!(body.mass, mass);
+                let inv = &body.invariants;
+                let m = unsupported_mass(&model);
+                let phi = nodal_basis(&body);
+                let (rt, rr) = rigid_motions(&body);
+                let close = |a: &DMatrix<f64>, b: &DMatrix<f64>, what: &str| {
+                    let error = (a - b).amax() / b.amax().max(f64::MIN_POSITIVE);
+                    assert!(error < 1e-11, "{case}: {what}, relative error {error:.2e}");
+                };
+                let to_dynamic = |a: &Matrix3<f64>| DMatrix::from_fn(3, 3, |i, j| a[(i, j)]);
+                close(&(rt.transpose() * &m * &rt), &(DMatrix::identity(3, 3) * inv.mass), "m I");
+                close(&(rt.transpose() * &m * &rr), &to_dynamic(&-inv.c1.cross_matrix()), "C1");
+                close(&(rr.transpose() * &m * &rr), &to_dynamic(&(-inv.c3 + inv.rotary_inertia)), "C3");
+                close(&(rt.transpose() * &m * &phi), &inv.c2, "C2");
+                close(&(rr.transpose() * &m * &phi), &(&inv.c6 + &inv.rotary_coupling), "C6");
+                close(&(phi.transpose() * &m * &phi), &(&inv.c9 + &inv.rotary_modal_mass), "C9");
+                close(&(phi.transpose() * &m * &phi), &body.modal_mass, "modal mass");
+            }
+        }
+    }
+}
+
+/// With the consistent mass the invariants integrate the beam's field exactly: the cantilever's
+/// inertia about its root is `m L² / 3` with no trapezoid term, and the first moment of its first
+/// mode `∫ ρ A φ₁ dx` matches the closed form of the Euler–Bernoulli mode to the accuracy of the mode.
+#[test]
+fn consistent_invariants_are_the_beams_integrals() {
+    let mut model = arm();
+    model.options.mass = MassModel::Consistent;
+    let body = reduce(&model, "arm", &settings("2N", Basis::Raw)).unwrap().body;
+    let mass = RHO * square_section(0.01).area;
+    assert!(rel(-body.invariants.c3[(1, 1)], mass / 3.0) < 1e-12);
+    assert!(rel(-body.invariants.c3[(2, 2)], mass / 3.0) < 1e-12);
+    assert!(body.invariants.c3[(0, 0)].abs() < 1e-12 * mass, "the mass is on the axis");
+    // The first bending mode φ(x) = A (cosh βx − cos βx − σ (sinh βx − sin βx)), mass-normalized
+    // (∫ ρA φ² = 1 gives A² ρA L = 1), has ∫ ρA φ dx = 2 σ √(ρA L) / (βL) (its tip is ±2 A).
+    let beta_l: f64 = 1.8751040687;
+    let sigma = (beta_l.sinh() - beta_l.sin()) / (beta_l.cosh() + beta_l.cos());
+    let expected = 2.0 * sigma * mass.sqrt() / beta_l;
+    let c2 = &body.invariants.c2;
+    let first_moment = (c2[(1, 0)].powi(2) + c2[(2, 0)].powi(2)).sqrt();
+    assert!(rel(first_moment, expected) < 1e-6, "∫ρAφ₁ = {first_moment}, closed form {expected}");
 }
 
 #[test]
