@@ -14,6 +14,7 @@ use flexmb_cli::spectrum::estimator::FrequencyBand;
 use flexmb_cli::spectrum::{run_spectrum, SpectrumOptions};
 use flexmb_fem::modes::EigenSolver;
 use flexmb_fem::reduction::Basis;
+use flexmb_fem::MassModel;
 
 /// flexmb: dynamics of articulated structures (rigid and flexible multibody systems).
 #[derive(Parser)]
@@ -84,6 +85,10 @@ enum Command {
         /// mass-orthonormalized; default from the file, else orthonormal.
         #[arg(long, value_enum)]
         basis: Option<BasisArg>,
+        /// Mass of the FE model: lumped at the nodes (diagonal, as in the seed) or consistent
+        /// (the elements' displacement fields); default from the file's [fe_model] mass, else lumped.
+        #[arg(long, value_enum)]
+        mass: Option<MassArg>,
         /// Flexible-body file to write (default out/NAME.json).
         #[arg(long)]
         out: Option<PathBuf>,
@@ -213,6 +218,12 @@ enum BasisArg {
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
+enum MassArg {
+    Lumped,
+    Consistent,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
 enum SolverArg {
     Auto,
     Dense,
@@ -238,12 +249,16 @@ fn main() -> ExitCode {
                     .map_err(|e| format!("{}: {e}", model.display()))
             })
             .map_err(flexmb_cli::run::CliError),
-        Command::Modes { fe_model, modes, basis, out, vtk, solver } => {
+        Command::Modes { fe_model, modes, basis, mass, out, vtk, solver } => {
             let options = ModesOptions {
                 mode_set: modes,
                 basis: basis.map(|b| match b {
                     BasisArg::Raw => Basis::Raw,
                     BasisArg::Orthonormal => Basis::Orthonormal,
+                }),
+                mass: mass.map(|m| match m {
+                    MassArg::Lumped => MassModel::Lumped,
+                    MassArg::Consistent => MassModel::Consistent,
                 }),
                 out,
                 vtk,

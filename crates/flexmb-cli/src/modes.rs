@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use flexmb_fem::modes::{EigenSettings, EigenSolver};
 use flexmb_fem::reduction::{reduce, Basis, ModeKind, ModeSet, Reduction, ReductionSettings};
-use flexmb_fem::ElementKind;
+use flexmb_fem::{ElementKind, MassModel};
 
 use crate::fe_model_file::{load_fe_model, LoadedFeModel};
 use crate::run::CliError;
@@ -19,6 +19,8 @@ pub struct ModesOptions {
     pub mode_set: Option<String>,
     /// The basis (`--basis`), else the file's `[modes] basis`, else orthonormal.
     pub basis: Option<Basis>,
+    /// The mass model (`--mass`), else the file's `[fe_model] mass`, else lumped.
+    pub mass: Option<MassModel>,
     /// Where to write the flexible-body file; default `out/NAME.json`.
     pub out: Option<PathBuf>,
     /// Directory for the mode shapes as VTK.
@@ -28,7 +30,10 @@ pub struct ModesOptions {
 
 /// Runs `flexmb modes` on the FE model at `path`; returns the printed report.
 pub fn run_modes(path: &Path, options: &ModesOptions) -> Result<String, CliError> {
-    let loaded = load_fe_model(path).map_err(|e| CliError(e.to_string()))?;
+    let mut loaded = load_fe_model(path).map_err(|e| CliError(e.to_string()))?;
+    if let Some(mass) = options.mass {
+        loaded.model.options.mass = mass;
+    }
     let mode_set = match &options.mode_set {
         Some(text) => text.parse::<ModeSet>().map_err(|e| CliError(format!("--modes: {e}")))?,
         None => loaded.defaults.mode_set.clone().ok_or_else(|| {
@@ -98,6 +103,7 @@ pub fn describe(path: &Path, loaded: &LoadedFeModel, reduction: &Reduction, seco
         mesh.point_masses.len(),
         6 * mesh.nodes.len()
     );
+    let _ = writeln!(s, "  mass matrix: {} ({})", body.mass.name(), mass_model_description(body.mass));
     let p = &body.mass_properties;
     let c = p.center_of_mass;
     let _ = writeln!(s, "  mass {:.6e} kg, centre of mass [{:.6}, {:.6}, {:.6}] m", p.mass, c.x, c.y, c.z);
@@ -152,6 +158,14 @@ pub fn describe(path: &Path, loaded: &LoadedFeModel, reduction: &Reduction, seco
         let _ = writeln!(s, "warning: {w}");
     }
     s
+}
+
+/// Where the elements' mass is, in a few words.
+fn mass_model_description(mass: MassModel) -> &'static str {
+    match mass {
+        MassModel::Lumped => "at the nodes",
+        MassModel::Consistent => "beams' Hermite cubics, shells' bilinear/linear fields",
+    }
 }
 
 fn basis_name(basis: Basis) -> &'static str {

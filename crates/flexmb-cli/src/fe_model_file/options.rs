@@ -5,7 +5,7 @@ use std::str::FromStr;
 use toml::Spanned;
 
 use flexmb_fem::reduction::{Basis, ModeSet};
-use flexmb_fem::ModelOptions;
+use flexmb_fem::{MassModel, ModelOptions};
 
 use super::build::Builder;
 use super::schema::{FeModelSection, ModesSection};
@@ -40,6 +40,14 @@ pub(crate) fn model_options(
 ) -> Result<ModelOptions, ModelFileError> {
     let mut options = base;
     let Some(section) = section else { return Ok(options) };
+    if let Some(mass) = &section.mass {
+        options.mass = b.ctx.keyword(
+            mass,
+            &section_key().key("mass"),
+            "mass model",
+            &[MassModel::Lumped, MassModel::Consistent].map(|m| (m.name(), m)),
+        )?;
+    }
     if let Some(rotary) = &section.rotary_inertia {
         options.rotary_inertia = *rotary.get_ref();
     }

@@ -49,6 +49,7 @@ pub(crate) struct FeModelFile {
 pub(crate) struct FeModelSection {
     pub name: Option<Name>,
     pub mesh: Option<Name>,
+    pub mass: Option<Name>,
     pub rotary_inertia: Option<Spanned<bool>>,
     pub drilling_stiffness: Option<Number>,
 }
