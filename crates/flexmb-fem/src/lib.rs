@@ -1,12 +1,13 @@
 //! # flexmb-fem — the finite-element preprocessor of flexmb
 //!
 //! A flexible body of flexmb is built, as in the DADS code of Haug's *Dynamics of Articulated
-//! Structures*, from a lumped-mass finite-element model: 3D beams and flat shells (membrane plus
-//! bending) with 6 degrees of freedom per node. This crate
+//! Structures*, from a lumped-mass finite-element model (or, as an option, one with the consistent
+//! mass): 3D beams and flat shells (membrane plus bending) with 6 degrees of freedom per node. This
+//! crate
 //!
 //! 1. holds the model ([`mesh`]: nodes, materials, sections, elements, point masses, generators of
 //!    regular meshes, and the Abaqus/CalculiX `.inp` reader in [`inp`]),
-//! 2. computes element matrices ([`element`]) and assembles the global sparse stiffness and lumped mass
+//! 2. computes element matrices ([`element`]) and assembles the global sparse stiffness and mass
 //!    ([`assembly`]) with boundary conditions per node and degree of freedom,
 //! 3. finds the vibration modes ([`modes`]: dense or shift-invert Lanczos, rigid mechanisms left by
 //!    under-determined supports detected and set aside) and the static correction modes,
