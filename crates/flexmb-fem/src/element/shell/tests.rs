@@ -575,11 +575,13 @@ fn consistent_mass_of_rectangle_and_triangle() {
     let rectangle = place(&[[0.0, 0.0], [0.6, 0.0], [0.6, 0.4], [0.0, 0.4]], &q, origin);
     let triangle = place(&[[0.0, 0.0], [0.7, 0.1], [0.2, 0.5]], &q, origin);
     let rectangle_pattern = [[4.0, 2.0, 1.0, 2.0], [2.0, 4.0, 2.0, 1.0], [1.0, 2.0, 4.0, 2.0], [2.0, 1.0, 2.0, 4.0]];
-    let cases: [(&[Vector3<f64>], f64, Vec<Vec<f64>>); 2] = [
-        (&rectangle, 0.24 / 36.0, rectangle_pattern.iter().map(|r| r.to_vec()).collect()),
-        (&triangle, 0.5 * (0.7 * 0.5 - 0.1 * 0.2) / 12.0, vec![vec![2.0, 1.0, 1.0], vec![1.0, 2.0, 1.0], vec![1.0, 1.0, 2.0]]),
+    let triangle_pattern = vec![vec![2.0, 1.0, 1.0], vec![1.0, 2.0, 1.0], vec![1.0, 1.0, 2.0]];
+    let cases = [
+        (rectangle, 0.24 / 36.0, rectangle_pattern.iter().map(|r| r.to_vec()).collect::<Vec<_>>()),
+        (triangle, 0.5 * (0.7 * 0.5 - 0.1 * 0.2) / 12.0, triangle_pattern),
     ];
-    for (points, scale, pattern) in cases {
+    for (points, scale, pattern) in &cases {
+        let (points, scale) = (points.as_slice(), *scale);
         for rotary in [false, true] {
             let options = ModelOptions { mass: crate::mesh::MassModel::Consistent, ..options(rotary, 1e-3) };
             let m = shell_matrices(points, &section(t), &material(0.3), &options).unwrap();
