@@ -6,6 +6,7 @@
 
 mod support;
 
+use flexmb::analysis::test_models::pendulum_with_stiff_slider_of;
 use flexmb::analysis::{SimulationReport, SimulationSettings};
 use flexmb::force::{ForceElement, ForceKind};
 use flexmb::function::TimeFunction;
@@ -230,58 +231,6 @@ fn heavy_top_agrees_with_the_bdf() {
     assert!(adams.report.max_normalization_error < 1e-14);
 }
 
-/// A pendulum (rod on a revolute) carrying a bob on a translational joint along the rod, held by a
-/// stiff, critically damped spring: eigenvalues near `−√(k/m)` = −1000 s⁻¹ beside the slow swing.
-fn pendulum_with_stiff_spring(stiffness: f64) -> Model {
-    let (l, mass) = (1.0, 1.0);
-    let mut b = ModelBuilder::new("pendulum with a stiff spring").gravity(Vec3::new(0.0, -9.81, 0.0));
-    let theta0 = 1.0_f64;
-    let pose = EulerParameters::from_axis_angle(&Vec3::z(), theta0);
-    let down = Vec3::new(theta0.sin(), -theta0.cos(), 0.0);
-    let rod = b.add_body(rigid(
-        "rod",
-        0.5,
-        Vec3::new(0.0, -0.5 * l, 0.0),
-        Mat3::from_diagonal(&Vec3::new(0.05, 1e-3, 0.05)),
-        Vec3::zeros(),
-        pose,
-        None,
-        None,
-    ));
-    let bob = b.add_body(rigid(
-        "bob",
-        mass,
-        Vec3::zeros(),
-        Mat3::from_diagonal(&Vec3::new(1e-3, 1e-3, 1e-3)),
-        l * down,
-        pose,
-        None,
-        None,
-    ));
-    let pivot_ground = marker(&mut b, "pivot_ground", BodyRef::Ground, Vec3::zeros());
-    let pivot = marker(&mut b, "pivot", BodyRef::Body(rod), Vec3::zeros());
-    joint(&mut b, "pivot", JointKind::Revolute, pivot_ground, pivot);
-    let along = frame_with_z(Vec3::y());
-    let guide = marker_with_axes(&mut b, "guide", BodyRef::Body(rod), Vec3::new(0.0, -l, 0.0), along);
-    let slider = marker_with_axes(&mut b, "slider", BodyRef::Body(bob), Vec3::zeros(), along);
-    joint(&mut b, "slide", JointKind::Translational, guide, slider);
-    let spring_end = marker(&mut b, "spring_end", BodyRef::Body(rod), Vec3::zeros());
-    let bob_centre = marker(&mut b, "bob_centre", BodyRef::Body(bob), Vec3::zeros());
-    b.add_force(ForceElement {
-        name: "spring".into(),
-        kind: ForceKind::TranslationalSpringDamper {
-            marker_i: spring_end,
-            marker_j: bob_centre,
-            stiffness,
-            damping: 2.0 * (stiffness * mass).sqrt(),
-            free_length: l,
-            actuator: None,
-        },
-    });
-    b.add_output("bob", OutputKind::MarkerPosition(bob_centre));
-    b.build().unwrap()
-}
-
 /// The stiffness signature of the seed's table: with a stiff spring the Adams step is bounded by
 /// stability (`h ≈ 1/√(k/m)`) however loose the tolerance, while the BDF steps over the damped fast
 /// mode. Both are compared with a BDF reference at 1e-9.
@@ -290,7 +239,9 @@ fn stiff_spring_makes_adams_take_many_more_steps_than_the_bdf() {
     eprintln!("pendulum with a critically damped spring, 2 s at tol 1e-5:");
     let (mut ratios, mut adams_steps) = (Vec::new(), Vec::new());
     for stiffness in [1e4, 1e5, 1e6] {
-        let model = pendulum_with_stiff_spring(stiffness);
+        // A bob on a translational joint along the rod, held by a stiff, critically damped spring:
+        // eigenvalues near `−√(k/m)` beside the slow swing.
+        let model = pendulum_with_stiff_slider_of(stiffness);
         let s = settings(2.0, 0.01, 1e-5);
         let adams = run(&model, &with_adams(s));
         let bdf = run(&model, &s);

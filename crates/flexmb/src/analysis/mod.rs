@@ -9,8 +9,8 @@ mod simulation;
 mod static_deformation;
 mod state;
 mod velocity;
-#[cfg(test)]
-pub(crate) mod test_models;
+#[doc(hidden)]
+pub mod test_models;
 
 pub(crate) use accelerations::KktMatrix;
 pub use accelerations::{AccelerationSolver, Accelerations};

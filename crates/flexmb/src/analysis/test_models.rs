@@ -1,4 +1,4 @@
-//! Small models for the crate's unit tests.
+//! Small models for the crate's unit tests and its integration tests (hidden: not part of the API).
 
 use crate::body::{InitialState, Marker, RigidBody};
 use crate::force::{ForceElement, ForceKind};
@@ -6,12 +6,12 @@ use crate::function::Expression;
 use crate::joint::{Joint, JointKind};
 use crate::math::{EulerParameters, Mat3, Vec3};
 use crate::measure::{Measure, MeasureKind};
-use crate::model::{BodyRef, Model, ModelBuilder};
+use crate::model::{BodyRef, Model, ModelBuilder, OutputKind};
 
 /// A spatial double pendulum (spherical, then revolute) with an offset centre of mass, gravity, and a
 /// spring–damper between the second link and ground whose actuator reads the hinge's rate: every coupling
 /// path of the Jacobian pattern (joints, forces, measures) is exercised.
-pub(crate) fn double_pendulum_with_spring() -> Model {
+pub fn double_pendulum_with_spring() -> Model {
     let mut b = ModelBuilder::new("test double pendulum").gravity(Vec3::new(0.0, -9.81, 0.0));
     let tilt = EulerParameters::from_axis_angle(&Vec3::new(0.3, 0.2, 1.0), 0.7);
     let link = |name: &str, position: Vec3| RigidBody {
@@ -53,13 +53,13 @@ pub(crate) fn double_pendulum_with_spring() -> Model {
 
 /// A pendulum whose bob slides along the rod on a translational joint, held by a stiff, critically
 /// damped spring (1e7 N/m): a fast mode along a joint's free direction.
-pub(crate) fn pendulum_with_stiff_slider() -> Model {
+pub fn pendulum_with_stiff_slider() -> Model {
     pendulum_with_stiff_slider_of(1e7)
 }
 
 /// [`pendulum_with_stiff_slider`] with a spring of `stiffness` (N/m), still critically damped: the
-/// fast eigenvalue is a double `−√(k/m)` (m = 1 kg).
-pub(crate) fn pendulum_with_stiff_slider_of(stiffness: f64) -> Model {
+/// fast eigenvalue is a double `−√(k/m)` (m = 1 kg). Its output `bob` is the bob's position.
+pub fn pendulum_with_stiff_slider_of(stiffness: f64) -> Model {
     let (l, mass) = (1.0, 1.0);
     let mut b = ModelBuilder::new("pendulum with a stiff slider").gravity(Vec3::new(0.0, -9.81, 0.0));
     let theta0 = 1.0_f64;
@@ -96,5 +96,6 @@ pub(crate) fn pendulum_with_stiff_slider_of(stiffness: f64) -> Model {
             actuator: None,
         },
     });
+    b.add_output("bob", OutputKind::MarkerPosition(bob_centre));
     b.build().unwrap()
 }
