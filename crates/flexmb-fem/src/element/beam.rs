@@ -1,5 +1,5 @@
 //! The 2-node 3D beam: axial, torsion and bending in two planes, Euler–Bernoulli or Timoshenko,
-//! with a lumped mass.
+//! with a lumped or a consistent mass.
 //!
 //! **Local axes.** x runs from node a to node b; y is the part of the section's orientation vector
 //! normal to x (Abaqus' n₁); z = x × y. Local components are `u_loc = Λ u_body` with the rows of the
@@ -39,7 +39,7 @@ use nalgebra::{DMatrix, Matrix3, Matrix6, Vector3};
 
 use super::validate::{positive, Elastic};
 use super::{gauss_legendre_4, ElementError, ElementMatrices, MassPoint, NodalMass};
-use crate::mesh::{BeamSection, Material};
+use crate::mesh::{BeamSection, MassModel, Material, ModelOptions};
 
 /// Below this length relative to the distance of the nodes from the body origin, the two nodes are
 /// taken as coincident.
@@ -49,7 +49,8 @@ const ZERO_LENGTH: f64 = 1e-12;
 /// as parallel.
 const PARALLEL: f64 = 1e-6;
 
-/// Stiffness and lumped mass of a 2-node 3D beam from `a` to `b`.
+/// Stiffness and mass (lumped, and the consistent mass points when `options` asks for them) of a
+/// 2-node 3D beam from `a` to `b`.
 ///
 /// Errors: `ZeroLength` if a and b coincide, `OrientationParallel` if the section's orientation
 /// vector is zero or parallel to the beam, `InvalidProperty` / `OutOfRange` for a material or
@@ -59,8 +60,9 @@ pub fn beam_matrices(
     b: &Vector3<f64>,
     section: &BeamSection,
     material: &Material,
-    rotary_inertia: bool,
+    options: &ModelOptions,
 ) -> Result<ElementMatrices, ElementError> {
+    let rotary_inertia = options.rotary_inertia;
     let elastic = Elastic::new(material)?;
     let properties = SectionProperties {
         area: positive("beam section area", section.area)?,
@@ -103,27 +105,28 @@ pub fn beam_matrices(
         mass: 0.5 * mass,
         rotary_inertia: rotary,
     };
+    let consistent_mass = match options.mass {
+        MassModel::Lumped => Vec::new(),
+        MassModel::Consistent => consistent_mass_points(a, b, &axes, elastic.density, &properties, rotary_inertia),
+    };
     Ok(ElementMatrices {
         stiffness,
         lumped_mass: vec![nodal, nodal],
-        consistent_mass: Vec::new(),
+        consistent_mass,
     })
 }
 
-/// The consistent mass of the beam from `a` to `b` as four mass points (see the module
-/// documentation); interpolation indices 0 (node a) and 1 (node b).
-pub fn consistent_mass_points(
+/// The consistent mass of the beam from `a` to `b` (direction matrix `axes`, density `rho`) as
+/// four mass points (see the module documentation); interpolation indices 0 (node a) and 1 (node b).
+fn consistent_mass_points(
     a: &Vector3<f64>,
     b: &Vector3<f64>,
-    section: &BeamSection,
-    material: &Material,
+    axes: &Matrix3<f64>,
+    rho: f64,
+    section: &SectionProperties,
     rotary_inertia: bool,
-) -> Result<Vec<MassPoint>, ElementError> {
-    let elastic = Elastic::new(material)?;
-    let area = positive("beam section area", section.area)?;
-    let axes = local_axes(a, b, &section.orientation)?;
+) -> Vec<MassPoint> {
     let length = (b - a).norm();
-    let rho = elastic.density;
     let section_rotary = Matrix3::from_diagonal(&Vector3::new(
         rho * (section.iy + section.iz),
         rho * section.iy,
@@ -132,7 +135,7 @@ pub fn consistent_mass_points(
     let mut to_body = Matrix6::zeros();
     to_body.fixed_view_mut::<3, 3>(0, 0).copy_from(&axes.transpose());
     to_body.fixed_view_mut::<3, 3>(3, 3).copy_from(&axes.transpose());
-    Ok(gauss_legendre_4()
+    gauss_legendre_4()
         .into_iter()
         .map(|(xi, weight)| {
             let [at_a, at_b] = axis_field(xi, length);
@@ -143,7 +146,7 @@ pub fn consistent_mass_points(
             };
             MassPoint {
                 position: a + xi * (b - a),
-                mass: rho * area * length * weight,
+                mass: rho * section.area * length * weight,
                 rotary_inertia: rotary,
                 interpolation: vec![
                     (0, to_body * at_a * to_body.transpose()),
@@ -151,7 +154,7 @@ pub fn consistent_mass_points(
                 ],
             }
         })
-        .collect())
+        .collect()
 }
 
 /// The axis' displacement field at ξ = x / L in local axes: for each node, the 6 × 6 block from

@@ -18,7 +18,7 @@ use nalgebra::{DMatrix, Matrix3};
 pub use mass_point::MassPoint;
 pub(crate) use mass_point::gauss_legendre_4;
 
-use crate::mesh::{Element, ElementKind, MassModel, Mesh, ModelOptions};
+use crate::mesh::{Element, ElementKind, Mesh, ModelOptions};
 
 /// The stiffness matrix (symmetric, 6n × 6n) and the mass of one element.
 #[derive(Clone, Debug, PartialEq)]
@@ -26,7 +26,7 @@ pub struct ElementMatrices {
     pub stiffness: DMatrix<f64>,
     /// The lumped mass, one entry per node (always computed: the nodes' share of the mass).
     pub lumped_mass: Vec<NodalMass>,
-    /// With [`MassModel::Consistent`], the mass points of the consistent mass (interpolation indices
+    /// With [`MassModel::Consistent`](crate::mesh::MassModel::Consistent), the mass points of the consistent mass (interpolation indices
     /// are the element's node positions 0..n); empty with the lumped mass.
     pub consistent_mass: Vec<MassPoint>,
 }
@@ -76,12 +76,7 @@ pub fn element_matrices(
             if points.len() != 2 {
                 return Err(ElementError::NodeCount { kind: "beam", expected: "2", found: points.len() });
             }
-            let mut matrices = beam::beam_matrices(&points[0], &points[1], section, material, options.rotary_inertia)?;
-            if options.mass == MassModel::Consistent {
-                matrices.consistent_mass =
-                    beam::consistent_mass_points(&points[0], &points[1], section, material, options.rotary_inertia)?;
-            }
-            Ok(matrices)
+            beam::beam_matrices(&points[0], &points[1], section, material, options)
         }
         ElementKind::Shell { section } => {
             let section = &mesh.shell_sections[section];

@@ -19,6 +19,11 @@ fn steel() -> Material {
     }
 }
 
+/// Lumped mass, with or without rotary inertia.
+fn options(rotary_inertia: bool) -> ModelOptions {
+    ModelOptions { rotary_inertia, ..Default::default() }
+}
+
 fn section(orientation: Vector3<f64>, shear_coefficient: Option<f64>) -> BeamSection {
     BeamSection {
         name: "s".into(),
@@ -57,7 +62,7 @@ fn cantilever_tip(
     force: Vector3<f64>,
     torque: Vector3<f64>,
 ) -> (Vector3<f64>, Vector3<f64>) {
-    let k = beam_matrices(a, b, section, &steel(), false)
+    let k = beam_matrices(a, b, section, &steel(), &options(false))
         .unwrap()
         .stiffness;
     let mut model = DenseModel::new(2);
@@ -85,7 +90,7 @@ fn assert_vector_close(actual: &Vector3<f64>, expected: &Vector3<f64>, tol: f64,
 fn oblique_beam_has_exactly_six_rigid_body_modes() {
     let (a, b, orientation, _) = oblique_beam();
     for k in [None, Some(5.0 / 6.0)] {
-        let m = beam_matrices(&a, &b, &section(orientation, k), &steel(), true).unwrap();
+        let m = beam_matrices(&a, &b, &section(orientation, k), &steel(), &options(true)).unwrap();
         let seventh = assert_rigid_body_modes(&m.stiffness, &[a, b], 1e-6);
         assert!(seventh < 1.0);
     }
@@ -208,7 +213,7 @@ fn lumped_mass_and_rotated_rotary_inertia() {
     let l = (b - a).norm();
     let s = section(orientation, None);
     let m = rho_a_l(&s, l);
-    let without = beam_matrices(&a, &b, &s, &steel(), false).unwrap();
+    let without = beam_matrices(&a, &b, &s, &steel(), &options(false)).unwrap();
     let total: f64 = without.lumped_mass.iter().map(|n| n.mass).sum();
     assert!((total / m - 1.0).abs() < 1e-14);
     assert!(without
@@ -216,7 +221,7 @@ fn lumped_mass_and_rotated_rotary_inertia() {
         .iter()
         .all(|n| n.rotary_inertia == Matrix3::zeros()));
 
-    let with = beam_matrices(&a, &b, &s, &steel(), true).unwrap();
+    let with = beam_matrices(&a, &b, &s, &steel(), &options(true)).unwrap();
     let expected_local = [
         RHO * (s.iy + s.iz) * l / 2.0,
         m * l * l / 24.0 + RHO * s.iy * l / 2.0,
@@ -246,17 +251,17 @@ fn bad_geometry_and_properties_are_reported() {
     let a = Vector3::new(1.0, 2.0, 3.0);
     let s = section(Vector3::z(), None);
     assert_eq!(
-        beam_matrices(&a, &a, &s, &steel(), false),
+        beam_matrices(&a, &a, &s, &steel(), &options(false)),
         Err(ElementError::ZeroLength)
     );
     let b = a + Vector3::new(0.0, 0.0, 1.0);
     assert_eq!(
-        beam_matrices(&a, &b, &s, &steel(), false),
+        beam_matrices(&a, &b, &s, &steel(), &options(false)),
         Err(ElementError::OrientationParallel)
     );
     let zero = section(Vector3::zeros(), None);
     assert_eq!(
-        beam_matrices(&a, &b, &zero, &steel(), false),
+        beam_matrices(&a, &b, &zero, &steel(), &options(false)),
         Err(ElementError::OrientationParallel)
     );
     let b = a + Vector3::x();
@@ -265,7 +270,7 @@ fn bad_geometry_and_properties_are_reported() {
         ..s.clone()
     };
     assert!(matches!(
-        beam_matrices(&a, &b, &bad, &steel(), false),
+        beam_matrices(&a, &b, &bad, &steel(), &options(false)),
         Err(ElementError::InvalidProperty { .. })
     ));
     let light = Material {
@@ -273,7 +278,7 @@ fn bad_geometry_and_properties_are_reported() {
         ..steel()
     };
     assert!(matches!(
-        beam_matrices(&a, &b, &s, &light, false),
+        beam_matrices(&a, &b, &s, &light, &options(false)),
         Err(ElementError::OutOfRange { .. })
     ));
     let rubber = Material {
@@ -281,7 +286,7 @@ fn bad_geometry_and_properties_are_reported() {
         ..steel()
     };
     assert!(matches!(
-        beam_matrices(&a, &b, &s, &rubber, false),
+        beam_matrices(&a, &b, &s, &rubber, &options(false)),
         Err(ElementError::OutOfRange { .. })
     ));
 }
@@ -336,7 +341,8 @@ fn consistent_mass_points_give_przemieniecki_consistent_mass() {
     let s = section(orientation, None);
     let t = crate::element::test_support::block_rotation(2, &axes);
     for rotary in [false, true] {
-        let points = consistent_mass_points(&a, &b, &s, &steel(), rotary).unwrap();
+        let consistent = ModelOptions { mass: MassModel::Consistent, ..options(rotary) };
+        let points = beam_matrices(&a, &b, &s, &steel(), &consistent).unwrap().consistent_mass;
         assert_eq!(points.len(), 4);
         let body = crate::element::test_support::mass_matrix_of_points(&points, 2);
         let expected = t.transpose() * przemieniecki_consistent_mass(&s, l, rotary) * &t;
