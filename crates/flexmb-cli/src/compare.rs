@@ -91,11 +91,12 @@ pub fn compare_model(path: &Path, options: &CompareOptions) -> Result<String, Cl
             path.display()
         )));
     }
+    let assembly = crate::limits::assembly_settings(&d)?;
     let settings = |method: Method, rtol: f64, atol: f64| SimulationSettings {
         t_end,
         output_step: d.output_step,
         integrator: d.integrator(model, rtol, atol),
-        assembly: d.assembly(),
+        assembly,
         method,
     };
     // The reference: the BDF at a thousandth of the tolerances and orders up to 5 (its steps are then

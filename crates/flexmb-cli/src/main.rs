@@ -244,7 +244,8 @@ fn main() -> ExitCode {
             .map_err(|e| e.to_string())
             .and_then(|loaded| {
                 print!("{}", describe_flexible_bodies(&loaded));
-                check_model(&loaded.model, loaded.simulation.assembly())
+                let settings = flexmb_cli::limits::assembly_settings(&loaded.simulation).map_err(|e| e.0)?;
+                check_model(&loaded.model, settings)
                     .map(|report| print!("{}", describe(&loaded.model, &report)))
                     .map_err(|e| format!("{}: {e}", model.display()))
             })

@@ -66,7 +66,8 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
     if !options.quiet {
         print!("{}", describe_flexible_bodies(&loaded));
     }
-    let check = check_model(model, d.assembly()).map_err(|e| CliError(format!("{}: {e}", path.display())))?;
+    let assembly = crate::limits::assembly_settings(&d)?;
+    let check = check_model(model, assembly).map_err(|e| CliError(format!("{}: {e}", path.display())))?;
     if !options.quiet {
         print!("{}", describe(model, &check));
     }
@@ -87,7 +88,7 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
         t_end,
         output_step,
         integrator: d.integrator(model, rtol, atol),
-        assembly: d.assembly(),
+        assembly,
         method,
     };
     let bar = if options.quiet { ProgressBar::hidden() } else { ProgressBar::new(1000) };

@@ -86,7 +86,8 @@ fn run_case(study: &Study, case: &Case, integrator: &str, out_dir: &Path) -> Res
     let d = loaded.simulation;
     let (t_end, rtol, atol) = (study.t_end.unwrap_or(d.t_end), study.rtol.unwrap_or(d.rtol), study.atol.unwrap_or(d.atol));
     let (method, max_order) = parse_study_integrator(integrator).map_err(CliError)?;
-    check_model(model, d.assembly()).map_err(|e| CliError(format!("{}: {}: {e}", case.location, study.model.display())))?;
+    let assembly = crate::limits::assembly_settings(&d)?;
+    check_model(model, assembly).map_err(|e| CliError(format!("{}: {}: {e}", case.location, study.model.display())))?;
     let stem = format!("{}-{}", case.name, integrator.replace(':', "-order"));
     let csv_path = out_dir.join(format!("{stem}.csv"));
     let summary_path = out_dir.join(format!("{stem}.json"));
@@ -97,7 +98,7 @@ fn run_case(study: &Study, case: &Case, integrator: &str, out_dir: &Path) -> Res
             max_order: max_order.unwrap_or(d.integrator(model, rtol, atol).max_order),
             ..d.integrator(model, rtol, atol)
         },
-        assembly: d.assembly(),
+        assembly,
         method,
     };
     let model_file = study.model.display().to_string();

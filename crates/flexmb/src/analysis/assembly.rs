@@ -6,7 +6,8 @@
 
 use faer::prelude::*;
 
-use super::redundancy::{find_redundant_rows, RedundantConstraint};
+use super::memory::{dense_analysis_bytes, format_bytes, MemoryLimit};
+use super::redundancy::{dependency_of, find_redundant_rows, violated_rows, RedundantConstraint, ViolatedEquation};
 use super::static_deformation::static_deformation_step;
 use super::State;
 use crate::data::Data;
@@ -23,11 +24,13 @@ pub struct AssemblySettings {
     pub max_iterations: usize,
     /// What the assembly may change in flexible bodies.
     pub modal: ModalAssembly,
+    /// Memory the dense analyses may use; a larger model is refused before anything is allocated.
+    pub memory_limit: MemoryLimit,
 }
 
 impl Default for AssemblySettings {
     fn default() -> Self {
-        Self { tolerance: 1e-10, max_iterations: 50, modal: ModalAssembly::Held }
+        Self { tolerance: 1e-10, max_iterations: 50, modal: ModalAssembly::Held, memory_limit: MemoryLimit::Available }
     }
 }
 
@@ -58,7 +61,7 @@ pub struct AssemblyReport {
     pub degrees_of_freedom: usize,
 }
 
-/// Why the assembly failed.
+/// Why the assembly (or the velocity analysis after it) failed.
 #[derive(Clone, Debug, thiserror::Error, PartialEq)]
 pub enum AssemblyError {
     #[error(
@@ -66,30 +69,105 @@ pub enum AssemblyError {
          check that the markers of that joint can be brought together from the given initial poses"
     )]
     NotConverged { iterations: usize, residual: f64, worst: String },
-    #[error("{what}: the constraint matrix is singular even after removing redundant rows")]
-    Singular { what: &'static str },
+    /// A linear system of the analysis is singular although the redundant rows were removed: rows in
+    /// force have become dependent during the iteration (`dependent` names them when they are found).
+    #[error("{what}: the constraint matrix is singular even after removing redundant rows{dependent}")]
+    Singular { what: &'static str, dependent: String },
+    /// Declared equations that depend on the others at the assembled configuration do not hold there
+    /// (position or velocity level): the mechanism is at a singular position where they cannot all hold.
+    #[error("{}", singular_position_message(*t, level, violated, dependency))]
+    SingularPosition {
+        t: f64,
+        /// `"position"` or `"velocity"`.
+        level: &'static str,
+        /// The removed equations that do not hold, largest residual first.
+        violated: Vec<ViolatedEquation>,
+        /// The equations in force that the first of them depends on.
+        dependency: Vec<String>,
+    },
+    /// The dense analyses would need more memory than the machine has.
+    #[error(
+        "the model is too large for the dense initial-condition analyses: they need about {} for {nc} \
+         constraint equations and {nv} velocity coordinates, and {} {}; use a smaller model (fewer bodies \
+         or modes)",
+        format_bytes(*needed),
+        format_bytes(*available),
+        if *machine { "is available on this machine" } else { "is the memory limit given" }
+    )]
+    TooLarge {
+        needed: u64,
+        available: u64,
+        /// Whether `available` is the machine's available memory (else a limit the caller gave).
+        machine: bool,
+        nc: usize,
+        nv: usize,
+    },
 }
 
+fn singular_position_message(t: f64, level: &str, violated: &[ViolatedEquation], dependency: &[String]) -> String {
+    let first = &violated[0];
+    let mut s = format!(
+        "at t = {t} s the declared constraints cannot all hold: their equations are dependent at this \
+         configuration (the mechanism is at a singular position, or joints repeat each other), and {} has a \
+         {level} residual of {:.3e}",
+        first.description, first.residual
+    );
+    if !dependency.is_empty() {
+        s.push_str(&format!(" while it depends there on {}", dependency.join("; ")));
+    }
+    if violated.len() > 1 {
+        let others: Vec<String> = violated[1..].iter().map(|v| format!("{} ({:.3e})", v.description, v.residual)).collect();
+        s.push_str(&format!("; so do {}", others.join("; ")));
+    }
+    s.push_str(if level == "velocity" {
+        ". A driver prescribes a motion the mechanism cannot make at this position (a dead centre, a locked \
+         or singular configuration); start the model away from it, or drive another joint"
+    } else {
+        ". Joints that repeat each other must agree geometrically; a driver cannot prescribe a position the \
+         mechanism cannot reach; and from initial poses at a singular position the assembly cannot tell which \
+         way to move: give poses near the assembled configuration"
+    });
+    s
+}
+
+/// Largest attempts at the set of redundant rows: the set found at the initial configuration can
+/// change at the assembled one (a row that did not hold is kept first, a dependency can vanish).
+const MAX_REDUNDANCY_PASSES: usize = 4;
+
 /// Assembles `state.q` at `state.t` in place; sets `state.active`.
+///
+/// Rows that depend on others are switched off, chosen among the rows that hold, drivers last (see
+/// `redundancy.rs`); afterwards every declared equation, switched off or not, must hold to
+/// `settings.tolerance`, else the mechanism is at a singular position and the assembly fails naming
+/// the equations that cannot hold.
 pub fn assemble(
     model: &Model,
     data: &mut Data,
     state: &mut State,
     settings: AssemblySettings,
 ) -> Result<AssemblyReport, AssemblyError> {
-    let (mut redundant, mut rank) = find_redundant_rows(model, data, state.t, &state.q);
+    check_memory(model, settings.memory_limit)?;
+    let (mut redundant, mut rank) = find_redundant_rows(model, data, state.t, &state.q, settings.tolerance);
     set_active(state, &redundant);
     let initial_residual = residual_norm(model, data, state);
     let mut iterations = newton(model, data, state, settings)?;
     // The rank can differ at the assembled configuration; if so, assemble again with the new set.
-    let (again, rank2) = find_redundant_rows(model, data, state.t, &state.q);
-    if again != redundant {
+    for _ in 1..MAX_REDUNDANCY_PASSES {
+        let (again, rank2) = find_redundant_rows(model, data, state.t, &state.q, settings.tolerance);
+        if again == redundant {
+            break;
+        }
         redundant = again;
         rank = rank2;
         set_active(state, &redundant);
         iterations += newton(model, data, state, settings)?;
     }
     let residual = residual_norm(model, data, state);
+    let violated = violated_rows(model, data, &state.active, false, settings.tolerance);
+    if !violated.is_empty() {
+        let dependency = dependency_of(model, data, &state.active, &violated[0]);
+        return Err(AssemblyError::SingularPosition { t: state.t, level: "position", violated, dependency });
+    }
     Ok(AssemblyReport {
         iterations,
         initial_residual,
@@ -97,6 +175,24 @@ pub fn assemble(
         redundant,
         degrees_of_freedom: model.layout.nv - rank,
     })
+}
+
+/// Refuses a model whose dense analyses would need more memory than `limit` allows.
+fn check_memory(model: &Model, limit: MemoryLimit) -> Result<(), AssemblyError> {
+    let l = &model.layout;
+    let needed = dense_analysis_bytes(l.nc, model.bodies.len(), l.nq, l.nv);
+    match limit.bytes() {
+        Some(available) if needed > available => {
+            let machine = limit == MemoryLimit::Available;
+            Err(AssemblyError::TooLarge { needed, available, machine, nc: l.nc, nv: l.nv })
+        }
+        _ => Ok(()),
+    }
+}
+
+/// The rows in force that have become dependent at `state.q`, for a singular-matrix message.
+fn dependent_note(model: &Model, data: &mut Data, state: &State) -> String {
+    super::newly_dependent_rows(model, data, state.t, &state.q, &state.active).map(|n| format!("; {n}")).unwrap_or_default()
 }
 
 fn set_active(state: &mut State, redundant: &[RedundantConstraint]) {
@@ -142,7 +238,13 @@ fn newton(model: &Model, data: &mut Data, state: &mut State, settings: AssemblyS
         let dq = match settings.modal {
             ModalAssembly::Static => {
                 let gq = position_jacobian(model, data, state, &active_rows, true);
-                static_deformation_step(model, &state.q, &gq, &phi).ok_or(AssemblyError::Singular { what: "static deformation" })?
+                match static_deformation_step(model, &state.q, &gq, &phi) {
+                    Some(dq) => dq,
+                    None => {
+                        let dependent = dependent_note(model, data, state);
+                        return Err(AssemblyError::Singular { what: "static deformation", dependent });
+                    }
+                }
             }
             modal => {
                 let gq = position_jacobian(model, data, state, &active_rows, modal == ModalAssembly::Free);
@@ -154,7 +256,8 @@ fn newton(model: &Model, data: &mut Data, state: &mut State, settings: AssemblyS
             }
         };
         if !dq.col(0).iter().all(|x| x.is_finite()) {
-            return Err(AssemblyError::Singular { what: "assembly" });
+            let dependent = dependent_note(model, data, state);
+            return Err(AssemblyError::Singular { what: "assembly", dependent });
         }
         // Backtracking on the largest residual.
         let q0 = state.q.clone();

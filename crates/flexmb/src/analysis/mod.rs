@@ -3,6 +3,7 @@
 
 mod accelerations;
 mod assembly;
+mod memory;
 mod outputs;
 mod redundancy;
 mod simulation;
@@ -16,8 +17,9 @@ pub(crate) use accelerations::KktMatrix;
 pub use accelerations::{AccelerationSolver, Accelerations};
 pub use assembly::{assemble, AssemblyError, AssemblyReport, AssemblySettings, ModalAssembly};
 pub use outputs::{output_columns, OutputColumn};
-pub(crate) use redundancy::newly_dependent_rows;
-pub use redundancy::{find_redundant_rows, RedundantConstraint};
+pub use memory::{dense_analysis_bytes, format_bytes, MemoryLimit};
+pub(crate) use redundancy::{dependency_of, newly_dependent_rows, violated_rows};
+pub use redundancy::{find_redundant_rows, RedundantConstraint, ViolatedEquation};
 pub use simulation::{simulate, OutputFrame, SimulationError, SimulationFailure, SimulationReport, SimulationSettings};
 pub use state::State;
 pub use velocity::{velocity_analysis, VelocityReport};

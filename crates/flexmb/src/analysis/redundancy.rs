@@ -1,5 +1,13 @@
-//! Redundant constraints: rows of `B` that are linear combinations of earlier rows, found by modified
-//! Gram–Schmidt with reorthogonalization, in joint order, so that the later equation is the one named.
+//! Redundant constraints: rows of `B` that are linear combinations of rows kept before them, found by
+//! modified Gram–Schmidt with reorthogonalization.
+//!
+//! Which of a dependent set is removed matters: the removed row is no longer enforced, so it must be one
+//! that holds anyway. Rows are therefore taken in the order in which they are kept
+//! ([`keep_order`]): first the rows that do not hold at the configuration (they must stay in force for
+//! the assembly to close them), then the drivers (a prescribed motion is removed last), then the other
+//! joints' rows in joint order, so that of two dependent joint rows the later one is named. After the
+//! assembly and the velocity analysis every removed row is checked ([`violated_rows`]): when one does not
+//! hold, the declared equations cannot all hold there and the mechanism is at a singular position.
 
 use crate::data::Data;
 use crate::model::Model;
@@ -16,18 +24,28 @@ pub struct RedundantConstraint {
     pub description: String,
 }
 
-/// Rows of the velocity Jacobian at `(q, t)` that are dependent on earlier rows; also returns the rank.
-pub fn find_redundant_rows(model: &Model, data: &mut Data, t: f64, q: &[f64]) -> (Vec<RedundantConstraint>, usize) {
+/// Rows of the velocity Jacobian at `(q, t)` that depend on rows kept before them in [`keep_order`]
+/// (rows with `|Φ| > satisfied_tolerance` first, then drivers, then joints); also returns the rank.
+/// The result lists the rows in row order.
+pub fn find_redundant_rows(
+    model: &Model,
+    data: &mut Data,
+    t: f64,
+    q: &[f64],
+    satisfied_tolerance: f64,
+) -> (Vec<RedundantConstraint>, usize) {
     let nv = model.layout.nv;
     let nc = model.layout.nc;
     let zero_v = vec![0.0; nv];
     kinematics(model, data, q, &zero_v);
     constraint_equations(model, data, t);
+    let order = keep_order(model, data, satisfied_tolerance);
     let mut rows = vec![vec![0.0; nv]; nc];
     jacobian_entries(model, data, |r, c, x| rows[r][c] += x);
     let mut basis: Vec<Vec<f64>> = Vec::new();
     let mut redundant = Vec::new();
-    for (r, mut row) in rows.into_iter().enumerate() {
+    for r in order {
+        let mut row = std::mem::take(&mut rows[r]);
         let norm0 = norm(&row);
         if norm0 > 0.0 {
             for _ in 0..2 {
@@ -45,7 +63,26 @@ pub fn find_redundant_rows(model: &Model, data: &mut Data, t: f64, q: &[f64]) ->
             basis.push(row);
         }
     }
+    redundant.sort_by_key(|r| r.row);
     (redundant, basis.len())
+}
+
+/// The order in which rows are kept when some are dependent (after `constraint_equations`): rows that
+/// do not hold (`|Φ| > satisfied_tolerance`), then drivers, then the other rows, each group in row order.
+fn keep_order(model: &Model, data: &Data, satisfied_tolerance: f64) -> Vec<usize> {
+    let rank = |r: usize| {
+        let (joint, _) = model.layout.equations[r];
+        if data.equations[r].phi.abs() > satisfied_tolerance {
+            0
+        } else if model.joints[joint.0].kind.is_driver() {
+            1
+        } else {
+            2
+        }
+    };
+    let mut order: Vec<usize> = (0..model.layout.nc).collect();
+    order.sort_by_key(|&r| rank(r));
+    order
 }
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
@@ -56,10 +93,92 @@ fn norm(a: &[f64]) -> f64 {
     dot(a, a).sqrt()
 }
 
+/// A declared equation that does not hold, with its residual.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ViolatedEquation {
+    /// The row of `Φ`.
+    pub row: usize,
+    /// Joint, kind and equation, as in [`RedundantConstraint::description`].
+    pub description: String,
+    /// `|Φ|` (position level) or `|Φ̇|` (velocity level).
+    pub residual: f64,
+}
+
+/// The rows switched off (`!active`) whose residual exceeds `tolerance`, largest first: `|Φ|` when
+/// `velocity` is false, else `|B v + Φ_t|` (after `kinematics` and `constraint_equations` at the state).
+pub(crate) fn violated_rows(model: &Model, data: &Data, active: &[bool], velocity: bool, tolerance: f64) -> Vec<ViolatedEquation> {
+    let mut violated: Vec<ViolatedEquation> = (0..model.layout.nc)
+        .filter(|&r| !active[r])
+        .filter_map(|r| {
+            let terms = &data.equations[r];
+            let residual = if velocity {
+                let joint = &model.joints[model.layout.equations[r].0 .0];
+                terms.rate(&data.markers[joint.marker_i.0], &data.markers[joint.marker_j.0]).abs()
+            } else {
+                terms.phi.abs()
+            };
+            (residual > tolerance || residual.is_nan())
+                .then(|| ViolatedEquation { row: r, description: model.describe_constraint_row(r), residual })
+        })
+        .collect();
+    violated.sort_by(|a, b| b.residual.total_cmp(&a.residual));
+    violated
+}
+
+/// The equations in force that `violated` depends on (its row of `B` as a combination of theirs, by
+/// least squares), grouped by joint, e.g. `joint 'slide' (translational), equations 1, 3`; after
+/// `constraint_equations` at the state.
+pub(crate) fn dependency_of(model: &Model, data: &Data, active: &[bool], violated: &ViolatedEquation) -> Vec<String> {
+    use faer::prelude::*;
+    let l = &model.layout;
+    let rows: Vec<usize> = (0..l.nc).filter(|&r| active[r]).collect();
+    let mut row_of = vec![usize::MAX; l.nc];
+    rows.iter().enumerate().for_each(|(k, &r)| row_of[r] = k);
+    let mut b = Mat::<f64>::zeros(rows.len(), l.nv);
+    let mut target = Mat::<f64>::zeros(l.nv, 1);
+    jacobian_entries(model, data, |r, c, x| {
+        if row_of[r] != usize::MAX {
+            b[(row_of[r], c)] += x;
+        } else if r == violated.row {
+            target[(c, 0)] += x;
+        }
+    });
+    // B Bᵀ c = B b_r: the coefficients of b_r on the rows in force.
+    let mut c = &b * &target;
+    (&b * b.transpose()).partial_piv_lu().solve_in_place(c.as_mut());
+    let largest = (0..rows.len()).map(|k| c[(k, 0)].abs()).fold(0.0, f64::max);
+    let involved: Vec<usize> = (0..rows.len()).filter(|&k| c[(k, 0)].abs() > 1e-6 * largest).map(|k| rows[k]).collect();
+    group_by_joint(model, &involved)
+}
+
+/// `joint 'slide' (translational), equations 1, 3` for each joint of `rows` (in row order).
+fn group_by_joint(model: &Model, rows: &[usize]) -> Vec<String> {
+    let l = &model.layout;
+    let mut groups: Vec<(usize, Vec<usize>)> = Vec::new();
+    for &r in rows {
+        let joint = l.equations[r].0 .0;
+        let k = r - l.joint_rows[joint].start + 1;
+        match groups.last_mut() {
+            Some((j, ks)) if *j == joint => ks.push(k),
+            _ => groups.push((joint, vec![k])),
+        }
+    }
+    groups
+        .into_iter()
+        .map(|(j, ks)| {
+            let joint = &model.joints[j];
+            let ks: Vec<String> = ks.iter().map(|k| k.to_string()).collect();
+            let noun = if joint.kind.is_driver() { "driver" } else { "joint" };
+            let eq = if ks.len() == 1 { "equation" } else { "equations" };
+            format!("{noun} '{}' ({}), {eq} {}", joint.name, joint.kind.keyword(), ks.join(", "))
+        })
+        .collect()
+}
+
 /// For a failure message: the rows in force (`active`) that have become dependent at `q`, i.e. the
 /// mechanism locks or reaches a singular position there; `None` when there are none.
 pub(crate) fn newly_dependent_rows(model: &Model, data: &mut Data, t: f64, q: &[f64], active: &[bool]) -> Option<String> {
-    let (dependent, _) = find_redundant_rows(model, data, t, q);
+    let (dependent, _) = find_redundant_rows(model, data, t, q, f64::INFINITY);
     let newly: Vec<String> = dependent.iter().filter(|r| active[r.row]).map(|r| r.description.clone()).collect();
     (!newly.is_empty()).then(|| {
         format!(

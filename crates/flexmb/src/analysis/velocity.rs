@@ -4,7 +4,7 @@
 
 use faer::prelude::*;
 
-use super::{AssemblyError, State};
+use super::{dependency_of, newly_dependent_rows, violated_rows, AssemblyError, State};
 use crate::data::Data;
 use crate::model::Model;
 use crate::stage::{constraint_equations, jacobian_entries, kinematics};
@@ -20,7 +20,13 @@ pub struct VelocityReport {
     pub residual: f64,
 }
 
-/// Makes `state.v` consistent with the velocity constraints at `state.q` (already assembled).
+/// Relative size (of the largest velocity) above which a switched-off row's velocity residual means the
+/// declared velocity equations cannot all hold.
+const VELOCITY_CONSISTENCY: f64 = 1e-8;
+
+/// Makes `state.v` consistent with the velocity constraints at `state.q` (already assembled). The rows
+/// switched off as redundant must hold too: when one does not (a driver prescribes a rate the mechanism
+/// cannot follow at a singular position), the analysis fails naming it.
 pub fn velocity_analysis(model: &Model, data: &mut Data, state: &mut State) -> Result<VelocityReport, AssemblyError> {
     let l = &model.layout;
     let mut weight = vec![1.0; l.nv];
@@ -63,7 +69,8 @@ pub fn velocity_analysis(model: &Model, data: &mut Data, state: &mut State) -> R
     }
     if !state.v.iter().all(|x| x.is_finite()) {
         state.v = v0;
-        return Err(AssemblyError::Singular { what: "velocity analysis" });
+        let dependent = newly_dependent_rows(model, data, state.t, &state.q, &state.active).map(|n| format!("; {n}")).unwrap_or_default();
+        return Err(AssemblyError::Singular { what: "velocity analysis", dependent });
     }
     let mut report = VelocityReport::default();
     for (bi, body) in model.bodies.iter().enumerate() {
@@ -98,5 +105,11 @@ pub fn velocity_analysis(model: &Model, data: &mut Data, state: &mut State) -> R
             data.equations[*r].rate(&data.markers[joint.marker_i.0], &data.markers[joint.marker_j.0]).abs()
         })
         .fold(0.0, f64::max);
+    let scale = state.v.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
+    let violated = violated_rows(model, data, &state.active, true, VELOCITY_CONSISTENCY * scale);
+    if !violated.is_empty() {
+        let dependency = dependency_of(model, data, &state.active, &violated[0]);
+        return Err(AssemblyError::SingularPosition { t: state.t, level: "velocity", violated, dependency });
+    }
     Ok(report)
 }

@@ -132,6 +132,11 @@ impl JointKind {
         }
     }
 
+    /// Whether the joint prescribes a motion (an angle or displacement driver).
+    pub fn is_driver(&self) -> bool {
+        matches!(self, JointKind::AngleDriver { .. } | JointKind::DisplacementDriver { .. })
+    }
+
     /// Whether the joint allows a relative rotation about `z_i` that an angle measure can read.
     pub fn has_rotation_about_z(&self) -> bool {
         matches!(self, JointKind::Revolute | JointKind::Cylindrical | JointKind::AngleDriver { .. })

@@ -29,7 +29,7 @@
 //! only. Projection keeps the whole state under error control, never restarts, and its inconsistency
 //! with the difference table is a small fraction of the tolerance (see [`ProjectionDrift`]).
 
-use crate::analysis::{find_redundant_rows, Accelerations, State};
+use crate::analysis::{Accelerations, State};
 use crate::data::Data;
 use crate::integrate::{BdfConfig, IntegrationError, Integrator, Stats};
 use crate::model::Model;
@@ -305,16 +305,9 @@ impl<'m> Adams<'m> {
         let q = Integrator::state(self).0.to_vec();
         let model = self.system.model();
         let active = self.system.active().to_vec();
-        let (dependent, _) = find_redundant_rows(model, self.system.data(), t, &q);
-        let newly: Vec<String> = dependent.iter().filter(|r| active[r.row]).map(|r| r.description.clone()).collect();
-        if newly.is_empty() {
-            String::new()
-        } else {
-            format!(
-                "; the constraints have become dependent here (the mechanism locks or reaches a singular position): {}",
-                newly.join("; ")
-            )
-        }
+        crate::analysis::newly_dependent_rows(model, self.system.data(), t, &q, &active)
+            .map(|note| format!("; {note}"))
+            .unwrap_or_default()
     }
 }
 

@@ -1,0 +1,63 @@
+//! A model too large for the memory of the dense initial-condition analyses ends with an error that
+//! says how much it needed, before anything is allocated (a chain of 20,000 bodies aborted with
+//! SIGABRT in an allocation of its 58 GB Jacobian before).
+
+mod program;
+
+use std::process::Command;
+
+use program::{scratch, text, workspace};
+
+/// A chain of `n` rigid links of 1 m on spherical joints, hanging from ground.
+fn chain(n: usize) -> String {
+    let mut s = String::from("[model]\nname = \"chain\"\ngravity = [0, -9.81, 0]\n\n");
+    for i in 0..n {
+        s.push_str(&format!("[[body]]\nname = \"link{i}\"\nmass = 1.0\ninertia = [0.01, 0.1, 0.1]\nposition = [{}, 0, 0]\n\n", i as f64 + 0.5));
+    }
+    for i in 0..n {
+        let parent = if i == 0 { "ground".to_string() } else { format!("link{}", i - 1) };
+        let parent_origin = if i == 0 { 0.0 } else { 0.5 };
+        s.push_str(&format!(
+            "[[marker]]\nname = \"p{i}\"\nbody = \"{parent}\"\norigin = [{parent_origin}, 0, 0]\n\n\
+             [[marker]]\nname = \"c{i}\"\nbody = \"link{i}\"\norigin = [-0.5, 0, 0]\n\n\
+             [[joint]]\nname = \"j{i}\"\ntype = \"spherical\"\ni = \"p{i}\"\nj = \"c{i}\"\n\n"
+        ));
+    }
+    s
+}
+
+fn flexmb_with_memory_limit(limit: &str, args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_flexmb"))
+        .args(args)
+        .env("FLEXMB_MEMORY_LIMIT", limit)
+        .current_dir(workspace())
+        .output()
+        .expect("flexmb runs")
+}
+
+#[test]
+fn a_model_larger_than_the_memory_limit_is_refused_with_what_it_needs() {
+    let dir = scratch("model-size");
+    let model = dir.join("chain.toml");
+    std::fs::write(&model, chain(1000)).unwrap();
+    let m = model.to_str().unwrap();
+    let out = dir.join("out");
+    // 3,000 equations, 6,000 velocities, 7,000 positions: 8·(4000·7000 + 3000·6000 + 4000²) = 496 MB.
+    for args in [vec!["check", m], vec!["run", m, "--out", out.to_str().unwrap()]] {
+        let o = flexmb_with_memory_limit("100M", &args);
+        let e = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: a clean failure: {e}");
+        assert!(e.contains("chain.toml") && e.contains("too large"), "{e}");
+        assert!(e.contains("need about 496.0 MB") && e.contains("3000 constraint equations"), "{e}");
+        assert!(e.contains("100.0 MB is the memory limit given"), "{e}");
+    }
+    // A limit that allows it: the check goes on (a small chain, to keep the test short).
+    std::fs::write(&model, chain(20)).unwrap();
+    let o = flexmb_with_memory_limit("1G", &["check", m]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(text(&o.stdout).contains("degrees of freedom: 60"), "{}", text(&o.stdout));
+
+    let o = flexmb_with_memory_limit("plenty", &["check", m]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(text(&o.stderr).contains("FLEXMB_MEMORY_LIMIT=\"plenty\": expected a number of bytes"), "{}", text(&o.stderr));
+}
