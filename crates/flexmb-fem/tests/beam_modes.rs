@@ -1,7 +1,7 @@
 //! Vibration modes of beams against Euler–Bernoulli theory: the cantilever's first five bending
 //! frequencies and their convergence with the mesh, the free–free beam's six rigid modes and its
 //! elastic frequencies, repeated frequencies of a square section, and the Lanczos path against the
-//! dense one.
+//! dense one (and in its place on a model smaller than its Krylov space).
 
 mod support;
 
@@ -184,4 +184,22 @@ fn lanczos_agrees_with_dense() {
     }
     assert!(sparse_modes.max_residual < 1e-8, "residual {}", sparse_modes.max_residual);
     assert!(sparse_modes.max_orthogonality_error < 1e-9);
+}
+
+/// A model no larger than the Lanczos method's Krylov space (64 vectors) is solved densely when
+/// Lanczos is asked for: faer's iteration panicked on it (`flexmb modes --solver lanczos` on an 18-dof
+/// cantilever, or 30 modes of a 20-element one, found by the fuzz test).
+#[test]
+fn lanczos_on_a_model_smaller_than_its_krylov_space_is_solved_densely() {
+    let lanczos = EigenSettings { solver: EigenSolver::Lanczos, ..Default::default() };
+    // The lumped mass without rotary inertia: the operator acts on the 3 translations of each free node.
+    for (elements, count) in [(3, 4), (7, 6), (20, 30)] {
+        let model = cantilever(1.0, elements, square_section(0.01));
+        let dense_modes = vibration_modes(&model, count, &dense()).unwrap();
+        let modes = vibration_modes(&model, count, &lanczos).unwrap();
+        assert_eq!(modes.solver, EigenSolver::Dense, "{elements} elements, {count} modes");
+        assert_eq!(modes.frequencies_hz, dense_modes.frequencies_hz);
+    }
+    let larger = vibration_modes(&cantilever(1.0, 30, square_section(0.01)), 4, &lanczos).unwrap();
+    assert_eq!(larger.solver, EigenSolver::Lanczos, "90 translations: more than the 64 vectors of the Krylov space");
 }

@@ -8,18 +8,35 @@ use faer::{Col, Mat, Par};
 use super::shift_invert::ShiftInvert;
 use crate::error::FemError;
 
-/// Eigenvectors `z` of the `count` largest eigenvalues of the operator, largest first.
+/// How many eigenvectors the iteration computes for `count` wanted ones of an operator of dimension
+/// `n`: a few more than asked, so that the last wanted one converges as well as the first and a
+/// repeated frequency at the end of the range is not cut in half.
+fn computed(count: usize, n: usize) -> usize {
+    (count + (count / 2).max(4)).min(n)
+}
+
+/// The dimensions of the Krylov space between restarts: twice and four times the vectors computed,
+/// and at least 32 and 64, the least faer uses.
+fn krylov_dimensions(count: usize, n: usize) -> (usize, usize) {
+    let wanted = computed(count, n);
+    ((2 * wanted).max(32), (4 * wanted).max(64))
+}
+
+/// Whether the iteration applies to `count` eigenvectors of an operator of dimension `n`: its Krylov
+/// space must be smaller than the operator (faer's iteration panics otherwise). A smaller problem is
+/// one for the dense solver.
+pub fn applies(count: usize, n: usize) -> bool {
+    krylov_dimensions(count, n).1 < n
+}
+
+/// Eigenvectors `z` of the `count` largest eigenvalues of the operator, largest first. The
+/// operator must be larger than the Krylov space ([`applies`]).
 pub fn largest_eigenvectors(operator: &ShiftInvert, count: usize, tolerance: f64) -> Result<Mat<f64>, FemError> {
     let n = operator.dim();
-    // A few more than asked, so that the last wanted one converges as well as the first and a
-    // repeated frequency at the end of the range is not cut in half.
-    let wanted = (count + (count / 2).max(4)).min(n);
-    let params = PartialEigenParams {
-        min_dim: (2 * wanted).max(20).min(n),
-        max_dim: (4 * wanted).max(40).min(n),
-        max_restarts: 1000,
-        ..Default::default()
-    };
+    assert!(applies(count, n), "{count} eigenvectors of an operator of dimension {n}: solve it densely");
+    let wanted = computed(count, n);
+    let (min_dim, max_dim) = krylov_dimensions(count, n);
+    let params = PartialEigenParams { min_dim, max_dim, max_restarts: 1000, ..Default::default() };
     let mut vectors = Mat::<f64>::zeros(n, wanted);
     let mut values = vec![0.0; wanted];
     // A start vector with every component nonzero and no structure (golden-ratio sequence).

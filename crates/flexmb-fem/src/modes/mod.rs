@@ -26,6 +26,8 @@ pub enum EigenSolver {
     #[default]
     Auto,
     Dense,
+    /// Lanczos, except for a problem no larger than its Krylov space (64 vectors, or four times the
+    /// modes asked for and a few more), which is solved densely.
     Lanczos,
 }
 
@@ -132,6 +134,9 @@ pub fn vibration_modes_of(
     let operator = factor_shifted(assembled, rigid)?;
     let solver = match settings.solver {
         EigenSolver::Auto if n <= settings.dense_limit => EigenSolver::Dense,
+        // A problem no larger than the Lanczos method's Krylov space is solved densely, whichever
+        // solver was asked for.
+        EigenSolver::Auto | EigenSolver::Lanczos if !lanczos::applies(count, operator.dim()) => EigenSolver::Dense,
         EigenSolver::Auto => EigenSolver::Lanczos,
         chosen => chosen,
     };
