@@ -21,6 +21,7 @@
 use crate::analysis::{Accelerations, State};
 use crate::data::Data;
 use crate::integrate::iteration_matrix::IterationMatrix;
+use crate::integrate::newton::{ConvergenceTest, Verdict};
 use crate::integrate::{AttemptFailure, BdfConfig, IntegrationError, Integrator, Stats};
 use crate::math::euler_parameters::g_matrix;
 use crate::math::{Vec3, Vec4};
@@ -494,7 +495,7 @@ impl<'m> Bdf<'m> {
         let increment_scale = 2.0 / (1.0 + c_f / c);
         self.corr.fill(0.0);
         self.y_new.copy_from_slice(&self.y_pred);
-        let mut dy_norm_old: Option<f64> = None;
+        let mut test = ConvergenceTest::new(self.newton_tol, NEWTON_MAXITER);
         for k in 0..NEWTON_MAXITER {
             for i in 0..self.n {
                 self.yp[i] = (self.psi[i] + self.corr[i]) / c;
@@ -514,23 +515,17 @@ impl<'m> Bdf<'m> {
                 self.rhs.iter_mut().for_each(|x| *x *= increment_scale);
             }
             self.stats.newton_iterations += 1;
-            let dy_norm = self.newton_norm(&self.rhs, c);
-            let rate = dy_norm_old.map(|old| dy_norm / old);
-            if let Some(rate) = rate {
-                if rate >= 1.0
-                    || rate.powi((NEWTON_MAXITER - k) as i32) / (1.0 - rate) * dy_norm > self.newton_tol
-                {
-                    return (false, k + 1);
-                }
+            let verdict = test.assess(k, self.newton_norm(&self.rhs, c));
+            if verdict == Verdict::Diverging {
+                return (false, k + 1);
             }
             for i in 0..self.n {
                 self.y_new[i] += self.rhs[i];
                 self.corr[i] += self.rhs[i];
             }
-            if dy_norm == 0.0 || rate.is_some_and(|r| r / (1.0 - r) * dy_norm < self.newton_tol) {
+            if verdict == Verdict::Converged {
                 return (true, k + 1);
             }
-            dy_norm_old = Some(dy_norm);
         }
         (false, NEWTON_MAXITER)
     }

@@ -28,6 +28,7 @@ mod error;
 pub mod generalized_alpha;
 mod integrator;
 mod iteration_matrix;
+mod newton;
 mod stats;
 
 pub use adams::{Adams, AdamsConfig};

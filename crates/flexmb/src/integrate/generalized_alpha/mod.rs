@@ -88,6 +88,7 @@ use lie_group::{position_sum_of_squares, retract, right_jacobian_inverse};
 
 use crate::analysis::{Accelerations, State};
 use crate::data::Data;
+use crate::integrate::newton::{ConvergenceTest, Verdict};
 use crate::integrate::{AttemptFailure, BdfConfig, GeneralizedAlphaConfig, IntegrationError, Integrator, Stats};
 use crate::math::Vec3;
 use crate::model::Model;
@@ -473,8 +474,7 @@ impl<'m> GeneralizedAlpha<'m> {
     fn newton(&mut self, t_new: f64, h: f64) -> bool {
         let (nv, nc) = (self.nv, self.nc);
         let cb = self.coefficients.beta_prime() * h * h;
-        let mut norm_old: Option<f64> = None;
-        let mut slowest = 0.0_f64;
+        let mut test = ConvergenceTest::new(self.newton_tol, NEWTON_MAXITER);
         for k in 0..NEWTON_MAXITER {
             if k > 0 {
                 self.state_from_unknowns(h);
@@ -497,26 +497,19 @@ impl<'m> GeneralizedAlpha<'m> {
             self.delta_new.fill(0.0);
             self.matrix.add_start_jacobian_transpose(&self.mu, &mut self.delta_new);
             add_jacobian_transpose(self.model, &self.data, &self.mu, &mut self.delta_new);
-            let norm = self.increment_norm(h);
-            let rate = norm_old.map(|old| norm / old);
-            if let Some(rate) = rate {
-                if rate >= 1.0 || rate.powi((NEWTON_MAXITER - k) as i32) / (1.0 - rate) * norm > self.newton_tol {
-                    return false;
-                }
+            let verdict = test.assess(k, self.increment_norm(h));
+            if verdict == Verdict::Diverging {
+                return false;
             }
             for (x, d) in self.x.iter_mut().zip(&self.dx) {
                 *x += d;
             }
             self.delta.copy_from_slice(&self.delta_new);
-            if let Some(rate) = rate {
-                slowest = slowest.max(rate);
-            }
-            if norm == 0.0 || rate.is_some_and(|r| r / (1.0 - r) * norm < self.newton_tol) {
+            if verdict == Verdict::Converged {
                 self.state_from_unknowns(h);
-                self.refresh_next = slowest > SLOW_RATE && !self.derivatives_current;
+                self.refresh_next = test.slowest > SLOW_RATE && !self.derivatives_current;
                 return true;
             }
-            norm_old = Some(norm);
         }
         false
     }
