@@ -829,6 +829,9 @@ fn degenerate_generators() {
         "{STEEL_BAR}{SHEET}\n[[plate]]\nsection = \"sheet\"\ncorner = [0, 0, 0]\nedge_a = [1, 0, 0]\nedge_b = [0, 1, 0]\nelements = [2, 0]\n"
     );
     assert_error(&text, line_of(&text, "elements"), "plate[0].elements[1]", &["a whole number from 1", "got 0"]);
+    // Each count may be up to 1e6, their product too (10¹² shells ended in an aborted allocation).
+    let text = text.replace("elements = [2, 0]", "elements = [1000000, 1000000]");
+    assert_error(&text, line_of(&text, "elements"), "plate[0].elements", &["1000000 × 1000000 = 1000000000000 elements; a plate may have at most 1e6"]);
     let text = arm().replace("name = \"arm\"", "name = \"arm.left\"");
     assert_error(&text, 17, "beam_line[0].name", &["must not contain `.`"]);
 }

@@ -5,7 +5,7 @@ use toml::Spanned;
 
 use flexmb_fem::mesh::ShellShape;
 
-use super::build::Builder;
+use super::build::{Builder, MAX_COUNT};
 use super::format::point;
 use super::schema::{BeamLineSection, PlateSection};
 use super::sections::check_orientation;
@@ -99,6 +99,15 @@ fn add_plate(b: &mut Builder, k: usize, plate: &PlateSection) -> Result<(), Mode
     }
     let na = b.count(&counts[0], &counts_key.index(0))?;
     let nb = b.count(&counts[1], &counts_key.index(1))?;
+    // Each count is bounded, and so must their product be: [1e6, 1e6] asked for 10¹² shells and
+    // ended in an aborted allocation.
+    if (na * nb) as f64 > MAX_COUNT {
+        return Err(b.ctx.invalid(
+            &plate.elements.span(),
+            &counts_key,
+            format!("{na} × {nb} = {} elements; a plate may have at most {MAX_COUNT:e}", na * nb),
+        ));
+    }
     if edge_a.cross(&edge_b).norm() <= PARALLEL_EDGES * edge_a.norm() * edge_b.norm()
         || edge_a.norm() == 0.0
         || edge_b.norm() == 0.0
