@@ -1,6 +1,6 @@
 //! Limits a user can set for the machine a command runs on, through environment variables:
-//! `FLEXMB_MEMORY_LIMIT`, the memory the dense initial-condition analyses may use (default: what
-//! the machine has available).
+//! `FLEXMB_MEMORY_LIMIT`, the memory the dense initial-condition analyses and the FE mode analysis
+//! may use (default: what the machine has available).
 
 use flexmb::analysis::{AssemblySettings, MemoryLimit};
 
@@ -19,6 +19,12 @@ pub fn memory_limit() -> Result<MemoryLimit, CliError> {
             .ok_or_else(|| CliError(format!("{MEMORY_LIMIT_VARIABLE}={text:?}: expected a number of bytes such as 8000000000 or 8G"))),
         Err(_) => Ok(MemoryLimit::Available),
     }
+}
+
+/// The memory limit in bytes, if one is known; a malformed `FLEXMB_MEMORY_LIMIT` counts as none here
+/// (the commands that read [`memory_limit`] report it).
+pub fn memory_limit_bytes() -> Option<u64> {
+    memory_limit().ok().and_then(MemoryLimit::bytes)
 }
 
 /// The assembly settings of a model's `[simulation]` with the memory limit of this machine.

@@ -47,7 +47,11 @@ pub fn run_modes(path: &Path, options: &ModesOptions) -> Result<String, CliError
     let settings = ReductionSettings {
         mode_set,
         basis,
-        eigen: EigenSettings { solver: options.solver, ..Default::default() },
+        eigen: EigenSettings {
+            solver: options.solver,
+            memory_limit: crate::limits::memory_limit()?.bytes(),
+            ..Default::default()
+        },
     };
     let started = std::time::Instant::now();
     let reduction = reduce(&loaded.model, &loaded.name, &settings).map_err(|e| CliError(format!("{}: {e}", path.display())))?;

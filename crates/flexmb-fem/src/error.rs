@@ -29,6 +29,13 @@ pub enum FemError {
     ModeSet { text: String, message: String },
     #[error("the mode basis is singular: {message}")]
     SingularBasis { message: String },
+    #[error(
+        "the mesh is too large for the mode analysis: {elements} elements and {nodes} nodes need about {:.1} MB, \
+         more than the {:.1} MB it may use; use a coarser mesh",
+        *needed as f64 / 1e6,
+        *limit as f64 / 1e6
+    )]
+    TooLarge { elements: usize, nodes: usize, needed: u64, limit: u64 },
     #[error("linear algebra: {0}")]
     LinearAlgebra(String),
 }

@@ -18,6 +18,7 @@ pub mod assembly;
 pub mod element;
 pub mod inp;
 mod error;
+pub mod memory;
 pub mod mesh;
 pub mod modes;
 pub mod reduction;

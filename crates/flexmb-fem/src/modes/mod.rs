@@ -16,6 +16,7 @@ use faer::Mat;
 
 use crate::assembly::{assemble, AssembledModel};
 use crate::error::FemError;
+use crate::memory::mode_analysis_bytes;
 use crate::mesh::{Dof, DofSet, FeModel, Support};
 use shift_invert::ShiftInvert;
 
@@ -43,6 +44,9 @@ pub struct EigenSettings {
     pub lanczos_tolerance: f64,
     /// Largest accepted relative residual `‖Kφ − ω²Mφ‖ / ‖Kφ‖` of a mode. Default 1e-6.
     pub residual_tolerance: f64,
+    /// The memory (bytes) the analysis may use: a mesh whose [`mode_analysis_bytes`] exceed it is
+    /// refused before it is assembled. Default `None`: no limit.
+    pub memory_limit: Option<u64>,
 }
 
 impl Default for EigenSettings {
@@ -52,6 +56,7 @@ impl Default for EigenSettings {
             dense_limit: 300,
             lanczos_tolerance: 1e-12,
             residual_tolerance: 1e-6,
+            memory_limit: None,
         }
     }
 }
@@ -77,10 +82,24 @@ pub struct VibrationModes {
 
 /// The lowest `count` elastic vibration modes of `model`.
 pub fn vibration_modes(model: &FeModel, count: usize, settings: &EigenSettings) -> Result<VibrationModes, FemError> {
+    check_memory(model, settings)?;
     let prepared = prepare(model)?;
     let mut modes = vibration_modes_of(&prepared.assembled, &prepared.rigid, count, settings)?;
     modes.rigid_modes += prepared.held_massless.len();
     Ok(modes)
+}
+
+/// Refuses a mesh whose mode analysis needs more memory than `settings` allow.
+pub fn check_memory(model: &FeModel, settings: &EigenSettings) -> Result<(), FemError> {
+    let Some(limit) = settings.memory_limit else {
+        return Ok(());
+    };
+    let needed = mode_analysis_bytes(&model.mesh);
+    if needed > limit {
+        let (elements, nodes) = (model.mesh.elements.len(), model.mesh.nodes.len());
+        return Err(FemError::TooLarge { elements, nodes, needed, limit });
+    }
+    Ok(())
 }
 
 /// A model ready for the mode analysis: assembled, with its rigid motions, and with the rigid

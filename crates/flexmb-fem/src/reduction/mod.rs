@@ -20,7 +20,7 @@ pub use mode_set::{ModeGroup, ModeSet};
 use crate::assembly::{AssembledModel, MassProperties};
 use crate::error::FemError;
 use crate::mesh::{ElementKind, FeModel};
-use crate::modes::{prepare, vibration_modes_of, EigenSettings, VibrationModes};
+use crate::modes::{check_memory, prepare, vibration_modes_of, EigenSettings, VibrationModes};
 use crate::static_correction::{static_correction_modes, StaticModes};
 
 /// What to reduce to.
@@ -66,6 +66,7 @@ pub fn reduce(model: &FeModel, name: &str, settings: &ReductionSettings) -> Resu
             ),
         });
     }
+    check_memory(model, &settings.eigen)?;
     let prepared = prepare(model)?;
     let (model, assembled, rigid) = (&prepared.model, &prepared.assembled, &prepared.rigid);
     let mut warnings = Vec::new();

@@ -49,7 +49,8 @@ pub(crate) fn reduced_body(
         }
     }
     let started = Instant::now();
-    let settings = ReductionSettings { mode_set: set.clone(), basis, eigen: EigenSettings::default() };
+    let eigen = EigenSettings { memory_limit: crate::limits::memory_limit_bytes(), ..Default::default() };
+    let settings = ReductionSettings { mode_set: set.clone(), basis, eigen };
     let reduction = reduce(&loaded.model, &loaded.name, &settings)?;
     let seconds = started.elapsed().as_secs_f64();
     let cache = hash.and_then(|hash| store(&dir, &prefix, hash, &reduction.body));
