@@ -112,6 +112,9 @@ fn study_file_errors_name_file_key_and_line() {
         ("none.toml", "", "at least one [[case]]"),
         ("order.toml", "integrators = [\"bdf:7\"]\n[[case]]\nname = \"a\"\n", ":3: study.integrators[0]: `bdf:7`"),
         ("twice.toml", "[[case]]\nname = \"a\"\n[[case]]\nname = \"a\"\n", ":6: case[1].name: case 'a' is named twice"),
+        // Published figures are positive numbers (an infinite CPU time was printed as `inf`).
+        ("published.toml", "[[case]]\nname = \"a\"\npublished = { cpu = inf }\n", ":5: case[0].published.cpu: cpu must be a positive number, got inf"),
+        ("step.toml", "[[case]]\nname = \"a\"\npublished = { rms_step = -1e-3 }\n", ":5: case[0].published.rms_step: rms_step must be a positive number, got -0.001"),
     ];
     for (name, body, expected) in cases {
         let path = write(name, body);
@@ -122,4 +125,12 @@ fn study_file_errors_name_file_key_and_line() {
     let path = write("body.toml", "[[case]]\nname = \"a\"\nmodes = { doors = \"5S\" }\n");
     let e = program::fail(&["study", &path, "--out", dir.join("out").to_str().unwrap()]);
     assert!(e.contains(&format!("{path}:3: case[0]")) && e.contains("no flexible body 'doors' (it has: door)"), "{e}");
+}
+
+/// The table prints the end time in full: with one decimal a run to 0.02 s read 0.0.
+#[test]
+fn study_table_prints_short_end_times_in_full() {
+    let out = scratch("short-study");
+    let table = succeed(&["study", "models/wiper/study.toml", "--t-end", "0.02", "--out", out.to_str().unwrap(), "--quiet"]);
+    assert!(table.contains("| flexible | bdf | 0.02 |") && table.contains("| rigid | bdf | 0.02 |"), "{table}");
 }

@@ -147,7 +147,8 @@ fn table(study: &Study, runs: &[StudyRun]) -> String {
     }
     let _ = writeln!(t);
     for r in runs {
-        let t_end = if r.failure.is_some() { format!("{:.4} (failed)", r.t_reached) } else { format!("{:.1}", r.t_end) };
+        // In full ({:?}: 2.0, 0.02): one decimal printed a 0.02 s run as 0.0.
+        let t_end = if r.failure.is_some() { format!("{:.4} (failed)", r.t_reached) } else { format!("{:?}", r.t_end) };
         let _ = write!(t, "| {} | {} | {t_end} | {:.3} | {:.4e} | {} | {} |", r.case, r.integrator, r.cpu, r.rms_step, r.steps, r.rejected);
         if with_published {
             let p = r.published.unwrap_or(Published { t_end: None, cpu: None, rms_step: None });

@@ -143,6 +143,19 @@ fn build_study(source: &Source, parsed: StudyFile, base_dir: &Path) -> Result<St
     })
 }
 
+/// A case's published figures, each a positive number (an infinite CPU time was printed in the table as
+/// `inf`, found by the fuzz test).
+fn published(source: &Source, table: Spanned<PublishedSection>, key: &KeyPath) -> Result<Published, ModelFileError> {
+    let span = table.span();
+    let p = table.into_inner();
+    for (name, value) in [("t_end", p.t_end), ("cpu", p.cpu), ("rms_step", p.rms_step)] {
+        if let Some(x) = value.filter(|x| !(*x > 0.0 && x.is_finite())) {
+            return Err(source.invalid(&span, &key.key(name), format!("{name} must be a positive number, got {x}")));
+        }
+    }
+    Ok(Published { t_end: p.t_end, cpu: p.cpu, rms_step: p.rms_step })
+}
+
 fn cases(source: &Source, sections: Vec<Spanned<CaseSection>>) -> Result<Vec<Case>, ModelFileError> {
     if sections.is_empty() {
         let end = source.text().len();
@@ -160,10 +173,10 @@ fn cases(source: &Source, sections: Vec<Spanned<CaseSection>>) -> Result<Vec<Cas
         if cases.iter().any(|other| other.name == name) {
             return Err(source.invalid(&c.name.span(), &key.key("name"), format!("case '{name}' is named twice")));
         }
-        let published = c.published.map(|p| {
-            let p = p.into_inner();
-            Published { t_end: p.t_end, cpu: p.cpu, rms_step: p.rms_step }
-        });
+        let published = match c.published {
+            Some(p) => Some(published(source, p, &key.key("published"))?),
+            None => None,
+        };
         cases.push(Case {
             name,
             location,
