@@ -36,6 +36,13 @@ pub enum FemError {
         *limit as f64 / 1e6
     )]
     TooLarge { elements: usize, nodes: usize, needed: u64, limit: u64 },
+    #[error(
+        "the dense eigensolver needs about {:.1} MB for an operator of dimension {dimension}, more than the \
+         {:.1} MB it may use; use the Lanczos solver",
+        *needed as f64 / 1e6,
+        *limit as f64 / 1e6
+    )]
+    DenseTooLarge { dimension: usize, needed: u64, limit: u64 },
     #[error("linear algebra: {0}")]
     LinearAlgebra(String),
 }

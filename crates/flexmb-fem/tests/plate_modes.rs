@@ -118,7 +118,7 @@ fn plate_invariants_are_its_rigid_properties() {
 
 /// A mesh whose mode analysis needs more memory than it may use is refused before it is assembled,
 /// with what it needs; the estimate of a 300 × 300 plate is the 1.5 GB its analysis was measured to
-/// take (a beam line of 10⁶ elements aborted on a 3.2 GB allocation before).
+/// take (a beam line of 10⁶ elements aborted on a 3.2 GB allocation before). So is the dense solver.
 #[test]
 fn a_mesh_larger_than_the_memory_limit_is_refused_before_it_is_assembled() {
     let model = simply_supported_plate(A, B, T, 20, 16, ShellShape::Quadrilateral);
@@ -133,6 +133,14 @@ fn a_mesh_larger_than_the_memory_limit_is_refused_before_it_is_assembled() {
     assert!(matches!(reduce(&model, "plate", &settings), Err(flexmb_fem::FemError::TooLarge { .. })));
     let enough = EigenSettings { memory_limit: Some(needed), ..Default::default() };
     assert!(vibration_modes(&model, 6, &enough).is_ok());
+    // The dense eigensolver holds about six matrices of the operator's dimension (the plate's massive
+    // dofs): checked once that is known (`--solver dense` on 1600 × 12 shells asked for 28 GB).
+    let dense = EigenSettings { solver: EigenSolver::Dense, memory_limit: Some(10_000_000), ..Default::default() };
+    let e = vibration_modes(&model, 6, &dense).unwrap_err();
+    assert!(matches!(e, flexmb_fem::FemError::DenseTooLarge { .. }), "{e}");
+    assert!(e.to_string().ends_with("more than the 10.0 MB it may use; use the Lanczos solver"), "{e}");
+    let lanczos = EigenSettings { solver: EigenSolver::Lanczos, ..dense };
+    assert!(vibration_modes(&model, 6, &lanczos).is_ok());
     let large = simply_supported_plate(A, B, T, 300, 300, ShellShape::Quadrilateral);
     let gb = flexmb_fem::memory::mode_analysis_bytes(&large.mesh) as f64 / 1e9;
     assert!((1.4..1.6).contains(&gb), "{gb} GB");

@@ -16,7 +16,7 @@ use faer::Mat;
 
 use crate::assembly::{assemble, AssembledModel};
 use crate::error::FemError;
-use crate::memory::mode_analysis_bytes;
+use crate::memory::{dense_eigensolver_bytes, mode_analysis_bytes};
 use crate::mesh::{Dof, DofSet, FeModel, Support};
 use shift_invert::ShiftInvert;
 
@@ -159,6 +159,12 @@ pub fn vibration_modes_of(
         EigenSolver::Auto => EigenSolver::Lanczos,
         chosen => chosen,
     };
+    if let (EigenSolver::Dense, Some(limit)) = (solver, settings.memory_limit) {
+        let (dimension, needed) = (operator.dim(), dense_eigensolver_bytes(operator.dim()));
+        if needed > limit {
+            return Err(FemError::DenseTooLarge { dimension, needed, limit });
+        }
+    }
     let z = match solver {
         EigenSolver::Dense => dense::largest_eigenvectors(&operator, count)?,
         _ => lanczos::largest_eigenvectors(&operator, count, settings.lanczos_tolerance)?,
