@@ -130,6 +130,10 @@ fn build_study(source: &Source, parsed: StudyFile, base_dir: &Path) -> Result<St
             None => Ok(None),
         }
     };
+    let plot = match s.plot {
+        Some(list) => distinct_columns(source, list.into_inner(), &table.key("plot"))?,
+        None => Vec::new(),
+    };
     let cases = cases(source, parsed.case)?;
     Ok(Study {
         name: s.name.map(|n| n.into_inner()).unwrap_or_else(|| default_name.to_string()),
@@ -138,9 +142,20 @@ fn build_study(source: &Source, parsed: StudyFile, base_dir: &Path) -> Result<St
         t_end: positive(&s.t_end, "t_end")?,
         rtol: positive(&s.rtol, "rtol")?,
         atol: positive(&s.atol, "atol")?,
-        plot: s.plot.map(|p| p.into_inner().into_iter().map(|c| c.into_inner()).collect()).unwrap_or_default(),
+        plot,
         cases,
     })
+}
+
+/// The columns to plot, each once (a list of 1281 copies of a column drew the same plot 1281 times,
+/// found by the fuzz test).
+fn distinct_columns(source: &Source, columns: Vec<Spanned<String>>, key: &KeyPath) -> Result<Vec<String>, ModelFileError> {
+    for (k, column) in columns.iter().enumerate() {
+        if columns[..k].iter().any(|c| c.get_ref() == column.get_ref()) {
+            return Err(source.invalid(&column.span(), &key.index(k), format!("column '{}' is listed twice", column.get_ref())));
+        }
+    }
+    Ok(columns.into_iter().map(|c| c.into_inner()).collect())
 }
 
 /// A case's published figures, each a positive number (an infinite CPU time was printed in the table as
