@@ -114,6 +114,7 @@ fn study_file_errors_name_file_key_and_line() {
         ("twice.toml", "[[case]]\nname = \"a\"\n[[case]]\nname = \"a\"\n", ":6: case[1].name: case 'a' is named twice"),
         // Published figures are positive numbers (an infinite CPU time was printed as `inf`).
         ("published.toml", "[[case]]\nname = \"a\"\npublished = { cpu = inf }\n", ":5: case[0].published.cpu: cpu must be a positive number, got inf"),
+        ("again.toml", "integrators = [\"bdf\", \"adams\", \"bdf\"]\n[[case]]\nname = \"a\"\n", ":3: study.integrators[2]: integrator 'bdf' is listed twice"),
         ("plot.toml", "plot = [\"x\", \"y\", \"x\"]\n[[case]]\nname = \"a\"\n", ":3: study.plot[2]: column 'x' is listed twice"),
         ("step.toml", "[[case]]\nname = \"a\"\npublished = { rms_step = -1e-3 }\n", ":5: case[0].published.rms_step: rms_step must be a positive number, got -0.001"),
     ];
