@@ -43,6 +43,8 @@ pub enum FemError {
         *limit as f64 / 1e6
     )]
     DenseTooLarge { dimension: usize, needed: u64, limit: u64 },
+    #[error("the mode analysis's operator is not finite: the model's coordinates or properties overflow double precision")]
+    NotFinite,
     #[error("linear algebra: {0}")]
     LinearAlgebra(String),
 }

@@ -145,3 +145,20 @@ fn a_mesh_larger_than_the_memory_limit_is_refused_before_it_is_assembled() {
     let gb = flexmb_fem::memory::mode_analysis_bytes(&large.mesh) as f64 / 1e9;
     assert!((1.4..1.6).contains(&gb), "{gb} GB");
 }
+
+/// A plate at z = −1e300: its rigid motions about the mesh centre overflow (the centre itself is off
+/// by 1e284), and the mode analysis ends with an error instead of the Lanczos iteration's thousand
+/// restarts on NaN, which took minutes (found by the fuzz test).
+#[test]
+fn an_operator_that_overflows_is_an_error_not_a_thousand_restarts() {
+    let mut model = simply_supported_plate(A, B, T, 20, 16, ShellShape::Quadrilateral);
+    for node in &mut model.mesh.nodes {
+        node.position.z -= 1e300;
+    }
+    for solver in [EigenSolver::Lanczos, EigenSolver::Dense] {
+        let settings = EigenSettings { solver, ..Default::default() };
+        let started = std::time::Instant::now();
+        assert_eq!(vibration_modes(&model, 6, &settings).unwrap_err(), flexmb_fem::FemError::NotFinite, "{solver:?}");
+        assert!(started.elapsed().as_secs_f64() < 5.0, "{solver:?}");
+    }
+}

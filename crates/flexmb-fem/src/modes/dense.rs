@@ -9,6 +9,9 @@ use crate::error::FemError;
 pub fn largest_eigenvectors(operator: &ShiftInvert, count: usize) -> Result<Mat<f64>, FemError> {
     let n = operator.dim();
     let b = operator.apply_to(Mat::<f64>::identity(n, n).as_ref());
+    if !b.col_iter().all(|c| c.iter().all(|x| x.is_finite())) {
+        return Err(FemError::NotFinite);
+    }
     let symmetric = Mat::from_fn(n, n, |i, j| 0.5 * (b[(i, j)] + b[(j, i)]));
     let eigen = symmetric
         .self_adjoint_eigen(Side::Lower)
