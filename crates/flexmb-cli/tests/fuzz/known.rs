@@ -21,19 +21,26 @@ pub const KNOWN_FINDINGS: &[KnownFinding] = &[
         matches: |_, ran| suspicious_with(ran, "an empty model passed"),
     },
     KnownFinding {
-        id: "plot-of-non-finite-data",
-        fixed_by: "issue14-input, plot and spectrum on non-finite data: non-finite values are errors",
-        matches: |_, ran| {
-            matches!(ran.args[0].as_str(), "plot" | "spectrum") && suspicious_with(ran, "succeeded on a non-finite value")
+        id: "plot-or-spectrum-of-non-finite-or-extreme-data",
+        fixed_by: "issue14-input, plot and spectrum on non-finite data (errors) and axes that overflow (refused)",
+        matches: |case, ran| {
+            matches!(ran.args[0].as_str(), "plot" | "spectrum")
+                && (suspicious_with(ran, "succeeded on a non-finite value")
+                    || (matches!(ran.class, Class::Timeout | Class::Suspicious) && made_extreme(case, 1e300)))
         },
     },
     KnownFinding {
-        id: "slow-run-on-an-extreme-value",
+        id: "output-grid-too-large",
+        fixed_by: "issue14-input, output-row limits: more than 10^7 rows or 10^5 ParaView frames are refused",
+        matches: |case, ran| ran.class == Class::Timeout && ran.args[0] == "run" && too_many_outputs(case, ran),
+    },
+    KnownFinding {
+        id: "extreme-value-in-a-model",
         fixed_by: "issue14-input (value ranges) and issue14-run (watchdog); check after merging them",
         matches: |case, ran| {
-            ran.class == Class::Timeout
-                && matches!(ran.args[0].as_str(), "run" | "study")
-                && case.mutations.iter().any(|m| made_extreme(m))
+            matches!(ran.args[0].as_str(), "run" | "study")
+                && ((ran.class == Class::Timeout && made_extreme(case, 1e6))
+                    || (ran.class == Class::Suspicious && made_extreme(case, 1e300)))
         },
     },
 ];
@@ -43,13 +50,34 @@ fn suspicious_with(ran: &Ran, detail: &str) -> bool {
     ran.class == Class::Suspicious && ran.detail.starts_with(detail)
 }
 
-/// Whether a mutation put a number of magnitude 10⁶ or more (or not finite) in the file: a mutation
-/// described as `… -> VALUE`.
-fn made_extreme(mutation: &str) -> bool {
+/// Whether a mutation of the case put a number of magnitude `at_least` or more (or not finite) in
+/// its file: a mutation described as `… -> VALUE`.
+fn made_extreme(case: &Case, at_least: f64) -> bool {
+    case.mutations.iter().any(|m| extreme(m, at_least))
+}
+
+fn extreme(mutation: &str, at_least: f64) -> bool {
     let Some((_, value)) = mutation.rsplit_once(" -> ") else {
         return false;
     };
-    value.trim_matches('"').parse::<f64>().is_ok_and(|x| x.is_nan() || x.abs() >= 1e6)
+    value.trim_matches('"').parse::<f64>().is_ok_and(|x| x.is_nan() || x.abs() >= at_least)
+}
+
+/// Whether the run's model asks for more than 10⁷ output rows over the run's end time (its
+/// `[simulation] output_step`, when the command line gives none), or more than 10⁵ ParaView frames.
+fn too_many_outputs(case: &Case, ran: &Ran) -> bool {
+    let option = |name: &str| ran.args.iter().position(|a| a == name).and_then(|k| ran.args.get(k + 1));
+    let t_end: f64 = option("--t-end").and_then(|t| t.parse().ok()).unwrap_or(f64::INFINITY);
+    let Some((_, bytes)) = case.files.iter().find(|(path, _)| path.to_str() == Some(ran.args[1].as_str())) else {
+        return false;
+    };
+    let Ok(file) = String::from_utf8_lossy(bytes).parse::<toml::Table>() else {
+        return false;
+    };
+    let setting = |key: &str| file.get("simulation").and_then(|s| s.get(key)).and_then(|v| v.as_float().or(v.as_integer().map(|i| i as f64)));
+    let output_step = option("--output-step").and_then(|s| s.parse().ok()).or(setting("output_step"));
+    let frames = option("--vtk").and(setting("vtk_step")).is_some_and(|step| t_end / step > 1e5);
+    output_step.is_some_and(|step| t_end / step > 1e7) || frames
 }
 
 /// The entry that tolerates this failure, if one does.
@@ -59,9 +87,10 @@ pub fn known(case: &Case, ran: &Ran) -> Option<&'static KnownFinding> {
 
 #[test]
 fn extreme_values_are_read_from_the_mutations() {
-    assert!(made_extreme("line 24: number \"-9.81\" -> \"1e12\""));
-    assert!(made_extreme("line 59: number 2 -> -2e9"));
-    assert!(made_extreme("line 3: number \"1\" -> \"nan\""));
-    assert!(!made_extreme("line 3: number \"1\" -> \"0.5\""));
-    assert!(!made_extreme("line 3: string \"a\" -> \"b\""));
+    assert!(extreme("line 24: number \"-9.81\" -> \"1e12\"", 1e6));
+    assert!(!extreme("line 24: number \"-9.81\" -> \"1e12\"", 1e300));
+    assert!(extreme("line 59: number 2 -> -2e9", 1e6));
+    assert!(extreme("line 3: number \"1\" -> \"nan\"", 1e300));
+    assert!(!extreme("line 3: number \"1\" -> \"0.5\"", 1e6));
+    assert!(!extreme("line 3: string \"a\" -> \"b\"", 1e6));
 }

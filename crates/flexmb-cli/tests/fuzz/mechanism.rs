@@ -371,12 +371,14 @@ fn measure(rng: &mut Rng, m: &mut Mechanism) {
     m.measures.push(name);
 }
 
-/// A small function of time and of the measures, for actuators and force components.
+/// A small function of time and of the measures, for actuators and force components; bounded by
+/// `scale`, so that no load grows with the motion it drives (a torque proportional to a speed it
+/// raised spun a body up exponentially: a diverging model, not a valid one).
 fn load_function(rng: &mut Rng, m: &Mechanism, scale: f64) -> String {
     let s = num(scale * rng.range(-1.0, 1.0));
     match (rng.below(4), m.measures.is_empty()) {
         (0, false) => format!("-{}*tanh({})", num(scale), rng.pick(&m.measures)),
-        (1, false) => format!("{s}*{}", rng.pick(&m.measures)),
+        (1, false) => format!("{s}*sin({})", rng.pick(&m.measures)),
         (2, _) => format!("{s}*sin({}*t)", num(rng.range(1.0, 30.0))),
         _ => s,
     }
