@@ -2,8 +2,8 @@
 //! and sorted, with the rigid mechanisms of under-determined supports set aside.
 //!
 //! Both solvers work on the shift-invert operator of [`shift_invert`]: the dense one forms it
-//! completely and calls a symmetric eigensolver (small models), the other runs faer's Krylov–Schur
-//! (thick-restart Lanczos) on it with one sparse Cholesky factorization (large models). Every mode's
+//! completely and calls a symmetric eigensolver (small models), the other runs a thick-restart Lanczos
+//! iteration on it with one sparse Cholesky factorization (large models). Every mode's
 //! residual `‖K φ − ω² M φ‖` and the M-orthogonality of the set are checked before the modes are
 //! returned.
 
@@ -154,8 +154,11 @@ pub fn vibration_modes_of(
     let solver = match settings.solver {
         EigenSolver::Auto if n <= settings.dense_limit => EigenSolver::Dense,
         // A problem no larger than the Lanczos method's Krylov space is solved densely, whichever
-        // solver was asked for.
-        EigenSolver::Auto | EigenSolver::Lanczos if !lanczos::applies(count, operator.dim()) => EigenSolver::Dense,
+        // solver was asked for. Its size is the operator's rank, the massive dofs less the rigid
+        // motions, which may be less than its dimension (the mass points' motions).
+        EigenSolver::Auto | EigenSolver::Lanczos if !lanczos::applies(count, available.min(operator.dim())) => {
+            EigenSolver::Dense
+        }
         EigenSolver::Auto => EigenSolver::Lanczos,
         chosen => chosen,
     };
