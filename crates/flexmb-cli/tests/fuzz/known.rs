@@ -50,8 +50,9 @@ fn suspicious_with(ran: &Ran, detail: &str) -> bool {
     ran.class == Class::Suspicious && ran.detail.starts_with(detail)
 }
 
-/// Whether a mutation of the case put a number of magnitude `at_least` or more (or not finite) in
-/// its file: a mutation described as `… -> VALUE`.
+/// Whether a mutation of the case put a number of magnitude `at_least` or more, or at most its inverse
+/// (but not zero), or not finite, in its file: a mutation described as `… -> VALUE`. (A body of
+/// 7.6e-9 kg makes a model as stiff as a spring of 1e9 N/m does.)
 fn made_extreme(case: &Case, at_least: f64) -> bool {
     case.mutations.iter().any(|m| extreme(m, at_least))
 }
@@ -60,7 +61,7 @@ fn extreme(mutation: &str, at_least: f64) -> bool {
     let Some((_, value)) = mutation.rsplit_once(" -> ") else {
         return false;
     };
-    value.trim_matches('"').parse::<f64>().is_ok_and(|x| x.is_nan() || x.abs() >= at_least)
+    value.trim_matches('"').parse::<f64>().is_ok_and(|x| x.is_nan() || x.abs() >= at_least || (x != 0.0 && x.abs() <= 1.0 / at_least))
 }
 
 /// Whether the run's model asks for more than 10⁷ output rows over the run's end time (its
@@ -92,5 +93,7 @@ fn extreme_values_are_read_from_the_mutations() {
     assert!(extreme("line 59: number 2 -> -2e9", 1e6));
     assert!(extreme("line 3: number \"1\" -> \"nan\"", 1e300));
     assert!(!extreme("line 3: number \"1\" -> \"0.5\"", 1e6));
+    assert!(extreme("line 33: number 7.567801014641104 -> 7.567801014641105e-9", 1e6));
+    assert!(!extreme("line 3: number \"1\" -> \"0\"", 1e6));
     assert!(!extreme("line 3: string \"a\" -> \"b\"", 1e6));
 }
