@@ -51,7 +51,7 @@ fn fixed_body() -> Model {
 fn a_body_at_rest_on_a_fixed_joint_steps_to_the_end_with_every_method() {
     let model = fixed_body();
     for method in [Method::Bdf, Method::GeneralizedAlpha { spectral_radius: 0.9 }, Method::Adams(AdamsConfig::default())] {
-        let settings = SimulationSettings { method: method.clone(), ..settings(0.05, 0.01, 1e-6) };
+        let settings = SimulationSettings { method, ..settings(0.05, 0.01, 1e-6) };
         let run = try_run(&model, &settings).unwrap_or_else(|(e, _)| panic!("{method:?}: {e}"));
         assert_eq!(run.report.t_reached, 0.05, "{method:?}");
         assert!(run.report.stats.steps <= 20 && run.report.stats.rejected_steps() == 0, "{method:?}: {:?}", run.report.stats);
