@@ -40,7 +40,8 @@ pub struct EigenSettings {
     /// Largest model (free dofs) solved densely by `Auto`. Default 300: above it the Lanczos path is
     /// faster (1270 dofs: 0.03 s against 0.3 s) and as accurate.
     pub dense_limit: usize,
-    /// Convergence tolerance of the Lanczos iteration (relative). Default 1e-12.
+    /// Convergence tolerance of the Lanczos iteration on its Ritz residuals: relative to the operator's
+    /// largest eigenvalue `1/ω²` where that exceeds 1 s², absolute below. Default 1e-12.
     pub lanczos_tolerance: f64,
     /// Largest accepted relative residual `‖Kφ − ω²Mφ‖ / ‖Kφ‖` of a mode. Default 1e-6.
     pub residual_tolerance: f64,
