@@ -236,3 +236,20 @@ fn redundant_joints_that_disagree_geometrically_are_named_not_dropped() {
     assert!(e.contains("joint 'd' (revolute), equation"), "the disagreeing joint is named: {e}");
     assert!(e.contains("position residual of 1.000e-2") || e.contains("position residual of 9.99"), "its residual: {e}");
 }
+
+#[test]
+fn a_driver_not_finite_at_the_start_is_named_not_called_a_singular_matrix() {
+    // Before: "assembly: the constraint matrix is singular even after removing redundant rows" (ln 0 =
+    // −inf), and "velocity analysis: …" for sqrt(t − 1), whose NaN passed the assembly's test.
+    let shipped = std::fs::read_to_string(program::workspace().join("models/slider_crank.toml")).unwrap();
+    let dir = scratch("non-finite-driver");
+    for (function, value) in [("ln(t)", "inf"), ("sqrt(t - 1)", "NaN")] {
+        let model = dir.join("driver.toml");
+        std::fs::write(&model, shipped.replace("function = \"2*PI*t\"", &format!("function = \"{function}\""))).unwrap();
+        let (m, out) = (model.to_str().unwrap(), dir.to_str().unwrap());
+        for e in [fail(&["check", m]), fail(&["run", m, "--out", out])] {
+            assert!(e.contains("at t = 0 s joint 'crank_motion' (angle driver), equation 1"), "{function}: {e}");
+            assert!(e.contains(&format!("is not finite (its value is {value})")) && !e.contains("singular"), "{function}: {e}");
+        }
+    }
+}
