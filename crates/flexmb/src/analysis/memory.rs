@@ -25,13 +25,13 @@ impl MemoryLimit {
 }
 
 /// Bytes of the largest dense working set of the initial-condition analyses for `nc` constraint rows,
-/// `nb` bodies, `nq` positions and `nv` velocities: the assembly's Jacobian `Φ_q` (`(nc + nb) × nq`),
-/// the velocity Jacobian `B` (`nc × nv`, also held by the redundancy check) and the normal matrix
-/// `Φ_q Φ_qᵀ` (`(nc + nb)²`), in `f64`.
+/// `nb` bodies, `nq` positions and `nv` velocities, in `f64`: the redundancy check's `Bᵀ` and its
+/// orthonormal basis (`2 · nv × nc`), or the assembly's velocity Jacobian `B` (`nc × nv`), position
+/// Jacobian `Φ_q` (`(nc + nb) × nq`) and normal matrix `Φ_q Φ_qᵀ` (`(nc + nb)²`), whichever is larger.
 pub fn dense_analysis_bytes(nc: usize, nb: usize, nq: usize, nv: usize) -> u64 {
     let (nc, nb, nq, nv) = (nc as u64, nb as u64, nq as u64, nv as u64);
     let m = nc + nb;
-    8 * (m * nq + nc * nv + m * m)
+    8 * (2 * nc * nv).max(nc * nv + m * nq + m * m)
 }
 
 /// `MemAvailable` of `/proc/meminfo` in bytes, where there is one.
