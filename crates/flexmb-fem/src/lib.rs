@@ -17,6 +17,7 @@
 pub mod assembly;
 pub mod element;
 pub mod inp;
+pub mod input;
 mod error;
 pub mod mesh;
 pub mod modes;

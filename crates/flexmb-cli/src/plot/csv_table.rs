@@ -19,8 +19,8 @@ pub struct ResultTable {
 impl ResultTable {
     /// Reads `path` (header `t,<column>,…`, one row per output time) and the units of its summary.
     pub fn read(path: &Path) -> Result<Self, CliError> {
-        let text =
-            std::fs::read_to_string(path).map_err(|e| CliError(format!("cannot read {}: {e}", path.display())))?;
+        let text = flexmb_fem::input::read_text(path)
+            .map_err(|e| CliError(format!("cannot read {}: {e}", path.display())))?;
         let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty());
         let Some((_, header)) = lines.next() else {
             return Err(CliError(format!("{} is empty: no header and no rows", path.display())));
@@ -127,7 +127,7 @@ fn summary_units(csv: &Path, names: &[String]) -> Vec<Option<String>> {
 
 /// `(name, unit)` of every column the summary lists; nothing if there is no readable summary.
 fn read_summary_units(summary: &Path) -> Vec<(String, String)> {
-    let Ok(text) = std::fs::read_to_string(summary) else {
+    let Ok(text) = flexmb_fem::input::read_text(summary) else {
         return Vec::new();
     };
     let Ok(json) = serde_json::from_str::<serde_json::Value>(&text) else {

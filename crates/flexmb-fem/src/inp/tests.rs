@@ -445,3 +445,23 @@ fn include_relative_to_the_including_file() {
         .contains("nested includes"));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn devices_and_directories_are_refused_as_decks_and_includes() {
+    // /dev/zero would be read until memory runs out; a directory cannot be read at all.
+    let dir = std::env::temp_dir().join(format!("flexmb-inp-device-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let e = read_inp(&dir).unwrap_err().to_string();
+    assert_eq!(e, format!("{}: cannot read: it is a directory, not a regular file", dir.display()));
+    #[cfg(unix)]
+    {
+        let e = read_inp(Path::new("/dev/zero")).unwrap_err().to_string();
+        assert_eq!(e, "/dev/zero: cannot read: it is a character device, not a regular file");
+        let e = parse_inp("*NODE\n1, 0, 0, 0\n*INCLUDE, INPUT=/dev/zero\n", "deck.inp").unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "deck.inp:3: *INCLUDE: cannot read /dev/zero: it is a character device, not a regular file"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
