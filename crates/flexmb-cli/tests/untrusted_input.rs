@@ -86,3 +86,57 @@ fn files_over_the_size_limit_are_refused_unless_the_limit_is_raised() {
     let e = fail_within(&["check", "models/pendulum.toml"], &[("FLEXMB_MAX_FILE_SIZE", "lots")]);
     assert!(e.contains("FLEXMB_MAX_FILE_SIZE=`lots` is not a size"), "{e}");
 }
+
+/// A result file `t,x` of 64 rows every 0.01 s, `x` a 5 Hz sinusoid except where `special` says.
+fn results_with(dir: &std::path::Path, name: &str, special: impl Fn(usize) -> Option<String>) -> String {
+    let mut csv = String::from("t,x\n");
+    for k in 0..64 {
+        let t = k as f64 * 0.01;
+        let x = special(k).unwrap_or_else(|| format!("{}", (std::f64::consts::TAU * 5.0 * t).sin()));
+        csv += &format!("{t},{x}\n");
+    }
+    let path = dir.join(name);
+    std::fs::write(&path, csv).unwrap();
+    path.to_str().unwrap().to_string()
+}
+
+#[test]
+fn plot_and_spectrum_of_huge_or_non_finite_columns_end_with_an_error() {
+    let dir = scratch("plot");
+    let image = dir.join("out.png");
+    let image = image.to_str().unwrap();
+    // The span of ±1.7e308 overflows: plotters' tick computation never ended on it.
+    let huge = results_with(&dir, "huge.csv", |k| Some(if k % 2 == 0 { "1.7e308" } else { "-1.7e308" }.to_string()));
+    let e = fail_within(&["plot", &huge, "--y", "x", "--out", image], &[]);
+    assert!(e.contains("cannot plot: the values along the y axis run from -1.7e308 (column `x`, "), "{e}");
+    assert!(e.contains("huge.csv:3) to 1.7e308 (column `x`, ") && e.contains("more than the largest double-precision number"), "{e}");
+    let e = fail_within(&["plot", &huge, "--x", "x", "--y", "t", "--out", image], &[]);
+    assert!(e.contains("the values along the x axis run from -1.7e308"), "{e}");
+    let e = fail_within(&["spectrum", &huge, "--y", "x", "--out", image], &[]);
+    assert!(e.contains("huge.csv: the values reach 1.7e308: their amplitudes pass the largest double-precision number"), "{e}");
+
+    for (value, name) in [("inf", "inf.csv"), ("-inf", "minus_inf.csv"), ("NaN", "nan.csv")] {
+        let file = results_with(&dir, name, |k| (k == 12).then(|| value.to_string()));
+        let e = fail_within(&["plot", &file, "--y", "x", "--out", image], &[]);
+        assert!(e.contains(&format!("{name}:14: column `x` holds {value}; a plot needs finite values")), "{e}");
+        let e = fail_within(&["spectrum", &file, "--y", "x", "--out", image], &[]);
+        assert!(e.contains(&format!("spectrum of `x` in {file}: the value at t = 0.12 s is {value}")), "{e}");
+    }
+    // A spectrum of values near the largest double is computed (scaled), but its plot cannot hold them.
+    let near = results_with(&dir, "near.csv", |k| Some(format!("{:e}", 1.75e308 * (std::f64::consts::TAU * 0.05 * k as f64).sin())));
+    let e = fail_within(&["spectrum", &near, "--y", "x", "--out", image, "--scale", "linear"], &[]);
+    assert!(e.contains("cannot draw the y axis (amplitude)"), "{e}");
+}
+
+#[test]
+fn a_spectrum_refuses_times_it_cannot_resample() {
+    let dir = scratch("times");
+    let mut csv = String::from("t,x\n");
+    for k in 0..64 {
+        let t = if k == 63 { 1e8 } else { k as f64 * 0.01 };
+        csv += &format!("{t},{}\n", (k as f64).sin());
+    }
+    std::fs::write(dir.join("late.csv"), csv).unwrap();
+    let e = fail_within(&["spectrum", dir.join("late.csv").to_str().unwrap(), "--y", "x"], &[]);
+    assert!(e.contains("would make 1.000e10 samples, more than 10000000; choose a stretch with --from and --to"), "{e}");
+}
