@@ -9,6 +9,7 @@ pub mod flexible_body;
 pub mod integrator_choice;
 pub mod model_file;
 pub mod modes;
+pub mod output_limits;
 pub mod plot;
 pub mod results;
 pub mod run;

@@ -140,3 +140,60 @@ fn a_spectrum_refuses_times_it_cannot_resample() {
     let e = fail_within(&["spectrum", dir.join("late.csv").to_str().unwrap(), "--y", "x"], &[]);
     assert!(e.contains("would make 1.000e10 samples, more than 10000000; choose a stretch with --from and --to"), "{e}");
 }
+
+#[test]
+fn output_grids_beyond_the_row_limit_are_refused_before_the_run() {
+    let dir = scratch("rows");
+    let out = dir.join("out");
+    let out = out.to_str().unwrap();
+    let e = fail_within(&["run", "models/pendulum.toml", "--output-step", "1e-9", "--out", out], &[]);
+    assert!(
+        e.contains(
+            "models/pendulum.toml: an output step of 1e-9 s up to t_end = 5 s would write 5000000001 output \
+             rows, more than the limit of 10000000"
+        ),
+        "{e}"
+    );
+    assert!(e.contains("--max-output-rows 5000000001 (or max_output_rows = 5000000001 in the model's [simulation])"), "{e}");
+    assert!(!dir.join("out/pendulum.csv").exists(), "nothing is written");
+    let e = fail_within(&["compare", "models/pendulum.toml", "--integrators", "bdf", "--t-end", "1e6"], &[]);
+    assert!(e.contains("would write 100000001 output rows") && e.contains("max_output_rows = 100000001 in the model's"), "{e}");
+
+    // The limit is the user's to raise, on the command line or in the file.
+    let args = ["run", "models/pendulum.toml", "--t-end", "0.1", "--quiet", "--out", out];
+    let e = fail_within(&[&args[..], &["--max-output-rows", "10"]].concat(), &[]);
+    assert!(e.contains("would write 11 output rows, more than the limit of 10"), "{e}");
+    let o = program::flexmb_within(&[&args[..], &["--max-output-rows", "11"]].concat(), &[]);
+    assert!(o.status.success(), "{}", program::text(&o.stderr));
+    let model = dir.join("limited.toml");
+    let pendulum = std::fs::read_to_string(program::workspace().join("models/pendulum.toml")).unwrap();
+    std::fs::write(&model, pendulum.replace("[simulation]\n", "[simulation]\nmax_output_rows = 10\n")).unwrap();
+    let e = fail_within(&["run", model.to_str().unwrap(), "--t-end", "0.1", "--out", out], &[]);
+    assert!(e.contains("would write 11 output rows, more than the limit of 10"), "{e}");
+    std::fs::write(&model, pendulum.replace("[simulation]\n", "[simulation]\nmax_output_rows = 0.5\n")).unwrap();
+    let e = fail_within(&["check", model.to_str().unwrap()], &[]);
+    assert!(e.contains("simulation.max_output_rows: max_output_rows must be a whole number of at least 1, got 0.5"), "{e}");
+}
+
+#[test]
+fn paraview_series_beyond_the_frame_limit_are_refused_before_the_run() {
+    let dir = scratch("frames");
+    let vtk = dir.join("vtk");
+    let (out, vtk) = (dir.to_str().unwrap(), vtk.to_str().unwrap());
+    let run = ["run", "models/pendulum.toml", "--t-end", "1000", "--output-step", "1e-3", "--out", out, "--vtk", vtk];
+    let e = fail_within(&run, &[]);
+    assert!(
+        e.contains(
+            "ParaView frames every 0.001 s up to t_end = 1000 s would be 1000001 frames (a file per body and joint \
+             each), more than the limit of 100000"
+        ),
+        "{e}"
+    );
+    assert!(e.contains("--max-vtk-frames 1000001"), "{e}");
+    assert!(!dir.join("vtk/pendulum").exists(), "no frame is written");
+    let short = ["run", "models/pendulum.toml", "--t-end", "0.05", "--quiet", "--out", out, "--vtk", vtk];
+    let e = fail_within(&[&short[..], &["--max-vtk-frames", "5"]].concat(), &[]);
+    assert!(e.contains("would be 6 frames"), "{e}");
+    let o = program::flexmb_within(&[&short[..], &["--max-vtk-frames", "6"]].concat(), &[]);
+    assert!(o.status.success(), "{}", program::text(&o.stderr));
+}

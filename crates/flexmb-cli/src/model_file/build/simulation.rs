@@ -72,6 +72,16 @@ pub(crate) fn simulation_defaults(
         }
         None => None,
     };
+    let limit = |value: &Option<Number>, name: &str, default: u64| match value {
+        Some(v) => {
+            let n = ctx.number(v, &table.key(name))?;
+            if n < 1.0 || n.fract() != 0.0 || n > u64::MAX as f64 {
+                return Err(ctx.invalid(&v.span(), &table.key(name), format!("{name} must be a whole number of at least 1, got {n}")));
+            }
+            Ok(n as u64)
+        }
+        None => Ok(default),
+    };
     let modal_assembly = match &s.modal_assembly {
         Some(name) => parse_modal_assembly(name.get_ref()).map_err(|e| ctx.invalid(&name.span(), &table.key("modal_assembly"), e))?,
         None => defaults.modal_assembly,
@@ -85,6 +95,8 @@ pub(crate) fn simulation_defaults(
         rtol: positive(&s.rtol, "rtol", defaults.rtol)?,
         atol: positive(&s.atol, "atol", defaults.atol)?,
         vtk_step: s.vtk_step.as_ref().map(|_| positive(&s.vtk_step, "vtk_step", 0.0)).transpose()?,
+        max_output_rows: limit(&s.max_output_rows, "max_output_rows", defaults.max_output_rows)?,
+        max_vtk_frames: limit(&s.max_vtk_frames, "max_vtk_frames", defaults.max_vtk_frames)?,
     })
 }
 
