@@ -49,7 +49,10 @@ fn assert_error(text: &str, line: usize, key_path: &str, fragments: &[&str]) -> 
     let (e, shown) = error_of(text);
     assert_eq!(e.line, Some(line), "line of: {shown}");
     assert_eq!(e.key_path, key_path, "key path of: {shown}");
-    let prefix = format!("models/bad.toml:{line}: {key_path}: ");
+    let prefix = match key_path {
+        "" => format!("models/bad.toml:{line}: "),
+        key_path => format!("models/bad.toml:{line}: {key_path}: "),
+    };
     assert!(shown.starts_with(&prefix), "`{shown}` should start with `{prefix}`");
     for fragment in fragments {
         assert!(shown.contains(fragment), "`{shown}` should contain `{fragment}`");
@@ -57,9 +60,9 @@ fn assert_error(text: &str, line: usize, key_path: &str, fragments: &[&str]) -> 
     e
 }
 
-/// Lines 1-13 of most test files: line 1 is empty, `[[body]]` is line 2, `mass` line 4, `inertia` line 5,
-/// the first marker's `body` line 9, the ground marker ends on line 13.
-const BODY: &str = r#"
+/// Lines 1-13 of most test files: line 1 is `[model]`, `[[body]]` is line 2, `mass` line 4, `inertia`
+/// line 5, the first marker's `body` line 9, the ground marker ends on line 13.
+const BODY: &str = r#"[model]
 [[body]]
 name = "link"
 mass = 2.0
@@ -86,7 +89,7 @@ fn a_minimal_model_builds_with_defaults() {
 #[test]
 fn unknown_key_names_key_line_and_allowed_keys() {
     let text = format!("{BODY}\n[[joint]]\nname = \"j\"\ntype = \"revolute\"\ni = \"base\"\nj = \"pin\"\nlenght = 2\n");
-    // BODY fills lines 1-13 (line 1 is empty); then blank 14, [[joint]] 15, name 16, type 17, i 18, j 19
+    // BODY fills lines 1-13 (line 1 is `[model]`); then blank 14, [[joint]] 15, name 16, type 17, i 18, j 19
     assert_error(&text, 20, "joint[0].lenght", &["unknown key `lenght`", "did you mean `length`?", "`axis_i`"]);
 }
 
@@ -329,7 +332,18 @@ fn simulation_defaults_come_from_the_file() {
     assert_eq!(loaded.simulation.t_end, 2.0);
     assert_eq!(loaded.simulation.output_step, 0.005);
     assert_eq!(loaded.simulation.rtol, 1e-6);
-    assert_error("[simulation]\nrtol = 0\n", 2, "simulation.rtol", &["must be positive"]);
+    assert_error(&format!("[simulation]\nrtol = 0\n{BODY}"), 2, "simulation.rtol", &["must be positive"]);
+}
+
+#[test]
+fn an_empty_or_truncated_file_is_not_a_model() {
+    for text in ["", "# nothing but a comment\n", "[simulation]\nt_end = 2\n", &BODY.replacen("[model]", "", 1)] {
+        let e = assert_error(text, 1, "", &["no [model] table: a model file must have one", "empty or truncated"]);
+        assert_eq!(e.kind, ErrorKind::Schema);
+    }
+    // Cut after its first table: a [model] and no body.
+    let e = error_of("# a model\n\n[model]\nname = \"cut\"\n\n[simulation]\nt_end = 2\n").1;
+    assert_eq!(e, "models/bad.toml:3: the model has no bodies: it needs at least one [[body]] or [[flexible_body]] table");
 }
 
 #[test]

@@ -197,3 +197,27 @@ fn paraview_series_beyond_the_frame_limit_are_refused_before_the_run() {
     let o = program::flexmb_within(&[&short[..], &["--max-vtk-frames", "6"]].concat(), &[]);
     assert!(o.status.success(), "{}", program::text(&o.stderr));
 }
+
+#[test]
+fn an_empty_truncated_or_bodiless_model_fails_check_and_run() {
+    let dir = scratch("empty");
+    let cases = [
+        ("empty.toml", "", "empty.toml:1: no [model] table: a model file must have one"),
+        ("headless.toml", "[[body]]\nname = \"b\"\nmass = 1\ninertia = [1, 1, 1]\n", "headless.toml:1: no [model] table"),
+        (
+            "cut.toml",
+            "# cut short after its first table\n[model]\nname = \"cut\"\n",
+            "cut.toml:2: the model has no bodies: it needs at least one [[body]] or [[flexible_body]] table",
+        ),
+    ];
+    for (name, text, message) in cases {
+        let model = dir.join(name);
+        std::fs::write(&model, text).unwrap();
+        let (path, out) = (model.to_str().unwrap(), dir.to_str().unwrap());
+        for args in [&["check", path][..], &["run", path, "--out", out]] {
+            let e = fail_within(args, &[]);
+            assert!(e.contains(message), "{args:?}: {e}");
+            assert!(!e.contains("degrees of freedom"), "{e}");
+        }
+    }
+}

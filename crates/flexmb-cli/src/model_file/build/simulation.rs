@@ -5,18 +5,35 @@ use flexmb::math::Vec3;
 use toml::Spanned;
 
 use super::context::Context;
-use crate::model_file::error::ModelFileError;
+use crate::model_file::error::{ErrorKind, ModelFileError};
 use crate::model_file::key_path::KeyPath;
-use crate::model_file::schema::{ModelSection, Number, SimulationSection};
+use crate::model_file::schema::{ModelFile, Number, SimulationSection};
 use crate::model_file::SimulationDefaults;
 
-/// The model's name (default `default_name`, the file stem) and gravity (default zero).
+/// The model's name (default `default_name`, the file stem) and gravity (default zero). `[model]` is
+/// required, and the model must have a body: an empty or truncated file is an error, not a model of
+/// nothing.
 pub(crate) fn model_settings(
     ctx: &Context,
-    section: Option<&Spanned<ModelSection>>,
+    file: &ModelFile,
     default_name: &str,
 ) -> Result<(String, Vec3), ModelFileError> {
-    let Some(section) = section else { return Ok((default_name.to_string(), Vec3::zeros())) };
+    let Some(section) = &file.model else {
+        return Err(ctx.source.error(
+            ErrorKind::Schema,
+            &(0..0),
+            &KeyPath::root(),
+            "no [model] table: a model file must have one (`[model]`, whose keys `name` and `gravity` are \
+             optional); is the file empty or truncated?",
+        ));
+    };
+    if file.body.is_empty() && file.flexible_body.is_empty() {
+        return Err(ctx.invalid(
+            &section.span(),
+            &KeyPath::root(),
+            "the model has no bodies: it needs at least one [[body]] or [[flexible_body]] table",
+        ));
+    }
     let table = KeyPath::root().key("model");
     let m = section.get_ref();
     let name = match &m.name {
