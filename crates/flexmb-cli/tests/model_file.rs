@@ -347,6 +347,26 @@ fn an_empty_or_truncated_file_is_not_a_model() {
 }
 
 #[test]
+fn absurd_magnitudes_are_named_with_their_window() {
+    // Finite but absurd: once accepted and reported later as "a singular matrix".
+    let text = BODY.replace("mass = 2.0", "mass = 1e308");
+    assert_error(&text, 4, "body[0].mass", &["1e308 kg is outside the range of a mass, |x| ≤ 1e12 kg"]);
+    let text = BODY.replace("mass = 2.0", "mass = 2.0\nposition = [0, 1e300, 0]");
+    assert_error(&text, 5, "body[0].position[1]", &["1e300 m is outside the range of a length, |x| ≤ 1e12 m"]);
+    let text = BODY.replace("inertia = [0.1, 0.1, 0.02]", "inertia = { xx = 1e300, yy = 1e300, zz = 1e300 }");
+    assert_error(&text, 5, "body[0].inertia.xx", &["outside the range of an inertia, |x| ≤ 1e18 kg m²"]);
+    let text = BODY.replace("name = \"pin\"\nbody = \"link\"", "name = \"pin\"\nbody = \"link\"\norigin = [\"1e13\", 0, 0]");
+    assert_error(&text, 10, "marker[0].origin[0]", &["1e13 m is outside the range of a length"]);
+    let text = BODY.replace("[model]", "[model]\ngravity = [0, -1e20, 0]");
+    assert_error(&text, 2, "model.gravity[1]", &["-1e20 m/s² is outside the range of an acceleration"]);
+    let text = format!("[simulation]\nt_end = 1e15\n{BODY}");
+    assert_error(&text, 2, "simulation.t_end", &["1e15 s is outside the range of a time, |x| ≤ 1e12 s"]);
+    let spring = "\n[[force]]\nname = \"s\"\ntype = \"translational_spring_damper\"\ni = \"base\"\nj = \"pin\"\nstiffness = 1e300\n";
+    // blank 14, [[force]] 15, name 16, type 17, i 18, j 19, stiffness 20
+    assert_error(&format!("{BODY}{spring}"), 20, "force[0].stiffness", &["1e300 (N/m or N m/rad) is outside the range of a stiffness, |x| ≤ 1e15 (N/m or N m/rad)"]);
+}
+
+#[test]
 fn a_wrong_value_type_is_located() {
     let text = BODY.replace("name = \"link\"", "name = 3");
     assert_error(&text, 3, "body[0].name", &["invalid type: integer `3`, expected a string"]);

@@ -221,3 +221,32 @@ fn an_empty_truncated_or_bodiless_model_fails_check_and_run() {
         }
     }
 }
+
+#[test]
+fn absurd_magnitudes_are_refused_at_their_key_not_reported_as_a_singular_matrix() {
+    let dir = scratch("magnitudes");
+    let pendulum = std::fs::read_to_string(program::workspace().join("models/pendulum.toml")).unwrap();
+    let heavy = dir.join("heavy.toml");
+    std::fs::write(&heavy, pendulum.replace("mass = \"m_bob\"", "mass = 1e308")).unwrap();
+    let (heavy, out) = (heavy.to_str().unwrap(), dir.to_str().unwrap());
+    for args in [&["check", heavy][..], &["run", heavy, "--out", out]] {
+        let e = fail_within(args, &[]);
+        assert!(e.contains("heavy.toml:31: body[0].mass: 1e308 kg is outside the range of a mass, |x| ≤ 1e12 kg"), "{e}");
+        assert!(!e.contains("singular"), "{e}");
+    }
+
+    let cantilever = std::fs::read_to_string(program::workspace().join("models/fe/cantilever.toml")).unwrap();
+    let stiff = dir.join("stiff.toml");
+    std::fs::write(&stiff, cantilever.replace("E = 210e9", "E = 1e308")).unwrap();
+    let e = fail_within(&["modes", stiff.to_str().unwrap()], &[]);
+    assert!(e.contains("material[0].E: 1e308 Pa is outside the range of an elastic modulus, |x| ≤ 1e15 Pa"), "{e}");
+
+    let deck = dir.join("dense.inp");
+    let text = "*NODE\n1, 0, 0, 0\n2, 0.5, 0, 0\n3, 1, 0, 0\n*ELEMENT, TYPE=B31, ELSET=BEAM\n1, 1, 2\n2, 2, 3\n\
+                *MATERIAL, NAME=STEEL\n*ELASTIC\n210e9, 0.3\n*DENSITY\n1e300\n\
+                *BEAM SECTION, ELSET=BEAM, MATERIAL=STEEL, SECTION=RECT\n0.02, 0.01\n0, 1, 0\n*BOUNDARY\n1, 1, 6\n";
+    std::fs::write(&deck, text).unwrap();
+    let e = fail_within(&["modes", deck.to_str().unwrap(), "--modes", "2N"], &[]);
+    assert!(e.contains("dense.inp:12: *DENSITY: the density (field 1): 1e300 kg/m³ is outside the range of a density"), "{e}");
+    assert!(!e.contains("mechanism"), "{e}");
+}

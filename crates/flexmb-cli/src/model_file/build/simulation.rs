@@ -2,6 +2,7 @@
 
 use flexmb::analysis::ModalAssembly;
 use flexmb::math::Vec3;
+use flexmb_fem::input::Quantity;
 use toml::Spanned;
 
 use super::context::Context;
@@ -43,7 +44,7 @@ pub(crate) fn model_settings(
         Some(name) => name.get_ref().clone(),
         None => default_name.to_string(),
     };
-    let gravity = ctx.vector_or_zero(&m.gravity, &table.key("gravity"))?;
+    let gravity = ctx.vector_or_zero(&m.gravity, &table.key("gravity"), Quantity::Acceleration)?;
     Ok((name, gravity))
 }
 
@@ -56,9 +57,13 @@ pub(crate) fn simulation_defaults(
     let Some(section) = section else { return Ok(defaults) };
     let table = KeyPath::root().key("simulation");
     let s = section.get_ref();
-    let positive = |value: &Option<Number>, name: &str, default: f64| {
+    // A positive setting, within the window of its quantity if it has one.
+    let positive = |value: &Option<Number>, name: &str, default: f64, quantity: Option<Quantity>| {
         let key = table.key(name);
-        let x = ctx.number_or(value, &key, default)?;
+        let x = match (value, quantity) {
+            (Some(v), Some(quantity)) => ctx.quantity(v, &key, quantity)?,
+            _ => ctx.number_or(value, &key, default)?,
+        };
         match value {
             Some(v) if x <= 0.0 => Err(ctx.invalid(&v.span(), &key, format!("{name} must be positive, got {x}"))),
             _ => Ok(x),
@@ -107,11 +112,11 @@ pub(crate) fn simulation_defaults(
         method,
         modal_assembly,
         max_order,
-        t_end: positive(&s.t_end, "t_end", defaults.t_end)?,
-        output_step: positive(&s.output_step, "output_step", defaults.output_step)?,
-        rtol: positive(&s.rtol, "rtol", defaults.rtol)?,
-        atol: positive(&s.atol, "atol", defaults.atol)?,
-        vtk_step: s.vtk_step.as_ref().map(|_| positive(&s.vtk_step, "vtk_step", 0.0)).transpose()?,
+        t_end: positive(&s.t_end, "t_end", defaults.t_end, Some(Quantity::Time))?,
+        output_step: positive(&s.output_step, "output_step", defaults.output_step, Some(Quantity::Time))?,
+        rtol: positive(&s.rtol, "rtol", defaults.rtol, None)?,
+        atol: positive(&s.atol, "atol", defaults.atol, None)?,
+        vtk_step: s.vtk_step.as_ref().map(|_| positive(&s.vtk_step, "vtk_step", 0.0, Some(Quantity::Time))).transpose()?,
         max_output_rows: limit(&s.max_output_rows, "max_output_rows", defaults.max_output_rows)?,
         max_vtk_frames: limit(&s.max_vtk_frames, "max_vtk_frames", defaults.max_vtk_frames)?,
     })
