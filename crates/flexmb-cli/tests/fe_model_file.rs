@@ -848,6 +848,10 @@ fn degenerate_generators() {
         "{STEEL_BAR}{SHEET}\n[[plate]]\nsection = \"sheet\"\ncorner = [0, 0, 0]\nedge_a = [1, 0, 0]\nedge_b = [0, 1, 0]\nelements = [2, 0]\n"
     );
     assert_error(&text, line_of(&text, "elements"), "plate[0].elements[1]", &["a whole number from 1", "got 0"]);
+    // A million along each edge was accepted and then filled memory: a plate has at most 1e6 elements.
+    let huge = text.replace("elements = [2, 0]", "elements = [1000000, 1000000]");
+    let message = "a plate of 1000000 × 1000000 = 1000000000000 elements is more than 1e6";
+    assert_error(&huge, line_of(&text, "elements"), "plate[0].elements", &[message]);
     let text = arm().replace("name = \"arm\"", "name = \"arm.left\"");
     assert_error(&text, 17, "beam_line[0].name", &["must not contain `.`"]);
 }

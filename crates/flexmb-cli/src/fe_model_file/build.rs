@@ -23,7 +23,7 @@ use crate::model_file::source::Source;
 use crate::model_file::ModelFileError;
 
 /// The most elements a generator may be asked for along one direction.
-const MAX_COUNT: f64 = 1e6;
+pub(crate) const MAX_COUNT: f64 = 1e6;
 
 /// The model being built and the names defined so far.
 pub(crate) struct Builder<'a> {

@@ -6,7 +6,7 @@ use toml::Spanned;
 use flexmb_fem::mesh::ShellShape;
 use flexmb_fem::input::Quantity;
 
-use super::build::Builder;
+use super::build::{Builder, MAX_COUNT};
 use super::format::point;
 use super::schema::{BeamLineSection, PlateSection};
 use super::sections::check_orientation;
@@ -100,6 +100,13 @@ fn add_plate(b: &mut Builder, k: usize, plate: &PlateSection) -> Result<(), Mode
     }
     let na = b.count(&counts[0], &counts_key.index(0))?;
     let nb = b.count(&counts[1], &counts_key.index(1))?;
+    if (na * nb) as f64 > MAX_COUNT {
+        return Err(b.ctx.invalid(
+            &plate.elements.span(),
+            &counts_key,
+            format!("a plate of {na} × {nb} = {} elements is more than {MAX_COUNT:e}", na * nb),
+        ));
+    }
     if edge_a.cross(&edge_b).norm() <= PARALLEL_EDGES * edge_a.norm() * edge_b.norm()
         || edge_a.norm() == 0.0
         || edge_b.norm() == 0.0
