@@ -211,7 +211,7 @@ fn draw_figure<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, figure: &Figur
 
 /// The x and y ranges the axes show: the data's (the y axis with room above and below), or an error
 /// if one cannot be drawn.
-fn axis_ranges(figure: &Figure) -> Result<((f64, f64), (f64, f64)), String> {
+fn axis_ranges(figure: &Figure) -> Result<(AxisRange, AxisRange), String> {
     let x_range =
         figure.x_range.unwrap_or_else(|| data_range(figure.series.iter().flat_map(|s| &s.points).map(|p| p.0)));
     let y_values = || figure.series.iter().flat_map(|s| &s.points).map(|p| p.1).filter(|v| v.is_finite());
@@ -230,6 +230,9 @@ fn axis_ranges(figure: &Figure) -> Result<((f64, f64), (f64, f64)), String> {
     }
     Ok((x_range, y_range))
 }
+
+/// The lowest and highest value an axis shows.
+type AxisRange = (f64, f64);
 
 /// Why an axis cannot be drawn.
 pub(super) const SPAN_TOO_LARGE: &str =

@@ -85,7 +85,7 @@ impl UniformSamples {
         }
         let dt = median(steps);
         let count = ((t1 - t0) / dt).floor() + 1.0;
-        if !(count <= MAX_RESAMPLED as f64) || !(0.5 / dt).is_finite() {
+        if !count.is_finite() || count > MAX_RESAMPLED as f64 || !(0.5 / dt).is_finite() {
             return Err(CliError(format!(
                 "the times are not uniform, and resampling them onto their median step {} s from t = {} s to {} s \
                  would make {count:.3e} samples, more than {MAX_RESAMPLED}; choose a stretch with --from and --to",
