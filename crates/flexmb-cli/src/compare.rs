@@ -78,6 +78,8 @@ pub fn compare_model(path: &Path, options: &CompareOptions) -> Result<String, Cl
     let model = &loaded.model;
     let d = loaded.simulation;
     let t_end = options.t_end.unwrap_or(d.t_end);
+    crate::output_limits::check_output_rows(t_end, d.output_step, d.max_output_rows, false)
+        .map_err(|e| CliError(format!("{}: {e}", path.display())))?;
     let (rtol, atol) = (options.rtol.unwrap_or(d.rtol), options.atol.unwrap_or(d.atol));
     let methods: Vec<(String, Method)> = options
         .integrators

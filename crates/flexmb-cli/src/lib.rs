@@ -10,6 +10,7 @@ pub mod integrator_choice;
 pub mod limits;
 pub mod model_file;
 pub mod modes;
+pub mod output_limits;
 pub mod plot;
 pub mod results;
 pub mod run;

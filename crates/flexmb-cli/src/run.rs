@@ -7,8 +7,9 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::check::{check_model, describe, describe_flexible_bodies};
 use crate::model_file::load_model;
+use crate::output_limits::check_output_rows;
 use crate::results::{record_run, summary_text, RecordedRun};
-use crate::vtk::RunSeries;
+use crate::vtk::{RunSeries, SeriesTimes};
 
 /// Command-line overrides of the model file's `[simulation]` defaults.
 #[derive(Clone, Debug, Default)]
@@ -27,6 +28,10 @@ pub struct RunOptions {
     pub vtk_dir: Option<PathBuf>,
     /// Interval between its frames (`--vtk-step`), overriding the model file's `vtk_step`.
     pub vtk_step: Option<f64>,
+    /// Most output rows allowed (`--max-output-rows`), overriding the model file's `max_output_rows`.
+    pub max_output_rows: Option<u64>,
+    /// Most ParaView frames allowed (`--max-vtk-frames`), overriding the model file's `max_vtk_frames`.
+    pub max_vtk_frames: Option<u64>,
 }
 
 /// Where a run's files went.
@@ -57,6 +62,8 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
     let output_step = positive("--output-step", options.output_step.unwrap_or(d.output_step))?;
     let rtol = positive("--rtol", options.rtol.unwrap_or(d.rtol))?;
     let atol = positive("--atol", options.atol.unwrap_or(d.atol))?;
+    let max_rows = options.max_output_rows.unwrap_or(d.max_output_rows);
+    check_output_rows(t_end, output_step, max_rows, true).map_err(|e| CliError(format!("{}: {e}", path.display())))?;
     let method = match &options.integrator {
         Some(name) => crate::integrator_choice::parse_method(name, options.spectral_radius.unwrap_or(0.9))
             .map_err(|e| CliError(format!("--integrator: {e}")))?,
@@ -80,7 +87,10 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
     let mut vtk = options
         .vtk_dir
         .as_deref()
-        .map(|dir| RunSeries::create(dir, stem, &loaded, options.vtk_step.or(d.vtk_step), output_step))
+        .map(|dir| {
+            let times = SeriesTimes { step: options.vtk_step.or(d.vtk_step), output_step, t_end };
+            RunSeries::create(dir, stem, &loaded, times, options.max_vtk_frames.unwrap_or(d.max_vtk_frames))
+        })
         .transpose()
         .map_err(CliError)?;
 

@@ -72,11 +72,11 @@ fn check_reports_degrees_of_freedom_and_redundant_constraints() {
 fn bad_input_names_file_line_and_key() {
     let dir = scratch("bad");
     let model = dir.join("bad_mass.toml");
-    std::fs::write(&model, "[[body]]\nname = \"b\"\nmass = -1.0\ninertia = [1, 1, 1]\n").unwrap();
+    std::fs::write(&model, "[model]\n[[body]]\nname = \"b\"\nmass = -1.0\ninertia = [1, 1, 1]\n").unwrap();
     let o = flexmb(&["run", model.to_str().unwrap(), "--out", dir.to_str().unwrap()]);
     assert!(!o.status.success());
     let e = text(&o.stderr);
-    assert!(e.contains("bad_mass.toml:3") && e.contains("body[0].mass"), "{e}");
+    assert!(e.contains("bad_mass.toml:4") && e.contains("body[0].mass"), "{e}");
     assert!(!e.contains("panicked"), "{e}");
 
     let o = flexmb(&["run", "no/such/model.toml"]);
@@ -110,7 +110,7 @@ fn a_run_that_fails_midway_says_when_and_why_and_keeps_its_results() {
 /// A bar on a revolute to ground whose tip is pulled by a distance driver `L(t) = 2 + t` from a ground
 /// point 2 m away: the tip can be at most 3 m from that point, reached at t = 1 s, after which the
 /// constraints cannot all hold.
-const LOCKING: &str = r#"
+const LOCKING: &str = r#"[model]
 [simulation]
 t_end = 2.0
 output_step = 0.01
@@ -155,7 +155,7 @@ length = "sqrt(5) + (3 - sqrt(5))*t"
 "#;
 
 /// Planar four-bar (x-y plane) with four revolutes: three redundant equations in 3D.
-const FOUR_REVOLUTES: &str = r#"
+const FOUR_REVOLUTES: &str = r#"[model]
 [[body]]
 name = "crank"
 mass = 1.0

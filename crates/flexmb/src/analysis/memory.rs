@@ -42,13 +42,13 @@ fn available_memory() -> Option<u64> {
     Some(kb * 1024)
 }
 
-/// `12.3 GB`, `456 MB`: a byte count for messages.
+/// `184.8 GiB`, `473.0 MiB`: a byte count for messages, in binary multiples.
 pub fn format_bytes(bytes: u64) -> String {
-    const UNITS: [&str; 5] = ["B", "kB", "MB", "GB", "TB"];
+    const UNITS: [&str; 5] = ["B", "kiB", "MiB", "GiB", "TiB"];
     let mut x = bytes as f64;
     let mut unit = 0;
-    while x >= 1000.0 && unit < UNITS.len() - 1 {
-        x /= 1000.0;
+    while x >= 1024.0 && unit < UNITS.len() - 1 {
+        x /= 1024.0;
         unit += 1;
     }
     if unit == 0 {
@@ -66,9 +66,9 @@ mod tests {
     fn a_chain_of_20000_bodies_needs_tens_of_gigabytes() {
         // 20,000 rigid bodies on spherical joints: nc = 60,000, nq = 140,000, nv = 120,000.
         let bytes = dense_analysis_bytes(60_000, 20_000, 140_000, 120_000);
-        assert!(bytes > 100_000_000_000, "{}", format_bytes(bytes));
-        assert_eq!(format_bytes(bytes), "198.4 GB");
+        assert_eq!(bytes, 198_400_000_000);
+        assert_eq!(format_bytes(bytes), "184.8 GiB");
         assert_eq!(format_bytes(999), "999 B");
-        assert_eq!(format_bytes(1_500_000), "1.5 MB");
+        assert_eq!(format_bytes(3 << 19), "1.5 MiB");
     }
 }
