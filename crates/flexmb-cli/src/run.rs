@@ -90,6 +90,7 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
         integrator: d.integrator(model, rtol, atol),
         assembly,
         method,
+        physics_limits: d.physics_limits,
     };
     let bar = if options.quiet { ProgressBar::hidden() } else { ProgressBar::new(1000) };
     bar.set_style(

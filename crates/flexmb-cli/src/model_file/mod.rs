@@ -59,6 +59,9 @@ pub struct SimulationDefaults {
     pub max_order: Option<usize>,
     /// Interval between the frames of the ParaView output (`vtk_step`, s); `None`: the output step.
     pub vtk_step: Option<f64>,
+    /// The physics watchdog's thresholds (`elastic_deflection_warning`, `…_limit`,
+    /// `energy_balance_warning`, `…_limit`). Default [`flexmb::analysis::PhysicsLimits::default`].
+    pub physics_limits: flexmb::analysis::PhysicsLimits,
 }
 
 impl Default for SimulationDefaults {
@@ -72,6 +75,7 @@ impl Default for SimulationDefaults {
             method: flexmb::integrate::Method::Bdf,
             max_order: None,
             vtk_step: None,
+            physics_limits: flexmb::analysis::PhysicsLimits::default(),
         }
     }
 }

@@ -64,6 +64,10 @@ pub(crate) struct SimulationSection {
     pub spectral_radius: Option<Number>,
     pub max_order: Option<Number>,
     pub vtk_step: Option<Number>,
+    pub elastic_deflection_warning: Option<Number>,
+    pub elastic_deflection_limit: Option<Number>,
+    pub energy_balance_warning: Option<Number>,
+    pub energy_balance_limit: Option<Number>,
 }
 
 /// `[[body]]`: a rigid body.

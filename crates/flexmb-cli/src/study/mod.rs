@@ -100,6 +100,7 @@ fn run_case(study: &Study, case: &Case, integrator: &str, out_dir: &Path) -> Res
         },
         assembly,
         method,
+        physics_limits: d.physics_limits,
     };
     let model_file = study.model.display().to_string();
     let RecordedRun { report, error: failure, .. } =

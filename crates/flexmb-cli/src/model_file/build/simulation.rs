@@ -1,6 +1,6 @@
 //! `[model]` and `[simulation]`: the model's name and gravity, and the defaults of a simulation run.
 
-use flexmb::analysis::ModalAssembly;
+use flexmb::analysis::{ModalAssembly, PhysicsLimits};
 use flexmb::math::Vec3;
 use toml::Spanned;
 
@@ -85,7 +85,42 @@ pub(crate) fn simulation_defaults(
         rtol: positive(&s.rtol, "rtol", defaults.rtol)?,
         atol: positive(&s.atol, "atol", defaults.atol)?,
         vtk_step: s.vtk_step.as_ref().map(|_| positive(&s.vtk_step, "vtk_step", 0.0)).transpose()?,
+        physics_limits: physics_limits(ctx, s, &positive)?,
     })
+}
+
+/// The physics watchdog's thresholds, each positive. A warning not given is at most the limit given,
+/// and a limit not given at least the warning given; both given, the warning must not exceed the limit.
+fn physics_limits(
+    ctx: &Context,
+    s: &SimulationSection,
+    positive: &dyn Fn(&Option<Number>, &str, f64) -> Result<f64, ModelFileError>,
+) -> Result<PhysicsLimits, ModelFileError> {
+    let d = PhysicsLimits::default();
+    let pair = |(warning, limit): (&Option<Number>, &Option<Number>), name: &str, (dw, dl): (f64, f64)| {
+        let w = positive(warning, &format!("{name}_warning"), dw)?;
+        let l = positive(limit, &format!("{name}_limit"), dl)?;
+        match (warning, limit) {
+            (Some(v), Some(_)) if w > l => Err(ctx.invalid(
+                &v.span(),
+                &KeyPath::root().key("simulation").key(&format!("{name}_warning")),
+                format!("{name}_warning ({w}) must not exceed {name}_limit ({l})"),
+            )),
+            (None, _) => Ok((w.min(l), l)),
+            _ => Ok((w, l.max(w))),
+        }
+    };
+    let (elastic_deflection_warning, elastic_deflection_limit) = pair(
+        (&s.elastic_deflection_warning, &s.elastic_deflection_limit),
+        "elastic_deflection",
+        (d.elastic_deflection_warning, d.elastic_deflection_limit),
+    )?;
+    let (energy_balance_warning, energy_balance_limit) = pair(
+        (&s.energy_balance_warning, &s.energy_balance_limit),
+        "energy_balance",
+        (d.energy_balance_warning, d.energy_balance_limit),
+    )?;
+    Ok(PhysicsLimits { elastic_deflection_warning, elastic_deflection_limit, energy_balance_warning, energy_balance_limit })
 }
 
 /// `modal_assembly = "held" | "free" | "static"`.
