@@ -152,8 +152,10 @@ impl Deflection {
                 w1
             ),
             _ => s += "A modal body is linear in its modal coordinates: its results hold for small elastic displacements \
-                       only. Check the loads and their units, the supports and mode set of its FE model, and the \
-                       stiffness of its material; a large deformation needs several flexible bodies or a nonlinear model.",
+                       only. Check the loads and their units, the FE model's material and supports, and its mode set \
+                       (vibration modes alone may need large amplitudes to fit a joint, where static correction modes \
+                       at the joint's nodes do not); a large deformation needs several flexible bodies or a nonlinear \
+                       model.",
         }
         s
     }
@@ -212,48 +214,45 @@ struct FlexibleExtent {
 /// The energy that flowed up to an output time, and how much of the energy-balance error the
 /// trapezoidal rule of `W_nc` may explain by itself.
 #[derive(Default)]
-struct EnergyFlow {
+pub(super) struct EnergyFlow {
     /// The largest `T + |V| + U` seen (J).
     largest_energy: f64,
     /// `∫ |P_nc| dt` (J), by the trapezoidal rule.
     absolute_work: f64,
     /// `Σ h³/12 |P''|` over the intervals so far (J), `P''` the second divided difference of the last
     /// three powers (the first interval: `h |ΔP| / 4`): the trapezoidal rule's own error, estimated.
-    quadrature_error: f64,
+    pub(super) quadrature_error: f64,
     /// The last two `(t, P_nc)`, latest first.
     last: [Option<(f64, f64)>; 2],
 }
 
 impl EnergyFlow {
     /// Adds an output time with energy `e` and non-conservative power `power`.
-    fn add(&mut self, t: f64, e: &Energy, power: f64) {
+    pub(super) fn add(&mut self, t: f64, e: &Energy, power: f64) {
         self.largest_energy = self.largest_energy.max(e.kinetic.abs() + e.potential.abs() + e.strain.abs());
-        match self.last {
-            [Some((t1, p1)), previous] => {
-                let h = t - t1;
-                self.absolute_work += 0.5 * (p1.abs() + power.abs()) * h;
-                self.quadrature_error += match previous {
-                    Some((t2, p2)) => {
-                        let second_difference = 2.0 * ((power - p1) / h - (p1 - p2) / (t1 - t2)) / (t - t2);
-                        h.powi(3) / 12.0 * second_difference.abs()
-                    }
-                    None => h * (power - p1).abs() / 4.0,
-                };
-            }
-            [None, _] => {}
+        if let [Some((t1, p1)), previous] = self.last {
+            let h = t - t1;
+            self.absolute_work += 0.5 * (p1.abs() + power.abs()) * h;
+            self.quadrature_error += match previous {
+                Some((t2, p2)) => {
+                    let second_difference = 2.0 * ((power - p1) / h - (p1 - p2) / (t1 - t2)) / (t - t2);
+                    h.powi(3) / 12.0 * second_difference.abs()
+                }
+                None => h * (power - p1).abs() / 4.0,
+            };
         }
         self.last = [Some((t, power)), self.last[0]];
     }
 
     /// The energy that flowed: the larger of the largest energy seen and `∫ |P_nc| dt`.
-    fn scale(&self) -> f64 {
+    pub(super) fn scale(&self) -> f64 {
         self.largest_energy.max(self.absolute_work)
     }
 
     /// The part of a balance error that neither the quadrature (with a factor 3 of margin on its
     /// estimate) nor the integrator's tolerance `tolerated` explains, as a fraction of the energy
     /// that flowed.
-    fn unexplained_fraction(&self, balance_error: f64, tolerated: f64) -> f64 {
+    pub(super) fn unexplained_fraction(&self, balance_error: f64, tolerated: f64) -> f64 {
         let scale = self.scale();
         if scale > 0.0 {
             (balance_error.abs() - 3.0 * self.quadrature_error - tolerated).max(0.0) / scale
