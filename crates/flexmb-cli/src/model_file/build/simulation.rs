@@ -89,12 +89,15 @@ pub(crate) fn simulation_defaults(
     })
 }
 
+/// Reads a positive number at a key of `[simulation]`, or gives the default.
+type PositiveNumber<'a> = &'a dyn Fn(&Option<Number>, &str, f64) -> Result<f64, ModelFileError>;
+
 /// The physics watchdog's thresholds, each positive. A warning not given is at most the limit given,
 /// and a limit not given at least the warning given; both given, the warning must not exceed the limit.
 fn physics_limits(
     ctx: &Context,
     s: &SimulationSection,
-    positive: &dyn Fn(&Option<Number>, &str, f64) -> Result<f64, ModelFileError>,
+    positive: PositiveNumber,
 ) -> Result<PhysicsLimits, ModelFileError> {
     let d = PhysicsLimits::default();
     let pair = |(warning, limit): (&Option<Number>, &Option<Number>), name: &str, (dw, dl): (f64, f64)| {
