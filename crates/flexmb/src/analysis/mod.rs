@@ -11,6 +11,8 @@ mod static_deformation;
 mod state;
 mod velocity;
 mod watchdog;
+#[cfg(test)]
+mod watchdog_tests;
 #[doc(hidden)]
 pub mod test_models;
 
