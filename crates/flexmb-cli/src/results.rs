@@ -213,7 +213,7 @@ fn physics_text(measured: &PhysicsMeasures) -> String {
     let mut s = String::new();
     if let Some(d) = &measured.largest_deflection {
         s += &format!(
-            "\n  largest deflection  {:.2} % of the size of flexible body '{}' ({:.3e} m at node {}, t = {:.4} s)",
+            "\n  largest deflection  {:.3} % of its size: flexible body '{}', {:.3e} m at node {} (t = {:.4} s)",
             100.0 * d.deflection / d.size,
             d.body,
             d.deflection,
@@ -222,8 +222,10 @@ fn physics_text(measured: &PhysicsMeasures) -> String {
         );
     }
     s + &format!(
-        "\n  energy balance error {:.2e} of the {:.3e} J that flowed (largest, at t = {:.4} s)",
-        measured.largest_balance_fraction, measured.energy_scale, measured.largest_balance_time
+        "\n  balance check       largest error beyond quadrature and tolerance {:.3} % of the {:.3e} J that flowed (t = {:.4} s)",
+        100.0 * measured.largest_balance_fraction,
+        measured.energy_scale,
+        measured.largest_balance_time
     )
 }
 
