@@ -196,7 +196,8 @@ pub struct PhysicsMeasures {
     /// The largest elastic deflection relative to its body's size, over the flexible bodies and the
     /// output times (`None` without flexible bodies).
     pub largest_deflection: Option<Deflection>,
-    /// The largest `|E − E0 − W_nc|` relative to the energy that flowed, and when.
+    /// The largest energy-balance error `|E − E0 − W_nc|` beyond what the quadrature and the tolerance
+    /// explain, relative to the energy that flowed, and when.
     pub largest_balance_fraction: f64,
     pub largest_balance_time: f64,
     /// The energy that flowed by the end of the run (J).
@@ -333,7 +334,6 @@ impl Watchdog {
     /// `E − E0 − W_nc` with the energy `e` and the non-conservative power `power`, at the state whose
     /// stages (forces and kinematics) are in `data`. Warnings go to `warnings`, the largest values to
     /// `measures`.
-    #[allow(clippy::too_many_arguments)]
     pub(crate) fn check_frame(
         &mut self,
         model: &Model,
