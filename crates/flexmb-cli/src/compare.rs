@@ -100,6 +100,7 @@ pub fn compare_model(path: &Path, options: &CompareOptions) -> Result<String, Cl
         integrator: d.integrator(model, rtol, atol),
         assembly,
         method,
+        physics_limits: d.physics_limits,
     };
     // The reference: the BDF at a thousandth of the tolerances and orders up to 5 (its steps are then
     // small enough to resolve every retained mode, so the high orders are accurate and stable).

@@ -7,6 +7,7 @@ pub mod compare;
 pub mod fe_model_file;
 pub mod flexible_body;
 pub mod integrator_choice;
+pub mod interrupt;
 pub mod limits;
 pub mod model_file;
 pub mod modes;

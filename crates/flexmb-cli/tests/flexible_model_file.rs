@@ -517,8 +517,7 @@ fn the_shipped_flexible_pendulum_swings_and_bends() {
         t_end: 0.3,
         output_step: 0.1,
         integrator: BdfConfig { rtol: 1e-6, atol: 1e-6, ..Default::default() },
-        assembly: Default::default(),
-        method: Default::default(),
+        ..Default::default()
     };
     let mut rows = Vec::new();
     simulate(model, &settings, &mut |frame| rows.push((frame.t, frame.values.to_vec())))

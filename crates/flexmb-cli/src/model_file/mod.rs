@@ -65,6 +65,9 @@ pub struct SimulationDefaults {
     /// Most ParaView frames a run may write (`max_vtk_frames`). Default
     /// [`DEFAULT_MAX_VTK_FRAMES`](crate::output_limits::DEFAULT_MAX_VTK_FRAMES), 10⁵.
     pub max_vtk_frames: u64,
+    /// The physics watchdog's thresholds (`elastic_deflection_warning`, `…_limit`,
+    /// `energy_balance_warning`, `…_limit`). Default [`flexmb::analysis::PhysicsLimits::default`].
+    pub physics_limits: flexmb::analysis::PhysicsLimits,
 }
 
 impl Default for SimulationDefaults {
@@ -80,6 +83,7 @@ impl Default for SimulationDefaults {
             vtk_step: None,
             max_output_rows: crate::output_limits::DEFAULT_MAX_OUTPUT_ROWS,
             max_vtk_frames: crate::output_limits::DEFAULT_MAX_VTK_FRAMES,
+            physics_limits: flexmb::analysis::PhysicsLimits::default(),
         }
     }
 }

@@ -102,10 +102,11 @@ fn run_case(study: &Study, case: &Case, integrator: &str, out_dir: &Path) -> Res
         },
         assembly,
         method,
+        physics_limits: d.physics_limits,
     };
     let model_file = study.model.display().to_string();
     let RecordedRun { report, error: failure, .. } =
-        record_run(model, &settings, &model_file, (&csv_path, &summary_path), &mut |_| {})?;
+        record_run(model, &settings, &model_file, (&csv_path, &summary_path), &mut |_| {}, &|| None)?;
     Ok(StudyRun {
         case: case.name.clone(),
         integrator: integrator.to_string(),

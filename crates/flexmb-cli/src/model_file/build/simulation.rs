@@ -1,6 +1,6 @@
 //! `[model]` and `[simulation]`: the model's name and gravity, and the defaults of a simulation run.
 
-use flexmb::analysis::ModalAssembly;
+use flexmb::analysis::{ModalAssembly, PhysicsLimits};
 use flexmb::math::Vec3;
 use flexmb_fem::input::Quantity;
 use toml::Spanned;
@@ -119,7 +119,45 @@ pub(crate) fn simulation_defaults(
         vtk_step: s.vtk_step.as_ref().map(|_| positive(&s.vtk_step, "vtk_step", 0.0, Some(Quantity::Time))).transpose()?,
         max_output_rows: limit(&s.max_output_rows, "max_output_rows", defaults.max_output_rows)?,
         max_vtk_frames: limit(&s.max_vtk_frames, "max_vtk_frames", defaults.max_vtk_frames)?,
+        physics_limits: physics_limits(ctx, s, &|value, name, default| positive(value, name, default, Some(Quantity::Factor)))?,
     })
+}
+
+/// Reads a positive number at a key of `[simulation]`, or gives the default.
+type PositiveNumber<'a> = &'a dyn Fn(&Option<Number>, &str, f64) -> Result<f64, ModelFileError>;
+
+/// The physics watchdog's thresholds, each positive. A warning not given is at most the limit given,
+/// and a limit not given at least the warning given; both given, the warning must not exceed the limit.
+fn physics_limits(
+    ctx: &Context,
+    s: &SimulationSection,
+    positive: PositiveNumber,
+) -> Result<PhysicsLimits, ModelFileError> {
+    let d = PhysicsLimits::default();
+    let pair = |(warning, limit): (&Option<Number>, &Option<Number>), name: &str, (dw, dl): (f64, f64)| {
+        let w = positive(warning, &format!("{name}_warning"), dw)?;
+        let l = positive(limit, &format!("{name}_limit"), dl)?;
+        match (warning, limit) {
+            (Some(v), Some(_)) if w > l => Err(ctx.invalid(
+                &v.span(),
+                &KeyPath::root().key("simulation").key(&format!("{name}_warning")),
+                format!("{name}_warning ({w}) must not exceed {name}_limit ({l})"),
+            )),
+            (None, _) => Ok((w.min(l), l)),
+            _ => Ok((w, l.max(w))),
+        }
+    };
+    let (elastic_deflection_warning, elastic_deflection_limit) = pair(
+        (&s.elastic_deflection_warning, &s.elastic_deflection_limit),
+        "elastic_deflection",
+        (d.elastic_deflection_warning, d.elastic_deflection_limit),
+    )?;
+    let (energy_balance_warning, energy_balance_limit) = pair(
+        (&s.energy_balance_warning, &s.energy_balance_limit),
+        "energy_balance",
+        (d.energy_balance_warning, d.energy_balance_limit),
+    )?;
+    Ok(PhysicsLimits { elastic_deflection_warning, elastic_deflection_limit, energy_balance_warning, energy_balance_limit })
 }
 
 /// `modal_assembly = "held" | "free" | "static"`.
