@@ -93,6 +93,22 @@ fn one_step_from_the_dead_centre_the_driver_holds_and_the_crank_follows_the_clos
 /// The parallelogram four-bar of four revolutes (three rows repeat others in 3D), driven at its crank.
 /// `tilt` tilts the axis of the last revolute's marker on the coupler (rad).
 fn driven_four_revolutes(tilt: f64) -> String {
+    four_revolutes(tilt)
+        + r#"
+[[driver]]
+name = "crank_motion"
+joint = "a"
+function = "2*t"
+
+[[output]]
+name = "motor"
+type = "joint_reaction"
+joint = "crank_motion"
+"#
+}
+
+/// The parallelogram four-bar of four revolutes, undriven (one degree of freedom).
+fn four_revolutes(tilt: f64) -> String {
     format!(
         r#"
 [model]
@@ -180,18 +196,18 @@ name = "d"
 type = "revolute"
 i = "k1"
 j = "r1"
-
-[[driver]]
-name = "crank_motion"
-joint = "a"
-function = "2*t"
-
-[[output]]
-name = "motor"
-type = "joint_reaction"
-joint = "crank_motion"
 "#
     )
+}
+
+#[test]
+fn redundant_rows_are_named_in_the_last_joint_of_the_loop() {
+    let dir = scratch("undriven-four-revolutes");
+    let model = dir.join("four_revolutes.toml");
+    std::fs::write(&model, four_revolutes(0.0)).unwrap();
+    let s = succeed(&["check", model.to_str().unwrap()]);
+    assert!(s.contains("degrees of freedom: 1") && s.contains("redundant constraints: 3"), "{s}");
+    assert!(s.contains("joint 'd' (revolute)"), "the last joint of the loop is named: {s}");
 }
 
 #[test]
