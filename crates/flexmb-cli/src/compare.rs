@@ -78,6 +78,8 @@ pub fn compare_model(path: &Path, options: &CompareOptions) -> Result<String, Cl
     let model = &loaded.model;
     let d = loaded.simulation;
     let t_end = options.t_end.unwrap_or(d.t_end);
+    crate::output_limits::check_output_rows(t_end, d.output_step, d.max_output_rows, false)
+        .map_err(|e| CliError(format!("{}: {e}", path.display())))?;
     let (rtol, atol) = (options.rtol.unwrap_or(d.rtol), options.atol.unwrap_or(d.atol));
     let methods: Vec<(String, Method)> = options
         .integrators
@@ -98,6 +100,7 @@ pub fn compare_model(path: &Path, options: &CompareOptions) -> Result<String, Cl
         integrator: d.integrator(model, rtol, atol),
         assembly,
         method,
+        physics_limits: d.physics_limits,
     };
     // The reference: the BDF at a thousandth of the tolerances and orders up to 5 (its steps are then
     // small enough to resolve every retained mode, so the high orders are accurate and stable).

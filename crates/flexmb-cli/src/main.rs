@@ -9,7 +9,7 @@ use flexmb_cli::check::{check_model, describe, describe_flexible_bodies};
 use flexmb_cli::compare::{compare_model, CompareOptions};
 use flexmb_cli::modes::{run_modes, ModesOptions};
 use flexmb_cli::plot::{plot_run_outputs, run_plot, PlotOptions, YScale, DEFAULT_SIZE};
-use flexmb_cli::run::{run_model, RunOptions};
+use flexmb_cli::run::{run_model, RunFiles, RunOptions};
 use flexmb_cli::spectrum::estimator::FrequencyBand;
 use flexmb_cli::spectrum::{run_spectrum, SpectrumOptions};
 use flexmb_fem::modes::EigenSolver;
@@ -66,6 +66,14 @@ enum Command {
         /// after the model file: `flexmb run MODEL --plot [COLUMN…]`.
         #[arg(long, num_args = 0.., value_name = "COLUMN")]
         plot: Option<Vec<String>>,
+        /// Most output rows the run may write; default the model's [simulation] max_output_rows, else
+        /// 10000000. A run that would write more is refused before it starts.
+        #[arg(long, value_name = "N")]
+        max_output_rows: Option<u64>,
+        /// Most ParaView frames --vtk may write; default the model's [simulation] max_vtk_frames, else
+        /// 100000.
+        #[arg(long, value_name = "N", requires = "vtk")]
+        max_vtk_frames: Option<u64>,
     },
     /// Validate a model, assemble it, and report degrees of freedom and redundant constraints.
     Check {
@@ -233,12 +241,39 @@ enum SolverArg {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Run { model, t_end, output_step, rtol, atol, integrator, spectral_radius, out, quiet, vtk, vtk_step, plot } => {
-            let options = RunOptions { t_end, output_step, rtol, atol, integrator, spectral_radius, out_dir: out, quiet, vtk_dir: vtk, vtk_step };
-            run_model(&model, &options).and_then(|files| match plot {
-                Some(columns) => plot_run_outputs(&files.csv, &columns).map(|images| print_plots(&images, quiet)),
-                None => Ok(()),
-            })
+        Command::Run { model, t_end, output_step, rtol, atol, integrator, spectral_radius, out, quiet, vtk, vtk_step, plot, max_output_rows, max_vtk_frames } => {
+            let options = RunOptions {
+                t_end,
+                output_step,
+                rtol,
+                atol,
+                integrator,
+                spectral_radius,
+                out_dir: out,
+                quiet,
+                vtk_dir: vtk,
+                vtk_step,
+                max_output_rows,
+                max_vtk_frames,
+                catch_signals: true,
+            };
+            match run_model(&model, &options) {
+                // Interrupted: the files are complete up to the last step; the status says which signal.
+                Ok(RunFiles { interrupted: Some(signal), csv, summary }) => {
+                    eprintln!(
+                        "interrupted by {}: the rows computed so far are in {}, the summary in {}",
+                        signal.name(),
+                        csv.display(),
+                        summary.display()
+                    );
+                    return ExitCode::from(signal.exit_status());
+                }
+                Ok(files) => match plot {
+                    Some(columns) => plot_run_outputs(&files.csv, &columns).map(|images| print_plots(&images, quiet)),
+                    None => Ok(()),
+                },
+                Err(e) => Err(e),
+            }
         }
         Command::Check { model } => flexmb_cli::load_model(&model)
             .map_err(|e| e.to_string())

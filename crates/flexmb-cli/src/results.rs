@@ -5,7 +5,10 @@ use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
-use flexmb::analysis::{output_columns, simulate, OutputColumn, OutputFrame, SimulationReport, SimulationSettings};
+use flexmb::analysis::{
+    output_columns, simulate_interruptible, OutputColumn, OutputFrame, PhysicsLimits, PhysicsMeasures, SimulationReport,
+    SimulationSettings,
+};
 use flexmb::Model;
 use serde_json::{json, Value};
 
@@ -58,6 +61,7 @@ pub struct RunRequest<'a> {
     pub rtol: f64,
     pub atol: f64,
     pub integrator: &'a str,
+    pub limits: PhysicsLimits,
 }
 
 /// The JSON summary of a run (completed or failed).
@@ -86,10 +90,15 @@ pub fn summary_json(
         })
     });
     let velocity = report.velocity.as_ref().map(|v| json!({ "residual": v.residual, "adjusted": v.adjusted }));
-    json!({
+    let status = match (error, &report.interrupted) {
+        (Some(_), _) => "failed",
+        (None, Some(_)) => "interrupted",
+        (None, None) => "completed",
+    };
+    let mut summary = json!({
         "model": request.model_name,
         "model_file": request.model_file,
-        "status": if error.is_some() { "failed" } else { "completed" },
+        "status": status,
         "error": error,
         "settings": {
             "t_end": request.t_end,
@@ -115,8 +124,8 @@ pub fn summary_json(
             "wall_time_s": report.wall_time,
         },
         "constraints": {
-            "max_position_residual": report.max_position_residual,
-            "max_velocity_residual": report.max_velocity_residual,
+            "at_steps": { "position": report.max_position_residual, "velocity": report.max_velocity_residual },
+            "at_outputs": { "position": report.max_output_position_residual, "velocity": report.max_output_velocity_residual },
             "max_euler_parameter_norm_error": report.max_normalization_error,
         },
         "energy": {
@@ -126,10 +135,37 @@ pub fn summary_json(
             "nonconservative_work": report.nonconservative_work,
             "balance_error": balance_error(report),
         },
+        "physics_checks": physics_checks_json(request.limits, &report.physics),
+        "warnings": report.warnings.iter().map(|w| json!({ "t": w.t, "kind": w.kind.name(), "message": w.message })).collect::<Vec<_>>(),
         "output": {
             "csv": csv.display().to_string(),
             "rows": report.output_frames,
             "columns": columns.iter().map(|c| json!({ "name": c.name, "unit": c.unit })).collect::<Vec<_>>(),
+        },
+    });
+    if let Some(i) = &report.interrupted {
+        summary["interrupted_at"] = json!(i.t);
+        summary["reason"] = json!(i.reason);
+    }
+    summary
+}
+
+/// The physics watchdog's thresholds and the largest values it measured.
+fn physics_checks_json(limits: PhysicsLimits, measured: &PhysicsMeasures) -> Value {
+    let deflection = measured.largest_deflection.as_ref();
+    json!({
+        "elastic_deflection": {
+            "warning": limits.elastic_deflection_warning,
+            "limit": limits.elastic_deflection_limit,
+            "largest_fraction": deflection.map(|d| d.deflection / d.size),
+            "largest": deflection.map(|d| json!({ "body": d.body, "node": d.node, "t": d.t, "deflection": d.deflection, "size": d.size })),
+        },
+        "energy_balance": {
+            "warning": limits.energy_balance_warning,
+            "limit": limits.energy_balance_limit,
+            "largest_fraction": measured.largest_balance_fraction,
+            "largest_at": measured.largest_balance_time,
+            "energy_scale": measured.energy_scale,
         },
     })
 }
@@ -143,9 +179,10 @@ pub fn summary_text(report: &SimulationReport) -> String {
         "  time reached        {:.6} s\n  steps               {} ({} rejected: {} error test, {} Newton)\n  \
          steps per order     {}\n  RMS step size       {:.4e} s\n  Newton iterations   {}\n  \
          Jacobians / factorizations  {} / {}\n  wall time           {:.3} s\n  \
-         max constraint residual  position {:.2e}, velocity {:.2e}\n  \
+         constraint residual at steps                          position {:.2e}, velocity {:.2e}\n  \
+         constraint residual at output times (interpolated)    position {:.2e}, velocity {:.2e}\n  \
          energy              initial {:.6e} J, final {:.6e} J, change {:.3e} J\n  \
-         energy balance      work of non-conservative forces {:.3e} J; change − work = {:.2e} J",
+         energy balance      work of non-conservative forces {:.3e} J; change − work = {:.2e} J{}{}",
         report.t_reached,
         s.steps,
         s.rejected_steps(),
@@ -159,11 +196,36 @@ pub fn summary_text(report: &SimulationReport) -> String {
         report.wall_time,
         report.max_position_residual,
         report.max_velocity_residual,
+        report.max_output_position_residual,
+        report.max_output_velocity_residual,
         report.energy_initial,
         report.energy_final,
         report.energy_final - report.energy_initial,
         report.nonconservative_work,
         balance_error(report),
+        physics_text(&report.physics),
+        report.warnings.iter().map(|w| format!("\n  warning at t = {:.4} s: {}", w.t, w.message)).collect::<String>(),
+    )
+}
+
+/// The largest deflection and energy-balance error of the physics watchdog, one line each.
+fn physics_text(measured: &PhysicsMeasures) -> String {
+    let mut s = String::new();
+    if let Some(d) = &measured.largest_deflection {
+        s += &format!(
+            "\n  largest deflection  {:.3} % of its size: flexible body '{}', {:.3e} m at node {} (t = {:.4} s)",
+            100.0 * d.deflection / d.size,
+            d.body,
+            d.deflection,
+            d.node,
+            d.t
+        );
+    }
+    s + &format!(
+        "\n  balance check       largest error beyond quadrature and tolerance {:.3} % of the {:.3e} J that flowed (t = {:.4} s)",
+        100.0 * measured.largest_balance_fraction,
+        measured.energy_scale,
+        measured.largest_balance_time
     )
 }
 
@@ -182,22 +244,30 @@ pub struct RecordedRun {
 
 /// Simulates `model`, writing every output frame to `csv` as it comes (a run that fails keeps what
 /// it computed) and the JSON summary to `summary` at the end; `observe` sees every frame too.
+/// `interrupt` is asked after every step whether to stop (see [`simulate_interruptible`]); an
+/// interrupted run's summary says `"status": "interrupted"`, with `interrupted_at` and `reason`.
 pub fn record_run(
     model: &Model,
     settings: &SimulationSettings,
     model_file: &str,
     (csv_path, summary_path): (&Path, &Path),
     observe: &mut dyn FnMut(&OutputFrame),
+    interrupt: &dyn Fn() -> Option<String>,
 ) -> Result<RecordedRun, CliError> {
     let columns = output_columns(model);
     let mut csv = CsvWriter::create(csv_path, &columns).map_err(|e| CliError(format!("cannot write {}: {e}", csv_path.display())))?;
     let mut write_error: Option<std::io::Error> = None;
-    let result = simulate(model, settings, &mut |frame| {
-        if write_error.is_none() {
-            write_error = csv.write_row(frame.t, frame.values).err();
-        }
-        observe(frame);
-    });
+    let result = simulate_interruptible(
+        model,
+        settings,
+        &mut |frame| {
+            if write_error.is_none() {
+                write_error = csv.write_row(frame.t, frame.values).err();
+            }
+            observe(frame);
+        },
+        interrupt,
+    );
     if let Some(e) = write_error {
         return Err(CliError(format!("cannot write {}: {e}", csv_path.display())));
     }
@@ -213,6 +283,7 @@ pub fn record_run(
         rtol: settings.integrator.rtol,
         atol: settings.integrator.atol,
         integrator: if report.method.is_empty() { "bdf" } else { report.method },
+        limits: settings.physics_limits,
     };
     let summary = summary_json(&request, &report, &columns, csv_path, error.as_deref());
     let text = serde_json::to_string_pretty(&summary).map_err(|e| CliError(e.to_string()))?;

@@ -6,9 +6,11 @@ use flexmb::analysis::SimulationSettings;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::check::{check_model, describe, describe_flexible_bodies};
+use crate::interrupt::{Signal, StopSignal};
 use crate::model_file::load_model;
+use crate::output_limits::check_output_rows;
 use crate::results::{record_run, summary_text, RecordedRun};
-use crate::vtk::RunSeries;
+use crate::vtk::{RunSeries, SeriesTimes};
 
 /// Command-line overrides of the model file's `[simulation]` defaults.
 #[derive(Clone, Debug, Default)]
@@ -27,12 +29,20 @@ pub struct RunOptions {
     pub vtk_dir: Option<PathBuf>,
     /// Interval between its frames (`--vtk-step`), overriding the model file's `vtk_step`.
     pub vtk_step: Option<f64>,
+    /// Most output rows allowed (`--max-output-rows`), overriding the model file's `max_output_rows`.
+    pub max_output_rows: Option<u64>,
+    /// Most ParaView frames allowed (`--max-vtk-frames`), overriding the model file's `max_vtk_frames`.
+    pub max_vtk_frames: Option<u64>,
+    /// Catch SIGINT and SIGTERM once the simulation starts, and end the run there with its files
+    /// complete (the program does; tests that call [`run_model`] need not).
+    pub catch_signals: bool,
 }
 
-/// Where a run's files went.
+/// Where a run's files went, and the signal that stopped it early, if one did.
 pub struct RunFiles {
     pub csv: PathBuf,
     pub summary: PathBuf,
+    pub interrupted: Option<Signal>,
 }
 
 /// A failed command, with the message to print.
@@ -57,6 +67,8 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
     let output_step = positive("--output-step", options.output_step.unwrap_or(d.output_step))?;
     let rtol = positive("--rtol", options.rtol.unwrap_or(d.rtol))?;
     let atol = positive("--atol", options.atol.unwrap_or(d.atol))?;
+    let max_rows = options.max_output_rows.unwrap_or(d.max_output_rows);
+    check_output_rows(t_end, output_step, max_rows, true).map_err(|e| CliError(format!("{}: {e}", path.display())))?;
     let method = match &options.integrator {
         Some(name) => crate::integrator_choice::parse_method(name, options.spectral_radius.unwrap_or(0.9))
             .map_err(|e| CliError(format!("--integrator: {e}")))?,
@@ -80,7 +92,10 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
     let mut vtk = options
         .vtk_dir
         .as_deref()
-        .map(|dir| RunSeries::create(dir, stem, &loaded, options.vtk_step.or(d.vtk_step), output_step))
+        .map(|dir| {
+            let times = SeriesTimes { step: options.vtk_step.or(d.vtk_step), output_step, t_end };
+            RunSeries::create(dir, stem, &loaded, times, options.max_vtk_frames.unwrap_or(d.max_vtk_frames))
+        })
         .transpose()
         .map_err(CliError)?;
 
@@ -90,24 +105,39 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
         integrator: d.integrator(model, rtol, atol),
         assembly,
         method,
+        physics_limits: d.physics_limits,
     };
     let bar = if options.quiet { ProgressBar::hidden() } else { ProgressBar::new(1000) };
     bar.set_style(
         ProgressStyle::with_template("{bar:40} t = {msg} s  [{elapsed_precise}]").unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
     let file_name = path.display().to_string();
-    let run = record_run(model, &settings, &file_name, (&csv_path, &summary_path), &mut |frame| {
+    let stop = options
+        .catch_signals
+        .then(StopSignal::catch)
+        .transpose()
+        .map_err(|e| CliError(format!("cannot catch SIGINT and SIGTERM: {e}")))?;
+    let received = || stop.as_ref().and_then(StopSignal::received);
+    let observe = &mut |frame: &flexmb::analysis::OutputFrame| {
         if let Some(series) = vtk.as_mut() {
             series.observe(frame);
         }
         bar.set_position((frame.t / t_end * 1000.0) as u64);
         bar.set_message(format!("{:.4}", frame.t));
+    };
+    let run = record_run(model, &settings, &file_name, (&csv_path, &summary_path), observe, &|| {
+        received().map(|s| s.name().to_string())
     });
     bar.finish_and_clear();
     let RecordedRun { report, error, rows } = run?;
     let vtk_written = vtk.map(RunSeries::finish).transpose().map_err(CliError)?;
+    let interrupted = report.interrupted.as_ref().and(received());
     if !options.quiet {
-        println!("{}", if error.is_some() { "run stopped early:" } else { "run completed:" });
+        match (&error, &report.interrupted) {
+            (Some(_), _) => println!("run stopped early:"),
+            (None, Some(i)) => println!("run interrupted by {} at t = {:.6} s:", i.reason, i.t),
+            (None, None) => println!("run completed:"),
+        }
         println!("{}", summary_text(&report));
         println!("results: {} ({rows} rows), {}", csv_path.display(), summary_path.display());
         if let Some(s) = &vtk_written {
@@ -115,7 +145,7 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
         }
     }
     match error {
-        None => Ok(RunFiles { csv: csv_path, summary: summary_path }),
+        None => Ok(RunFiles { csv: csv_path, summary: summary_path, interrupted }),
         Some(e) => Err(CliError(format!(
             "{}: simulation failed: {e}\nthe {} output rows computed before the failure are in {}",
             path.display(),

@@ -8,7 +8,7 @@ use flexmb_cli::shape::Shape;
 
 /// A model of one body whose `shape` (line 6) is `shape`.
 fn body_with(shape: &str) -> String {
-    format!("\n[[body]]\nname = \"link\"\nmass = 2.0\ninertia = [0.1, 0.1, 0.02]\nshape = {shape}\n")
+    format!("[model]\n[[body]]\nname = \"link\"\nmass = 2.0\ninertia = [0.1, 0.1, 0.02]\nshape = {shape}\n")
 }
 
 fn shape_of(text: &str, file: &str) -> Shape {
@@ -61,7 +61,7 @@ fn each_form_gives_its_surface_in_the_body_frame() {
     assert_eq!(shape_of(&body_with("{ frame = 0.3 }"), file), Shape::Frame { size: 0.3 });
     // Without a shape: a frame glyph of half the diagonal of the uniform box with the body's inertia,
     // ½ √(6 tr(J)/m) = ½ √(6 · 0.22 / 2).
-    let bare = shape_of("[[body]]\nname = \"link\"\nmass = 2.0\ninertia = [0.1, 0.1, 0.02]\n", file);
+    let bare = shape_of("[model]\n[[body]]\nname = \"link\"\nmass = 2.0\ninertia = [0.1, 0.1, 0.02]\n", file);
     let Shape::Frame { size } = bare else { panic!("{bare:?}") };
     assert!((size - 0.5 * 0.66f64.sqrt()).abs() < 1e-15);
 }
@@ -178,9 +178,9 @@ fn sizes_must_be_positive() {
         &["must be positive, got 0"],
     );
     assert_error(
-        &body_with("{ sphere = \"-r\" }").replace("\n[[body]]", "[parameters]\nr = 0.5\n[[body]]"),
+        &body_with("{ sphere = \"-r\" }").replace("[model]\n", "[model]\n[parameters]\nr = 0.5\n"),
         bad,
-        7,
+        8,
         "body[0].shape.sphere",
         &["the sphere's radius must be positive, got -0.5"],
     );

@@ -605,6 +605,25 @@ fn out_of_range_material_constants() {
 }
 
 #[test]
+fn absurd_magnitudes_are_named_with_their_window() {
+    // Finite but absurd: once accepted and reported later as a mechanism or a massless mode.
+    let text = arm().replace("E = 210e9", "E = 1e308");
+    assert_error(&text, 4, "material[0].E", &["1e308 Pa is outside the range of an elastic modulus, |x| ≤ 1e15 Pa"]);
+    let text = arm().replace("rho = 7850", "rho = 1e300");
+    assert_error(&text, 6, "material[0].rho", &["1e300 kg/m³ is outside the range of a density, |x| ≤ 1e8 kg/m³"]);
+    let text = arm().replace("to = [1, 0, 0]", "to = [1, \"1e200*1e100\", 0]");
+    assert_error(&text, 20, "beam_line[0].to[1]", &["1e300 m is outside the range of a length, |x| ≤ 1e12 m"]);
+    let text = arm().replace("width = 0.02", "width = 2e12");
+    assert_error(&text, 12, "beam_section[0].width", &["outside the range of a length"]);
+    let text = format!("{STEEL_BAR}{SHEET}").replace("thickness = 0.005", "thickness = 1e13");
+    assert_error(&text, 19, "shell_section[0].thickness", &["1e13 m is outside the range of a length"]);
+    let mass = format!("{}\n[[mass]]\nat = \"arm.end\"\nmass = 1e20\n", arm());
+    assert_error(&mass, 25, "mass[0].mass", &["1e20 kg is outside the range of a mass, |x| ≤ 1e12 kg"]);
+    // Real materials are well inside: diamond's modulus, osmium's density.
+    parse(&arm().replace("E = 210e9", "E = 1.2e12").replace("rho = 7850", "rho = 22590"));
+}
+
+#[test]
 fn orientation_parallel_to_a_beam_line() {
     let text = arm().replace("to = [1, 0, 0]", "to = [0, 2, 0]");
     assert_error(
@@ -829,9 +848,10 @@ fn degenerate_generators() {
         "{STEEL_BAR}{SHEET}\n[[plate]]\nsection = \"sheet\"\ncorner = [0, 0, 0]\nedge_a = [1, 0, 0]\nedge_b = [0, 1, 0]\nelements = [2, 0]\n"
     );
     assert_error(&text, line_of(&text, "elements"), "plate[0].elements[1]", &["a whole number from 1", "got 0"]);
-    // Each count may be up to 1e6, their product too (10¹² shells ended in an aborted allocation).
-    let text = text.replace("elements = [2, 0]", "elements = [1000000, 1000000]");
-    assert_error(&text, line_of(&text, "elements"), "plate[0].elements", &["1000000 × 1000000 = 1000000000000 elements; a plate may have at most 1e6"]);
+    // A million along each edge was accepted and then filled memory: a plate has at most 1e6 elements.
+    let huge = text.replace("elements = [2, 0]", "elements = [1000000, 1000000]");
+    let message = "a plate of 1000000 × 1000000 = 1000000000000 elements is more than 1e6";
+    assert_error(&huge, line_of(&text, "elements"), "plate[0].elements", &[message]);
     let text = arm().replace("name = \"arm\"", "name = \"arm.left\"");
     assert_error(&text, 17, "beam_line[0].name", &["must not contain `.`"]);
 }

@@ -45,8 +45,7 @@ fn settings(t_end: f64, output_step: f64, tolerance: f64) -> SimulationSettings 
         t_end,
         output_step,
         integrator: BdfConfig { rtol: tolerance, atol: tolerance, ..Default::default() },
-        assembly: Default::default(),
-        method: Default::default(),
+        ..Default::default()
     }
 }
 

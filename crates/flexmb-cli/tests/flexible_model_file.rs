@@ -266,7 +266,7 @@ fn a_flexible_body_from_an_fe_model_with_markers_at_nodes_and_outputs() {
 #[test]
 fn modes_basis_and_initial_modal_state_from_the_table() {
     let scratch = Scratch::new("table");
-    let text = r#"
+    let text = r#"[model]
 [[flexible_body]]
 name = "arm"
 fe_model = "fe/arm.toml"
@@ -299,7 +299,7 @@ node = 1
 #[test]
 fn per_mode_damping_ratios_follow_the_orthonormal_modes() {
     let scratch = Scratch::new("ratios");
-    let text = "[[flexible_body]]\nname = \"arm\"\nfe_model = \"fe/arm.toml\"\nmodes = \"4N\"\n\
+    let text = "[model]\n[[flexible_body]]\nname = \"arm\"\nfe_model = \"fe/arm.toml\"\nmodes = \"4N\"\n\
                 damping = { ratios = [0.01, 0.02, 0.03, 0.5] }\n\n[[marker]]\nname = \"root\"\nbody = \"arm\"\nnode = 1\n";
     let loaded = scratch.load(text).unwrap_or_else(|e| panic!("{e}"));
     let modal = loaded.model.modal_body(BodyId(0)).expect("flexible");
@@ -319,7 +319,7 @@ fn per_mode_damping_ratios_follow_the_orthonormal_modes() {
 #[test]
 fn the_cache_is_created_reused_and_rebuilt_when_the_fe_model_changes() {
     let scratch = Scratch::new("cache");
-    let text = "[[flexible_body]]\nname = \"arm\"\nfe_model = \"fe/arm.toml\"\n\n[[marker]]\nname = \"root\"\nbody = \"arm\"\nnode = 1\n";
+    let text = "[model]\n[[flexible_body]]\nname = \"arm\"\nfe_model = \"fe/arm.toml\"\n\n[[marker]]\nname = \"root\"\nbody = \"arm\"\nnode = 1\n";
     let cache_dir = scratch.path("fe").join(CACHE_DIR);
     assert!(!cache_dir.exists());
 
@@ -369,7 +369,7 @@ fn an_unwritable_cache_only_means_reducing_again() {
     let scratch = Scratch::new("no-cache");
     // A file where the cache directory should be: it cannot be created.
     scratch.write(&format!("fe/{CACHE_DIR}"), "in the way");
-    let text = "[[flexible_body]]\nname = \"arm\"\nfe_model = \"fe/arm.toml\"\n\n[[marker]]\nname = \"root\"\nbody = \"arm\"\nnode = 1\n";
+    let text = "[model]\n[[flexible_body]]\nname = \"arm\"\nfe_model = \"fe/arm.toml\"\n\n[[marker]]\nname = \"root\"\nbody = \"arm\"\nnode = 1\n";
     for _ in 0..2 {
         let loaded = scratch.load(text).unwrap_or_else(|e| panic!("{e}"));
         assert!(matches!(loaded.flexible_bodies[0].origin, FlexibleBodyOrigin::Reduced { cache: None, .. }));
@@ -411,7 +411,7 @@ fn the_cache_follows_the_mesh_file_and_its_includes() {
     let expected = [scratch.path("fe/post.toml"), scratch.path("fe/beam.inp"), scratch.path("fe/nodes.inp")];
     assert_eq!(fe.sources, expected, "the FE model file, its mesh file and the mesh's include");
 
-    let text = "[[flexible_body]]\nname = \"post\"\nfe_model = \"fe/post.toml\"\n\n[[marker]]\nname = \"tip\"\nbody = \"post\"\nnode = \"tip\"\n";
+    let text = "[model]\n[[flexible_body]]\nname = \"post\"\nfe_model = \"fe/post.toml\"\n\n[[marker]]\nname = \"tip\"\nbody = \"post\"\nnode = \"tip\"\n";
     let first = scratch.load(text).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(first.model.marker_node(MarkerId(0)), Some(4), "the deck's node set, case-insensitive");
     let (cached, file) = cache_of(&first);
@@ -427,12 +427,12 @@ fn the_cache_follows_the_mesh_file_and_its_includes() {
     assert_eq!(node.position.x, 0.76);
 
     // An .inp deck given directly as the FE model needs the mode set in the table.
-    let direct = "[[flexible_body]]\nname = \"post\"\nfe_model = \"fe/beam.inp\"\n";
-    let e = scratch.assert_error(direct, 1, "flexible_body[0].modes", &["missing required key `modes`", "beam.inp"]);
+    let direct = "[model]\n[[flexible_body]]\nname = \"post\"\nfe_model = \"fe/beam.inp\"\n";
+    let e = scratch.assert_error(direct, 2, "flexible_body[0].modes", &["missing required key `modes`", "beam.inp"]);
     assert_eq!(e.kind, ErrorKind::Schema);
     let direct = format!("{direct}modes = \"2N\"\n");
     // Without rotary inertia (a deck's default), the strip's spin about its axis has no mass.
-    scratch.assert_error(&direct, 1, "flexible_body[0]", &["not positive definite", "rotary inertia"]);
+    scratch.assert_error(&direct, 2, "flexible_body[0]", &["not positive definite", "rotary inertia"]);
 }
 
 #[test]
@@ -443,7 +443,7 @@ fn a_flexible_body_from_a_body_file() {
         ReductionSettings { mode_set: "3N1S".parse().unwrap(), basis: Basis::Raw, eigen: Default::default() };
     let reduction = reduce(&fe.model, &fe.name, &settings).unwrap_or_else(|e| panic!("{e}"));
     reduction.body.write(&scratch.path("arm.json")).unwrap();
-    let text = r#"
+    let text = r#"[model]
 [[flexible_body]]
 name = "arm"
 body_file = "arm.json"
@@ -517,8 +517,7 @@ fn the_shipped_flexible_pendulum_swings_and_bends() {
         t_end: 0.3,
         output_step: 0.1,
         integrator: BdfConfig { rtol: 1e-6, atol: 1e-6, ..Default::default() },
-        assembly: Default::default(),
-        method: Default::default(),
+        ..Default::default()
     };
     let mut rows = Vec::new();
     simulate(model, &settings, &mut |frame| rows.push((frame.t, frame.values.to_vec())))
@@ -537,110 +536,110 @@ fn the_shipped_flexible_pendulum_swings_and_bends() {
 #[test]
 fn errors_of_the_flexible_body_table() {
     let scratch = Scratch::new("errors");
-    let body = "[[flexible_body]]\nname = \"arm\"\n";
+    let body = "[model]\n[[flexible_body]]\nname = \"arm\"\n";
     let fe = "fe_model = \"fe/arm.toml\"\n";
-    // Lines: 1 [[flexible_body]], 2 name, 3 fe_model, 4 the key under test.
+    // Lines: 1 [model], 2 [[flexible_body]], 3 name, 4 fe_model, 5 the key under test.
     scratch.assert_error(
         &format!("{body}{fe}body_file = \"arm.json\"\n"),
-        4,
+        5,
         "flexible_body[0].body_file",
         &["give either `fe_model`", "not both"],
     );
-    let e = scratch.assert_error(body, 1, "flexible_body[0]", &["needs `fe_model", "or `body_file"]);
+    let e = scratch.assert_error(body, 2, "flexible_body[0]", &["needs `fe_model", "or `body_file"]);
     assert_eq!(e.kind, ErrorKind::Schema);
     scratch.assert_error(
         &format!("{body}fe_model = \"fe/nowhere.toml\"\n"),
-        3,
+        4,
         "flexible_body[0].fe_model",
         &["cannot read the FE model file", "nowhere.toml"],
     );
-    scratch.assert_error(&format!("{body}fe_model = \"\"\n"), 3, "flexible_body[0].fe_model", &["empty"]);
+    scratch.assert_error(&format!("{body}fe_model = \"\"\n"), 4, "flexible_body[0].fe_model", &["empty"]);
     scratch.assert_error(
         &format!("{body}{fe}modes = \"4X\"\n"),
-        4,
+        5,
         "flexible_body[0].modes",
         &["mode set `4X`", "4N5S"],
     );
     scratch.assert_error(
         &format!("{body}{fe}modes = \"4N3S\"\n"),
-        4,
+        5,
         "flexible_body[0].modes",
         &["3 static correction mode(s)", "2 static load(s)"],
     );
     scratch.assert_error(
         &format!("{body}{fe}basis = \"orthonormel\"\n"),
-        4,
+        5,
         "flexible_body[0].basis",
         &["did you mean `orthonormal`?"],
     );
     scratch.assert_error(
         &format!("{body}{fe}damping = {{ ratios = [0.01, 0.02] }}\n"),
-        4,
+        5,
         "flexible_body[0].damping.ratios",
         &["expected 6 damping ratios, one per mode (O1, O2, O3, O4, O5, O6), got 2"],
     );
     scratch.assert_error(
         &format!("{body}{fe}damping = {{ ratio = -0.1 }}\n"),
-        4,
+        5,
         "flexible_body[0].damping.ratio",
         &["must not be negative"],
     );
     scratch.assert_error(
         &format!("{body}{fe}damping = {{ ratio = 0.1, rayleigh = [0, 1] }}\n"),
-        4,
+        5,
         "flexible_body[0].damping",
         &["more than one form"],
     );
     scratch.assert_error(
         &format!("{body}{fe}damping = {{ ratoi = 0.1 }}\n"),
-        4,
+        5,
         "flexible_body[0].damping.ratoi",
         &["unknown key `ratoi`; did you mean `ratio`?"],
     );
     scratch.assert_error(
         &format!("{body}{fe}damping = {{ rayleigh = [0, -1] }}\n"),
-        4,
+        5,
         "flexible_body[0].damping.rayleigh[1]",
         &["beta must not be negative"],
     );
     scratch.assert_error(
         &format!("{body}{fe}modal_coordinates = [0, 0, 0]\n"),
-        4,
+        5,
         "flexible_body[0].modal_coordinates",
         &["expected 6 modal coordinates, one per mode", "got 3"],
     );
     scratch.assert_error(
         &format!("{body}{fe}modal_rates = [0, 0, 0, 0, 0, 0, 0]\n"),
-        4,
+        5,
         "flexible_body[0].modal_rates",
         &["expected 6 modal rates"],
     );
     scratch.assert_error(
         &format!("{body}{fe}modal_coordinates = [0, 0, \"q\", 0, 0, 0]\n"),
-        4,
+        5,
         "flexible_body[0].modal_coordinates[2]",
         &["`q`"],
     );
     scratch.assert_error(
         &format!("{body}{fe}mode = \"4N\"\n"),
-        4,
+        5,
         "flexible_body[0].mode",
         &["unknown key `mode`; did you mean `modes`?"],
     );
     scratch.assert_error(
         &format!("{body}{fe}orientation = {{ axis = [0, 0, 0], angle = 1 }}\n"),
-        4,
+        5,
         "flexible_body[0].orientation.axis",
         &["must not be the zero vector"],
     );
     scratch.assert_error(
-        "[[flexible_body]]\nname = \"ground\"\nfe_model = \"fe/arm.toml\"\n",
-        2,
+        "[model]\n[[flexible_body]]\nname = \"ground\"\nfe_model = \"fe/arm.toml\"\n",
+        3,
         "flexible_body[0].name",
         &["inertial frame"],
     );
     let twice = format!("[[body]]\nname = \"arm\"\nmass = 1\ninertia = [1, 1, 1]\n\n{body}{fe}");
-    scratch.assert_error(&twice, 7, "flexible_body[0].name", &["body name `arm` is already used by body[0] on line 2"]);
+    scratch.assert_error(&twice, 8, "flexible_body[0].name", &["body name `arm` is already used by body[0] on line 2"]);
 }
 
 #[test]
@@ -649,7 +648,7 @@ fn errors_of_the_fe_model_file_name_its_file_and_line_and_the_reference() {
     let bad = cantilever_text().replace("width = \"w\"", "width = \"-w\"");
     let line = bad.lines().position(|l| l.starts_with("width = ")).unwrap() + 1;
     scratch.write("fe/bad.toml", &bad);
-    let text = "[[flexible_body]]\nname = \"arm\"\nfe_model = \"fe/bad.toml\"\n";
+    let text = "[model]\n[[flexible_body]]\nname = \"arm\"\nfe_model = \"fe/bad.toml\"\n";
     let e = scratch.load(text).expect_err("a bad FE model");
     let fe_file = scratch.path("fe/bad.toml").display().to_string();
     assert_eq!(e.file, fe_file);
@@ -658,15 +657,15 @@ fn errors_of_the_fe_model_file_name_its_file_and_line_and_the_reference() {
     let shown = e.to_string();
     let prefix = format!("{fe_file}:{line}: beam_section[0].width: ");
     assert!(shown.starts_with(&prefix), "`{shown}` should start with `{prefix}`");
-    let reference = format!("(in the FE model of flexible_body[0].fe_model, {}:3)", scratch.model_file());
+    let reference = format!("(in the FE model of flexible_body[0].fe_model, {}:4)", scratch.model_file());
     assert!(shown.ends_with(&reference), "`{shown}` should end with `{reference}`");
 
     // The FE model file has no [modes] set: the table must give one.
     let no_set: String =
         cantilever_text().lines().filter(|l| !l.starts_with("set = ")).map(|l| format!("{l}\n")).collect();
     scratch.write("fe/no_set.toml", &no_set);
-    let text = "[[flexible_body]]\nname = \"arm\"\nfe_model = \"fe/no_set.toml\"\n";
-    scratch.assert_error(text, 1, "flexible_body[0].modes", &["missing required key `modes`", "no `[modes] set`"]);
+    let text = "[model]\n[[flexible_body]]\nname = \"arm\"\nfe_model = \"fe/no_set.toml\"\n";
+    scratch.assert_error(text, 2, "flexible_body[0].modes", &["missing required key `modes`", "no `[modes] set`"]);
     scratch
         .load(&format!("{text}modes = \"2N\"\n\n[[marker]]\nname = \"m\"\nbody = \"arm\"\nnode = 1\n"))
         .unwrap_or_else(|e| panic!("{e}"));
@@ -675,12 +674,12 @@ fn errors_of_the_fe_model_file_name_its_file_and_line_and_the_reference() {
     // reported at the table; the engine's check of the mass matrix likewise.
     let no_rotary = cantilever_text().replace("rotary_inertia = true", "rotary_inertia = false");
     scratch.write("fe/no_rotary.toml", &no_rotary);
-    let text = "[[flexible_body]]\nname = \"arm\"\nfe_model = \"fe/no_rotary.toml\"\n";
-    scratch.assert_error(text, 3, "flexible_body[0].fe_model", &["cannot reduce the FE model", "moves no mass"]);
-    scratch.assert_error(&format!("{text}modes = \"4N2S\"\n"), 4, "flexible_body[0].modes", &["moves no mass"]);
+    let text = "[model]\n[[flexible_body]]\nname = \"arm\"\nfe_model = \"fe/no_rotary.toml\"\n";
+    scratch.assert_error(text, 4, "flexible_body[0].fe_model", &["cannot reduce the FE model", "moves no mass"]);
+    scratch.assert_error(&format!("{text}modes = \"4N2S\"\n"), 5, "flexible_body[0].modes", &["moves no mass"]);
     scratch.assert_error(
         &format!("{text}modes = \"4N\"\n"),
-        1,
+        2,
         "flexible_body[0]",
         &["mass matrix of the undeformed body is not positive definite"],
     );
@@ -689,10 +688,10 @@ fn errors_of_the_fe_model_file_name_its_file_and_line_and_the_reference() {
 #[test]
 fn errors_of_markers_and_outputs_at_nodes() {
     let scratch = Scratch::new("node-errors");
-    // Lines 1-4: a rigid body; 7-9: the flexible arm; 11: the [[marker]] or [[output]] header, 12-13 its
-    // name (type) and body, 14 and 15 the keys under test.
+    // Lines 1-4: a rigid body; 6: [model]; 7-9: the flexible arm; 11: the [[marker]] or [[output]]
+    // header, 12-13 its name (type) and body, 14 and 15 the keys under test.
     let head = "[[body]]\nname = \"hub\"\nmass = 1\ninertia = [1, 1, 1]\n\n\
-                \n[[flexible_body]]\nname = \"arm\"\nfe_model = \"fe/arm.toml\"\n\n";
+                [model]\n[[flexible_body]]\nname = \"arm\"\nfe_model = \"fe/arm.toml\"\n\n";
     let marker = |body: &str, rest: &str| format!("{head}[[marker]]\nname = \"m\"\nbody = \"{body}\"\n{rest}");
     scratch.assert_error(
         &marker("arm", "node = 99\n"),

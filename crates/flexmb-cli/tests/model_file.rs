@@ -49,7 +49,10 @@ fn assert_error(text: &str, line: usize, key_path: &str, fragments: &[&str]) -> 
     let (e, shown) = error_of(text);
     assert_eq!(e.line, Some(line), "line of: {shown}");
     assert_eq!(e.key_path, key_path, "key path of: {shown}");
-    let prefix = format!("models/bad.toml:{line}: {key_path}: ");
+    let prefix = match key_path {
+        "" => format!("models/bad.toml:{line}: "),
+        key_path => format!("models/bad.toml:{line}: {key_path}: "),
+    };
     assert!(shown.starts_with(&prefix), "`{shown}` should start with `{prefix}`");
     for fragment in fragments {
         assert!(shown.contains(fragment), "`{shown}` should contain `{fragment}`");
@@ -57,9 +60,9 @@ fn assert_error(text: &str, line: usize, key_path: &str, fragments: &[&str]) -> 
     e
 }
 
-/// Lines 1-13 of most test files: line 1 is empty, `[[body]]` is line 2, `mass` line 4, `inertia` line 5,
-/// the first marker's `body` line 9, the ground marker ends on line 13.
-const BODY: &str = r#"
+/// Lines 1-13 of most test files: line 1 is `[model]`, `[[body]]` is line 2, `mass` line 4, `inertia`
+/// line 5, the first marker's `body` line 9, the ground marker ends on line 13.
+const BODY: &str = r#"[model]
 [[body]]
 name = "link"
 mass = 2.0
@@ -86,7 +89,7 @@ fn a_minimal_model_builds_with_defaults() {
 #[test]
 fn unknown_key_names_key_line_and_allowed_keys() {
     let text = format!("{BODY}\n[[joint]]\nname = \"j\"\ntype = \"revolute\"\ni = \"base\"\nj = \"pin\"\nlenght = 2\n");
-    // BODY fills lines 1-13 (line 1 is empty); then blank 14, [[joint]] 15, name 16, type 17, i 18, j 19
+    // BODY fills lines 1-13 (line 1 is `[model]`); then blank 14, [[joint]] 15, name 16, type 17, i 18, j 19
     assert_error(&text, 20, "joint[0].lenght", &["unknown key `lenght`", "did you mean `length`?", "`axis_i`"]);
 }
 
@@ -329,7 +332,38 @@ fn simulation_defaults_come_from_the_file() {
     assert_eq!(loaded.simulation.t_end, 2.0);
     assert_eq!(loaded.simulation.output_step, 0.005);
     assert_eq!(loaded.simulation.rtol, 1e-6);
-    assert_error("[simulation]\nrtol = 0\n", 2, "simulation.rtol", &["must be positive"]);
+    assert_error(&format!("[simulation]\nrtol = 0\n{BODY}"), 2, "simulation.rtol", &["must be positive"]);
+}
+
+#[test]
+fn an_empty_or_truncated_file_is_not_a_model() {
+    for text in ["", "# nothing but a comment\n", "[simulation]\nt_end = 2\n", &BODY.replacen("[model]", "", 1)] {
+        let e = assert_error(text, 1, "", &["no [model] table: a model file must have one", "empty or truncated"]);
+        assert_eq!(e.kind, ErrorKind::Schema);
+    }
+    // Cut after its first table: a [model] and no body.
+    let e = error_of("# a model\n\n[model]\nname = \"cut\"\n\n[simulation]\nt_end = 2\n").1;
+    assert_eq!(e, "models/bad.toml:3: the model has no bodies: it needs at least one [[body]] or [[flexible_body]] table");
+}
+
+#[test]
+fn absurd_magnitudes_are_named_with_their_window() {
+    // Finite but absurd: once accepted and reported later as "a singular matrix".
+    let text = BODY.replace("mass = 2.0", "mass = 1e308");
+    assert_error(&text, 4, "body[0].mass", &["1e308 kg is outside the range of a mass, |x| ≤ 1e12 kg"]);
+    let text = BODY.replace("mass = 2.0", "mass = 2.0\nposition = [0, 1e300, 0]");
+    assert_error(&text, 5, "body[0].position[1]", &["1e300 m is outside the range of a length, |x| ≤ 1e12 m"]);
+    let text = BODY.replace("inertia = [0.1, 0.1, 0.02]", "inertia = { xx = 1e300, yy = 1e300, zz = 1e300 }");
+    assert_error(&text, 5, "body[0].inertia.xx", &["outside the range of an inertia, |x| ≤ 1e18 kg m²"]);
+    let text = BODY.replace("name = \"pin\"\nbody = \"link\"", "name = \"pin\"\nbody = \"link\"\norigin = [\"1e13\", 0, 0]");
+    assert_error(&text, 10, "marker[0].origin[0]", &["1e13 m is outside the range of a length"]);
+    let text = BODY.replace("[model]", "[model]\ngravity = [0, -1e20, 0]");
+    assert_error(&text, 2, "model.gravity[1]", &["-1e20 m/s² is outside the range of an acceleration"]);
+    let text = format!("[simulation]\nt_end = 1e15\n{BODY}");
+    assert_error(&text, 2, "simulation.t_end", &["1e15 s is outside the range of a time, |x| ≤ 1e12 s"]);
+    let spring = "\n[[force]]\nname = \"s\"\ntype = \"translational_spring_damper\"\ni = \"base\"\nj = \"pin\"\nstiffness = 1e300\n";
+    // blank 14, [[force]] 15, name 16, type 17, i 18, j 19, stiffness 20
+    assert_error(&format!("{BODY}{spring}"), 20, "force[0].stiffness", &["1e300 (N/m or N m/rad) is outside the range of a stiffness, |x| ≤ 1e15 (N/m or N m/rad)"]);
 }
 
 #[test]

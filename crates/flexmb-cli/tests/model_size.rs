@@ -42,14 +42,14 @@ fn a_model_larger_than_the_memory_limit_is_refused_with_what_it_needs() {
     std::fs::write(&model, chain(1000)).unwrap();
     let m = model.to_str().unwrap();
     let out = dir.join("out");
-    // 3,000 equations, 6,000 velocities, 7,000 positions: 8·(4000·7000 + 3000·6000 + 4000²) = 496 MB.
+    // 3,000 equations, 6,000 velocities, 7,000 positions: 8·(4000·7000 + 3000·6000 + 4000²) bytes = 473 MiB.
     for args in [vec!["check", m], vec!["run", m, "--out", out.to_str().unwrap()]] {
         let o = flexmb_with_memory_limit("100M", &args);
         let e = text(&o.stderr);
         assert_eq!(o.status.code(), Some(1), "{args:?}: a clean failure: {e}");
         assert!(e.contains("chain.toml") && e.contains("too large"), "{e}");
-        assert!(e.contains("need about 496.0 MB") && e.contains("3000 constraint equations"), "{e}");
-        assert!(e.contains("100.0 MB is the memory limit given"), "{e}");
+        assert!(e.contains("need about 473.0 MiB") && e.contains("3000 constraint equations"), "{e}");
+        assert!(e.contains("100.0 MiB is the memory limit given"), "{e}");
     }
     // A limit that allows it: the check goes on (a small chain, to keep the test short).
     std::fs::write(&model, chain(20)).unwrap();
@@ -59,5 +59,5 @@ fn a_model_larger_than_the_memory_limit_is_refused_with_what_it_needs() {
 
     let o = flexmb_with_memory_limit("plenty", &["check", m]);
     assert_eq!(o.status.code(), Some(1));
-    assert!(text(&o.stderr).contains("FLEXMB_MEMORY_LIMIT=\"plenty\": expected a number of bytes"), "{}", text(&o.stderr));
+    assert!(text(&o.stderr).contains("FLEXMB_MEMORY_LIMIT=\"plenty\": expected a whole number of bytes"), "{}", text(&o.stderr));
 }

@@ -250,7 +250,7 @@ fn a_mesh_larger_than_the_memory_limit_is_refused_with_what_it_needs() {
     let e = text(&o.stderr);
     assert_eq!(o.status.code(), Some(1), "{e}");
     assert!(e.contains("models/fe/plate.toml: the mesh is too large for the mode analysis: 192 elements and 221 nodes need about"), "{e}");
-    assert!(e.contains("more than the 0.1 MB it may use"), "{e}");
+    assert!(e.contains("more than the 0.1 MiB it may use"), "{e}");
     // A model file reduces its flexible bodies (a copy of the pendulum's FE model, so that no cache answers).
     std::fs::copy(workspace().join("models/fe/pendulum_beam.toml"), out.join("beam.toml")).unwrap();
     let model = std::fs::read_to_string(workspace().join("models/flexible_pendulum.toml")).unwrap();

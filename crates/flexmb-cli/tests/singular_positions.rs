@@ -93,6 +93,22 @@ fn one_step_from_the_dead_centre_the_driver_holds_and_the_crank_follows_the_clos
 /// The parallelogram four-bar of four revolutes (three rows repeat others in 3D), driven at its crank.
 /// `tilt` tilts the axis of the last revolute's marker on the coupler (rad).
 fn driven_four_revolutes(tilt: f64) -> String {
+    four_revolutes(tilt)
+        + r#"
+[[driver]]
+name = "crank_motion"
+joint = "a"
+function = "2*t"
+
+[[output]]
+name = "motor"
+type = "joint_reaction"
+joint = "crank_motion"
+"#
+}
+
+/// The parallelogram four-bar of four revolutes, undriven (one degree of freedom).
+fn four_revolutes(tilt: f64) -> String {
     format!(
         r#"
 [model]
@@ -180,18 +196,18 @@ name = "d"
 type = "revolute"
 i = "k1"
 j = "r1"
-
-[[driver]]
-name = "crank_motion"
-joint = "a"
-function = "2*t"
-
-[[output]]
-name = "motor"
-type = "joint_reaction"
-joint = "crank_motion"
 "#
     )
+}
+
+#[test]
+fn redundant_rows_are_named_in_the_last_joint_of_the_loop() {
+    let dir = scratch("undriven-four-revolutes");
+    let model = dir.join("four_revolutes.toml");
+    std::fs::write(&model, four_revolutes(0.0)).unwrap();
+    let s = succeed(&["check", model.to_str().unwrap()]);
+    assert!(s.contains("degrees of freedom: 1") && s.contains("redundant constraints: 3"), "{s}");
+    assert!(s.contains("joint 'd' (revolute)"), "the last joint of the loop is named: {s}");
 }
 
 #[test]
@@ -235,4 +251,21 @@ fn redundant_joints_that_disagree_geometrically_are_named_not_dropped() {
     assert!(e.contains("singular position") && e.contains("cannot all hold"), "{e}");
     assert!(e.contains("joint 'd' (revolute), equation"), "the disagreeing joint is named: {e}");
     assert!(e.contains("position residual of 1.000e-2") || e.contains("position residual of 9.99"), "its residual: {e}");
+}
+
+#[test]
+fn a_driver_not_finite_at_the_start_is_named_not_called_a_singular_matrix() {
+    // Before: "assembly: the constraint matrix is singular even after removing redundant rows" (ln 0 =
+    // −inf), and "velocity analysis: …" for sqrt(t − 1), whose NaN passed the assembly's test.
+    let shipped = std::fs::read_to_string(program::workspace().join("models/slider_crank.toml")).unwrap();
+    let dir = scratch("non-finite-driver");
+    for (function, value) in [("ln(t)", "inf"), ("sqrt(t - 1)", "NaN")] {
+        let model = dir.join("driver.toml");
+        std::fs::write(&model, shipped.replace("function = \"2*PI*t\"", &format!("function = \"{function}\""))).unwrap();
+        let (m, out) = (model.to_str().unwrap(), dir.to_str().unwrap());
+        for e in [fail(&["check", m]), fail(&["run", m, "--out", out])] {
+            assert!(e.contains("at t = 0 s joint 'crank_motion' (angle driver), equation 1"), "{function}: {e}");
+            assert!(e.contains(&format!("is not finite (its value is {value})")) && !e.contains("singular"), "{function}: {e}");
+        }
+    }
 }

@@ -2,6 +2,9 @@
 
 use crate::element::ElementError;
 
+/// Bytes in a MiB, the unit of the memory messages (as `FLEXMB_MEMORY_LIMIT`'s `M`).
+const MIB: f64 = 1024.0 * 1024.0;
+
 /// An error of the finite-element preprocessor.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum FemError {
@@ -30,17 +33,17 @@ pub enum FemError {
     #[error("the mode basis is singular: {message}")]
     SingularBasis { message: String },
     #[error(
-        "the mesh is too large for the mode analysis: {elements} elements and {nodes} nodes need about {:.1} MB, \
-         more than the {:.1} MB it may use; use a coarser mesh",
-        *needed as f64 / 1e6,
-        *limit as f64 / 1e6
+        "the mesh is too large for the mode analysis: {elements} elements and {nodes} nodes need about {:.1} MiB, \
+         more than the {:.1} MiB it may use; use a coarser mesh",
+        *needed as f64 / MIB,
+        *limit as f64 / MIB
     )]
     TooLarge { elements: usize, nodes: usize, needed: u64, limit: u64 },
     #[error(
-        "the dense eigensolver needs about {:.1} MB for an operator of dimension {dimension}, more than the \
-         {:.1} MB it may use; use the Lanczos solver",
-        *needed as f64 / 1e6,
-        *limit as f64 / 1e6
+        "the dense eigensolver needs about {:.1} MiB for an operator of dimension {dimension}, more than the \
+         {:.1} MiB it may use; use the Lanczos solver",
+        *needed as f64 / MIB,
+        *limit as f64 / MIB
     )]
     DenseTooLarge { dimension: usize, needed: u64, limit: u64 },
     #[error("the mode analysis's operator is not finite: the model's coordinates or properties overflow double precision")]

@@ -13,10 +13,14 @@
 //!    under-determined supports detected and set aside) and the static correction modes,
 //! 4. reduces the model to a mode set such as `4N5S` and evaluates the inertia invariants of the
 //!    equations of motion ([`reduction`]), written as a flexible-body file.
+//!
+//! [`input`] holds the guards on what users give it, shared with the `flexmb` program: how input
+//! files are read (regular files, a size limit) and the windows of physical magnitudes.
 
 pub mod assembly;
 pub mod element;
 pub mod inp;
+pub mod input;
 mod error;
 pub mod memory;
 pub mod mesh;

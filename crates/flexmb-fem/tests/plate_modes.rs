@@ -128,7 +128,7 @@ fn a_mesh_larger_than_the_memory_limit_is_refused_before_it_is_assembled() {
     let limited = EigenSettings { memory_limit: Some(needed - 1), ..Default::default() };
     let e = vibration_modes(&model, 6, &limited).unwrap_err();
     assert_eq!(e, flexmb_fem::FemError::TooLarge { elements: 320, nodes: 357, needed, limit: needed - 1 });
-    assert!(e.to_string().starts_with("the mesh is too large for the mode analysis: 320 elements and 357 nodes need about 5.5 MB, more than the 5.5 MB it may use"), "{e}");
+    assert!(e.to_string().starts_with("the mesh is too large for the mode analysis: 320 elements and 357 nodes need about 5.3 MiB, more than the 5.3 MiB it may use"), "{e}");
     let settings = ReductionSettings { mode_set: "4N".parse().unwrap(), basis: Basis::Orthonormal, eigen: limited };
     assert!(matches!(reduce(&model, "plate", &settings), Err(flexmb_fem::FemError::TooLarge { .. })));
     let enough = EigenSettings { memory_limit: Some(needed), ..Default::default() };
@@ -138,7 +138,7 @@ fn a_mesh_larger_than_the_memory_limit_is_refused_before_it_is_assembled() {
     let dense = EigenSettings { solver: EigenSolver::Dense, memory_limit: Some(10_000_000), ..Default::default() };
     let e = vibration_modes(&model, 6, &dense).unwrap_err();
     assert!(matches!(e, flexmb_fem::FemError::DenseTooLarge { .. }), "{e}");
-    assert!(e.to_string().ends_with("more than the 10.0 MB it may use; use the Lanczos solver"), "{e}");
+    assert!(e.to_string().ends_with("more than the 9.5 MiB it may use; use the Lanczos solver"), "{e}");
     let lanczos = EigenSettings { solver: EigenSolver::Lanczos, ..dense };
     assert!(vibration_modes(&model, 6, &lanczos).is_ok());
     let large = simply_supported_plate(A, B, T, 300, 300, ShellShape::Quadrilateral);

@@ -198,3 +198,4 @@ fn mechanism_that_locks_fails_with_time_and_equation_after_delivering_frames() {
     assert!(angle_err < 1e-6, "the delivered frames are correct up to the lock: crank angle error {angle_err:e}");
     assert_eq!(err.report.output_frames, partial.t.len(), "report counts the delivered frames");
 }
+

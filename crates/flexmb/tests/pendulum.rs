@@ -21,8 +21,7 @@ fn period_matches_elliptic_integral_and_energy_is_conserved() {
         t_end: 10.0 * period,
         output_step: 1e-3,
         integrator: BdfConfig { rtol: 1e-9, atol: 1e-9, ..Default::default() },
-        assembly: Default::default(),
-        method: Default::default(),
+        ..Default::default()
     };
     let mut t = Vec::new();
     let mut x = Vec::new();

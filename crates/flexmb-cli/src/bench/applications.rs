@@ -28,6 +28,7 @@ fn load(path: &str, overrides: &ModelOverrides, t_end: f64) -> Result<(Model, Si
         integrator: d.integrator(&loaded.model, d.rtol, d.atol),
         assembly: d.assembly(),
         method: Method::Bdf,
+        physics_limits: d.physics_limits,
     };
     Ok((loaded.model, settings))
 }

@@ -92,7 +92,7 @@ fn default_settings(model: &Model, t_end: f64) -> SimulationSettings {
         output_step: 0.01,
         integrator: BdfConfig::for_model(model),
         assembly: AssemblySettings::default(),
-        method: Default::default(),
+        ..Default::default()
     }
 }
 

@@ -8,6 +8,7 @@ use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 use flexmb_fem::{ElementKind, FeModel};
+use flexmb_fem::input::Quantity;
 
 use super::names::Registry;
 use super::schema::FeModelFile;
@@ -21,8 +22,7 @@ use crate::model_file::schema::Number;
 use crate::model_file::source::Source;
 use crate::model_file::ModelFileError;
 
-/// The most elements a generator may be asked for along one direction, and in all (a plate's
-/// `na × nb`).
+/// The most elements a generator may be asked for along one direction.
 pub(crate) const MAX_COUNT: f64 = 1e6;
 
 /// The model being built and the names defined so far.
@@ -75,23 +75,30 @@ impl<'a> Builder<'a> {
         self.ctx.source
     }
 
-    /// A positive, finite constant; `quantity` names it in the message.
-    pub(crate) fn positive(&self, value: &Number, key: &KeyPath, quantity: &str) -> Result<f64, ModelFileError> {
-        let x = self.ctx.number(value, key)?;
-        if x > 0.0 {
-            Ok(x)
-        } else {
-            Err(self.ctx.invalid(&value.span(), key, format!("{quantity} must be positive, got {x}")))
-        }
+    /// A positive, finite constant of `quantity`, within its window; `what` names it in the message.
+    pub(crate) fn positive(&self, value: &Number, key: &KeyPath, what: &str, q: Quantity) -> Result<f64, ModelFileError> {
+        self.signed(value, key, q, |x| x > 0.0, &format!("{what} must be positive"))
     }
 
-    /// A finite constant that is zero or positive.
-    pub(crate) fn non_negative(&self, value: &Number, key: &KeyPath, quantity: &str) -> Result<f64, ModelFileError> {
-        let x = self.ctx.number(value, key)?;
-        if x >= 0.0 {
+    /// A finite constant of `quantity`, within its window, that is zero or positive.
+    pub(crate) fn non_negative(&self, value: &Number, key: &KeyPath, what: &str, q: Quantity) -> Result<f64, ModelFileError> {
+        self.signed(value, key, q, |x| x >= 0.0, &format!("{what} must not be negative"))
+    }
+
+    /// A constant of `quantity` that `accepts`; `rule` says what it must be.
+    fn signed(
+        &self,
+        value: &Number,
+        key: &KeyPath,
+        quantity: Quantity,
+        accepts: fn(f64) -> bool,
+        rule: &str,
+    ) -> Result<f64, ModelFileError> {
+        let x = self.ctx.quantity(value, key, quantity)?;
+        if accepts(x) {
             Ok(x)
         } else {
-            Err(self.ctx.invalid(&value.span(), key, format!("{quantity} must not be negative, got {x}")))
+            Err(self.ctx.invalid(&value.span(), key, format!("{rule}, got {x}")))
         }
     }
 

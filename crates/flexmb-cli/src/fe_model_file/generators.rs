@@ -4,6 +4,7 @@
 use toml::Spanned;
 
 use flexmb_fem::mesh::ShellShape;
+use flexmb_fem::input::Quantity;
 
 use super::build::{Builder, MAX_COUNT};
 use super::format::point;
@@ -50,8 +51,8 @@ fn add_beam_line(b: &mut Builder, k: usize, line: &BeamLineSection) -> Result<()
     }
     let section_key = element.key("section");
     let section = b.beam_sections.resolve(&line.section, &section_key, b.source())?;
-    let from = b.ctx.vector(&line.from, &element.key("from"))?;
-    let to = b.ctx.vector(&line.to, &element.key("to"))?;
+    let from = b.ctx.vector_of(&line.from, &element.key("from"), Quantity::Length)?;
+    let to = b.ctx.vector_of(&line.to, &element.key("to"), Quantity::Length)?;
     let count = b.count(&line.elements, &element.key("elements"))?;
     let axis = to - from;
     if axis.norm() <= f64::EPSILON * from.norm().max(to.norm()) {
@@ -81,10 +82,10 @@ fn add_plate(b: &mut Builder, k: usize, plate: &PlateSection) -> Result<(), Mode
         check_part_name(b, name, &element, &derived)?;
     }
     let section = b.shell_sections.resolve(&plate.section, &element.key("section"), b.source())?;
-    let corner = b.ctx.vector(&plate.corner, &element.key("corner"))?;
-    let edge_a = b.ctx.vector(&plate.edge_a, &element.key("edge_a"))?;
+    let corner = b.ctx.vector_of(&plate.corner, &element.key("corner"), Quantity::Length)?;
+    let edge_a = b.ctx.vector_of(&plate.edge_a, &element.key("edge_a"), Quantity::Length)?;
     let edge_b_key = element.key("edge_b");
-    let edge_b = b.ctx.vector(&plate.edge_b, &edge_b_key)?;
+    let edge_b = b.ctx.vector_of(&plate.edge_b, &edge_b_key, Quantity::Length)?;
     let counts_key = element.key("elements");
     let counts = plate.elements.get_ref();
     if counts.len() != 2 {
@@ -99,13 +100,11 @@ fn add_plate(b: &mut Builder, k: usize, plate: &PlateSection) -> Result<(), Mode
     }
     let na = b.count(&counts[0], &counts_key.index(0))?;
     let nb = b.count(&counts[1], &counts_key.index(1))?;
-    // Each count is bounded, and so must their product be: [1e6, 1e6] asked for 10¹² shells and
-    // ended in an aborted allocation.
     if (na * nb) as f64 > MAX_COUNT {
         return Err(b.ctx.invalid(
             &plate.elements.span(),
             &counts_key,
-            format!("{na} × {nb} = {} elements; a plate may have at most {MAX_COUNT:e}", na * nb),
+            format!("a plate of {na} × {nb} = {} elements is more than {MAX_COUNT:e}", na * nb),
         ));
     }
     if edge_a.cross(&edge_b).norm() <= PARALLEL_EDGES * edge_a.norm() * edge_b.norm()

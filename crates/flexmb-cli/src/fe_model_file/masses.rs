@@ -4,6 +4,7 @@ use nalgebra::Vector3;
 use toml::Spanned;
 
 use flexmb_fem::PointMass;
+use flexmb_fem::input::Quantity;
 
 use super::build::Builder;
 use super::node_ref::resolve_node;
@@ -16,11 +17,11 @@ pub(crate) fn add_masses(b: &mut Builder, tables: &[Spanned<MassSection>]) -> Re
         let element = KeyPath::root().key("mass").index(k);
         let m = table.get_ref();
         let node = resolve_node(&b.ctx, &b.model.mesh, &m.at, &element.key("at"), "a mass")?;
-        let mass = b.non_negative(&m.mass, &element.key("mass"), "the mass")?;
+        let mass = b.non_negative(&m.mass, &element.key("mass"), "the mass", Quantity::Mass)?;
         let rotary_inertia = match &m.rotary_inertia {
             Some(vector) => {
                 let key = element.key("rotary_inertia");
-                let j = b.ctx.vector(vector, &key)?;
+                let j = b.ctx.vector_of(vector, &key, Quantity::Inertia)?;
                 if let Some(c) = (0..3).find(|&c| j[c] < 0.0) {
                     return Err(b.ctx.invalid(
                         &vector.get_ref()[c].span(),

@@ -59,7 +59,7 @@ fn collect_deck_files(path: &Path, depth: usize, files: &mut Vec<PathBuf>) {
     if depth >= MAX_INCLUDE_DEPTH {
         return;
     }
-    let Ok(bytes) = std::fs::read(path) else { return };
+    let Ok(bytes) = flexmb_fem::input::read_file(path) else { return };
     let text = String::from_utf8_lossy(&bytes);
     for line in text.lines() {
         if let Some(input) = include_input(line) {

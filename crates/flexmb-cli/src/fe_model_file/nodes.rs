@@ -3,6 +3,7 @@
 
 use std::collections::{BTreeSet, HashSet};
 
+use flexmb_fem::input::Quantity;
 use toml::Spanned;
 
 use super::build::Builder;
@@ -32,7 +33,7 @@ pub(crate) fn add_nodes(b: &mut Builder, tables: &[Spanned<NodeSection>]) -> Res
                 format!("node label {label} is already used in the mesh file `{mesh}`"),
             ));
         }
-        let position = b.ctx.vector(&n.position, &element.key("position"))?;
+        let position = b.ctx.vector_of(&n.position, &element.key("position"), Quantity::Length)?;
         let index = b.model.mesh.add_node(label, position);
         b.explicit_nodes.insert(label, (index, element, n.label.span()));
     }

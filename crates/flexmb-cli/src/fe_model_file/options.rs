@@ -6,6 +6,7 @@ use toml::Spanned;
 
 use flexmb_fem::reduction::{Basis, ModeSet};
 use flexmb_fem::{MassModel, ModelOptions};
+use flexmb_fem::input::Quantity;
 
 use super::build::Builder;
 use super::schema::{FeModelSection, ModesSection};
@@ -53,7 +54,7 @@ pub(crate) fn model_options(
     }
     if let Some(drilling) = &section.drilling_stiffness {
         options.drilling_stiffness =
-            b.non_negative(drilling, &section_key().key("drilling_stiffness"), "the drilling stiffness factor")?;
+            b.non_negative(drilling, &section_key().key("drilling_stiffness"), "the drilling stiffness factor", Quantity::Factor)?;
     }
     Ok(options)
 }

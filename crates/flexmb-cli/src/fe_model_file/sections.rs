@@ -8,6 +8,7 @@ use toml::Spanned;
 
 use flexmb_fem::inp::sections::{self as shapes, SectionProperties};
 use flexmb_fem::{BeamSection, ShellSection};
+use flexmb_fem::input::Quantity;
 
 use super::build::Builder;
 use super::format::point;
@@ -45,7 +46,7 @@ pub(crate) fn add_beam_sections(b: &mut Builder, tables: &[Spanned<BeamSectionSe
         let shear_coefficient = s
             .shear_coefficient
             .as_ref()
-            .map(|k| b.positive(k, &element.key("shear_coefficient"), "the shear coefficient"))
+            .map(|k| b.positive(k, &element.key("shear_coefficient"), "the shear coefficient", Quantity::Factor))
             .transpose()?;
         let properties = section_properties(b, s, &element, &table.span())?;
         let mesh = &mut b.model.mesh;
@@ -95,15 +96,15 @@ fn section_properties(
         }
         let description = "a beam section without `shape`";
         b.ctx.reject_unused_keys(element, description, &present, &["A", "Iy", "Iz", "J"])?;
-        let value = |number, name: &str, quantity: &str| {
+        let value = |number, name: &str, what: &str, quantity| {
             let given = b.ctx.required(number, element, span, name, description)?;
-            b.positive(given, &element.key(name), quantity)
+            b.positive(given, &element.key(name), what, quantity)
         };
         return Ok(SectionProperties {
-            area: value(&s.area, "A", "the area A")?,
-            iy: value(&s.iy, "Iy", "the second moment of area Iy")?,
-            iz: value(&s.iz, "Iz", "the second moment of area Iz")?,
-            torsion_constant: value(&s.torsion_constant, "J", "the torsion constant J")?,
+            area: value(&s.area, "A", "the area A", Quantity::Area)?,
+            iy: value(&s.iy, "Iy", "the second moment of area Iy", Quantity::SecondMoment)?,
+            iz: value(&s.iz, "Iz", "the second moment of area Iz", Quantity::SecondMoment)?,
+            torsion_constant: value(&s.torsion_constant, "J", "the torsion constant J", Quantity::SecondMoment)?,
         });
     };
     let shape_key = element.key("shape");
@@ -121,7 +122,7 @@ fn section_properties(
     b.ctx.reject_unused_keys(element, description, &present, keys)?;
     let dimension = |number, name: &str| {
         let given = b.ctx.required(number, element, span, name, description)?;
-        b.positive(given, &element.key(name), &format!("the {name}"))
+        b.positive(given, &element.key(name), &format!("the {name}"), Quantity::Length)
     };
     let properties = match shape {
         Shape::Rectangle => shapes::rect(dimension(&s.width, "width")?, dimension(&s.height, "height")?),
@@ -153,7 +154,7 @@ pub(crate) fn add_shell_sections(
         let s = table.get_ref();
         b.shell_sections.check_new(&s.name, &element, b.source())?;
         let material = b.materials.resolve(&s.material, &element.key("material"), b.source())?;
-        let thickness = b.positive(&s.thickness, &element.key("thickness"), "the thickness")?;
+        let thickness = b.positive(&s.thickness, &element.key("thickness"), "the thickness", Quantity::Length)?;
         let mesh = &mut b.model.mesh;
         mesh.shell_sections.push(ShellSection { name: s.name.get_ref().clone(), material, thickness });
         let index = mesh.shell_sections.len() - 1;

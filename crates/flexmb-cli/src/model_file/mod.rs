@@ -59,6 +59,15 @@ pub struct SimulationDefaults {
     pub max_order: Option<usize>,
     /// Interval between the frames of the ParaView output (`vtk_step`, s); `None`: the output step.
     pub vtk_step: Option<f64>,
+    /// Most output rows a run may write (`max_output_rows`). Default
+    /// [`DEFAULT_MAX_OUTPUT_ROWS`](crate::output_limits::DEFAULT_MAX_OUTPUT_ROWS), 10⁷.
+    pub max_output_rows: u64,
+    /// Most ParaView frames a run may write (`max_vtk_frames`). Default
+    /// [`DEFAULT_MAX_VTK_FRAMES`](crate::output_limits::DEFAULT_MAX_VTK_FRAMES), 10⁵.
+    pub max_vtk_frames: u64,
+    /// The physics watchdog's thresholds (`elastic_deflection_warning`, `…_limit`,
+    /// `energy_balance_warning`, `…_limit`). Default [`flexmb::analysis::PhysicsLimits::default`].
+    pub physics_limits: flexmb::analysis::PhysicsLimits,
 }
 
 impl Default for SimulationDefaults {
@@ -72,6 +81,9 @@ impl Default for SimulationDefaults {
             method: flexmb::integrate::Method::Bdf,
             max_order: None,
             vtk_step: None,
+            max_output_rows: crate::output_limits::DEFAULT_MAX_OUTPUT_ROWS,
+            max_vtk_frames: crate::output_limits::DEFAULT_MAX_VTK_FRAMES,
+            physics_limits: flexmb::analysis::PhysicsLimits::default(),
         }
     }
 }

@@ -64,6 +64,12 @@ pub(crate) struct SimulationSection {
     pub spectral_radius: Option<Number>,
     pub max_order: Option<Number>,
     pub vtk_step: Option<Number>,
+    pub max_output_rows: Option<Number>,
+    pub max_vtk_frames: Option<Number>,
+    pub elastic_deflection_warning: Option<Number>,
+    pub elastic_deflection_limit: Option<Number>,
+    pub energy_balance_warning: Option<Number>,
+    pub energy_balance_limit: Option<Number>,
 }
 
 /// `[[body]]`: a rigid body.

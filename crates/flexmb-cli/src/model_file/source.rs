@@ -5,18 +5,17 @@ use std::ops::Range;
 use super::error::{ErrorKind, ModelFileError};
 use super::key_path::KeyPath;
 
-/// Reads the text of the `what` file ("model", "FE model", "study") at `path`, with an I/O error
-/// that names the file when it cannot be read or is not UTF-8.
+/// Reads the text of the `what` file ("model", "FE model", "study") at `path` as every input file is
+/// read ([`flexmb_fem::input::read_text`]: a regular file within the size limit, UTF-8), with an I/O
+/// error that names the file when it cannot be read.
 pub(crate) fn read_text_file(path: &std::path::Path, what: &str) -> Result<String, ModelFileError> {
-    let io_error = |message: String| ModelFileError {
+    flexmb_fem::input::read_text(path).map_err(|e| ModelFileError {
         kind: ErrorKind::Io,
         file: path.display().to_string(),
         line: None,
         key_path: String::new(),
-        message,
-    };
-    let bytes = std::fs::read(path).map_err(|e| io_error(format!("cannot read the {what} file: {e}")))?;
-    String::from_utf8(bytes).map_err(|e| io_error(format!("the {what} file is not UTF-8 text: {e}")))
+        message: format!("cannot read the {what} file: {e}"),
+    })
 }
 
 /// A model file's name and text, with the byte offset at which each line starts.

@@ -14,37 +14,44 @@ pub struct ResultTable {
     units: Vec<Option<String>>,
     /// One vector of values per column, in the file's order.
     columns: Vec<Vec<f64>>,
+    /// The 1-based line of the file each row was read from.
+    lines: Vec<usize>,
 }
 
 impl ResultTable {
     /// Reads `path` (header `t,<column>,…`, one row per output time) and the units of its summary.
     pub fn read(path: &Path) -> Result<Self, CliError> {
-        let text =
-            std::fs::read_to_string(path).map_err(|e| CliError(format!("cannot read {}: {e}", path.display())))?;
+        let text = flexmb_fem::input::read_text(path)
+            .map_err(|e| CliError(format!("cannot read {}: {e}", path.display())))?;
         let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty());
         let Some((_, header)) = lines.next() else {
             return Err(CliError(format!("{} is empty: no header and no rows", path.display())));
         };
         let names: Vec<String> = header.split(',').map(|n| n.trim().to_string()).collect();
         let mut columns = vec![Vec::new(); names.len()];
+        let mut row_lines = Vec::new();
         for (index, line) in lines {
             push_row(path, index + 1, line, &names, &mut columns)?;
+            row_lines.push(index + 1);
         }
         if columns[0].is_empty() {
             return Err(CliError(format!("{} has a header but no rows", path.display())));
         }
         let units = summary_units(path, &names);
-        Ok(Self { path: path.to_path_buf(), names, units, columns })
+        Ok(Self { path: path.to_path_buf(), names, units, columns, lines: row_lines })
     }
 
-    /// A table from columns in memory (for tests and for results not read from a file).
+    /// A table from columns in memory (for tests and for results not read from a file), as if read
+    /// from a file with the header on line 1 and one row per line after it.
     pub fn from_columns(path: &Path, columns: Vec<(String, Option<String>, Vec<f64>)>) -> Self {
-        let mut table = Self { path: path.to_path_buf(), names: Vec::new(), units: Vec::new(), columns: Vec::new() };
+        let mut table =
+            Self { path: path.to_path_buf(), names: Vec::new(), units: Vec::new(), columns: Vec::new(), lines: Vec::new() };
         for (name, unit, values) in columns {
             table.names.push(name);
             table.units.push(unit);
             table.columns.push(values);
         }
+        table.lines = (2..table.rows() + 2).collect();
         table
     }
 
@@ -68,6 +75,25 @@ impl ResultTable {
     /// The values of a column, or an error listing the columns there are.
     pub fn column(&self, name: &str) -> Result<&[f64], CliError> {
         self.index(name).map(|i| self.columns[i].as_slice())
+    }
+
+    /// The values of a column, which must all be finite: a NaN or an infinity is an error at its
+    /// line, saying that `purpose` ("a plot", "a spectrum") needs finite values.
+    pub fn finite_column(&self, name: &str, purpose: &str) -> Result<&[f64], CliError> {
+        let values = self.column(name)?;
+        match values.iter().position(|v| !v.is_finite()) {
+            None => Ok(values),
+            Some(row) => Err(CliError(format!(
+                "{}: column `{name}` holds {}; {purpose} needs finite values",
+                self.location(row),
+                values[row]
+            ))),
+        }
+    }
+
+    /// `file:line` of a row (0-based), for messages.
+    pub fn location(&self, row: usize) -> String {
+        format!("{}:{}", self.path.display(), self.lines.get(row).copied().unwrap_or(row + 2))
     }
 
     /// The unit of a column: from the summary, `s` for time, else none.
@@ -127,7 +153,7 @@ fn summary_units(csv: &Path, names: &[String]) -> Vec<Option<String>> {
 
 /// `(name, unit)` of every column the summary lists; nothing if there is no readable summary.
 fn read_summary_units(summary: &Path) -> Vec<(String, String)> {
-    let Ok(text) = std::fs::read_to_string(summary) else {
+    let Ok(text) = flexmb_fem::input::read_text(summary) else {
         return Vec::new();
     };
     let Ok(json) = serde_json::from_str::<serde_json::Value>(&text) else {
@@ -194,5 +220,18 @@ mod tests {
         assert!(e.contains("text.csv:2: column `x`: `abc` is not a number"), "{e}");
         let e = ResultTable::read(&dir.join("missing.csv")).unwrap_err().to_string();
         assert!(e.contains("cannot read") && e.contains("missing.csv"), "{e}");
+    }
+
+    #[test]
+    fn non_finite_values_are_named_by_line_and_column() {
+        let dir = scratch("finite");
+        let csv = dir.join("run.csv");
+        std::fs::write(&csv, "t,x,y\n0,1,2\n\n1,inf,3\n2,4,NaN\n").unwrap();
+        let table = ResultTable::read(&csv).unwrap();
+        let e = table.finite_column("x", "a plot").unwrap_err().to_string();
+        assert_eq!(e, format!("{}:4: column `x` holds inf; a plot needs finite values", csv.display()));
+        let e = table.finite_column("y", "a spectrum").unwrap_err().to_string();
+        assert!(e.ends_with("run.csv:5: column `y` holds NaN; a spectrum needs finite values"), "{e}");
+        assert_eq!(table.finite_column("t", "a plot").unwrap(), &[0.0, 1.0, 2.0]);
     }
 }

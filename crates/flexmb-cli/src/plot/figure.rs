@@ -98,6 +98,7 @@ pub(super) const PALETTE: [RGBColor; 10] = [
 /// Draws `figure` into `path` (`.png` or `.svg`) of `width × height` pixels.
 pub fn render(figure: &Figure, path: &Path, (width, height): (u32, u32)) -> Result<(), CliError> {
     check_size(width, height)?;
+    axis_ranges(figure).map_err(CliError)?;
     let failed = |e: String| CliError(format!("cannot write {}: {e}", path.display()));
     match ImageFormat::of(path)? {
         ImageFormat::Png => {
@@ -115,6 +116,7 @@ pub fn render(figure: &Figure, path: &Path, (width, height): (u32, u32)) -> Resu
 /// The figure as 8-bit RGB pixels, row by row.
 pub fn render_rgb(figure: &Figure, (width, height): (u32, u32)) -> Result<Vec<u8>, CliError> {
     check_size(width, height)?;
+    axis_ranges(figure).map_err(CliError)?;
     font::register();
     let factor = if width * height <= SUPERSAMPLED_PIXELS { SUPERSAMPLING } else { 1 };
     let (big_width, big_height) = (factor * width, factor * height);
@@ -195,20 +197,51 @@ fn draw_figure<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, figure: &Figur
     let metrics = Metrics::of(width, height);
     let legend = legend_layout(root, figure, &metrics);
     let (chart_area, legend_area) = root.split_vertically(height.saturating_sub(legend.height));
-    let x_range =
-        figure.x_range.unwrap_or_else(|| data_range(figure.series.iter().flat_map(|s| &s.points).map(|p| p.0)));
-    let y_values = || figure.series.iter().flat_map(|s| &s.points).map(|p| p.1).filter(|v| v.is_finite());
+    let (x_range, y_range) = axis_ranges(figure)?;
     match figure.y_scale {
         YScale::Linear => {
-            let y_range = padded(data_range(y_values()));
             draw_axes(&chart_area, figure, &metrics, x_range, linear_axis(y_range, Y_TICKS), y_range.0..y_range.1)?;
         }
         YScale::Log => {
-            let y_range = log_range(y_values());
             draw_axes(&chart_area, figure, &metrics, x_range, log_axis(), (y_range.0..y_range.1).log_scale())?;
         }
     }
     draw_legend(&legend_area, figure, &metrics, &legend)
+}
+
+/// The x and y ranges the axes show: the data's (the y axis with room above and below), or an error
+/// if one cannot be drawn.
+fn axis_ranges(figure: &Figure) -> Result<(AxisRange, AxisRange), String> {
+    let x_range =
+        figure.x_range.unwrap_or_else(|| data_range(figure.series.iter().flat_map(|s| &s.points).map(|p| p.0)));
+    let y_values = || figure.series.iter().flat_map(|s| &s.points).map(|p| p.1).filter(|v| v.is_finite());
+    let y_range = match figure.y_scale {
+        YScale::Linear => padded(data_range(y_values())),
+        YScale::Log => log_range(y_values()),
+    };
+    let axes = [
+        ("x", &figure.x_quantity, x_range, x_range),
+        ("y", &figure.y_quantity, y_range, data_range(y_values())),
+    ];
+    for (axis, (quantity, _), range, (lo, hi)) in axes {
+        if !drawable(range) {
+            return Err(format!("cannot draw the {axis} axis ({quantity}) over values from {lo:e} to {hi:e}: {SPAN_TOO_LARGE}"));
+        }
+    }
+    Ok((x_range, y_range))
+}
+
+/// The lowest and highest value an axis shows.
+type AxisRange = (f64, f64);
+
+/// Why an axis cannot be drawn.
+pub(super) const SPAN_TOO_LARGE: &str =
+    "with its margins the axis would span more than the largest double-precision number, 1.8e308";
+
+/// Whether an axis over `(lo, hi)` can be drawn: its ends and its span must be finite (plotters' tick
+/// computation never ends on an infinite span).
+pub(super) fn drawable((lo, hi): (f64, f64)) -> bool {
+    lo.is_finite() && hi.is_finite() && (hi - lo).is_finite()
 }
 
 /// The axes, grid, lines and annotations, on a y axis of type `Y` (linear or logarithmic).
@@ -320,7 +353,7 @@ fn data_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
 }
 
 /// A range with 5 % room above and below, so lines do not run along the frame.
-fn padded((lo, hi): (f64, f64)) -> (f64, f64) {
+pub(super) fn padded((lo, hi): (f64, f64)) -> (f64, f64) {
     let room = 0.05 * (hi - lo);
     (lo - room, hi + room)
 }
@@ -370,6 +403,21 @@ mod tests {
         assert!(e.contains("cannot write .jpg images; use a .png or .svg"), "{e}");
         assert_eq!(ImageFormat::of(Path::new("a.SVG")).unwrap(), ImageFormat::Svg);
         assert!(render_rgb(&sine_figure(1), (50, 400)).unwrap_err().to_string().contains("200 to 8000"));
+    }
+
+    #[test]
+    fn refuses_axes_whose_span_overflows_instead_of_hanging() {
+        let mut figure = sine_figure(1);
+        figure.series[0].points = vec![(0.0, 1.7e308), (1.0, -1.7e308)];
+        let e = render_rgb(&figure, (640, 400)).unwrap_err().to_string();
+        assert_eq!(e, format!("cannot draw the y axis (x) over values from -1.7e308 to 1.7e308: {SPAN_TOO_LARGE}"));
+        figure.series[0].points = vec![(-1e308, 0.0), (1e308, 1.0)];
+        assert!(render_rgb(&figure, (640, 400)).unwrap_err().to_string().starts_with("cannot draw the x axis (t)"));
+        // 1.5e308 with 5 % room still fits; on a log axis 4 times the largest value does not.
+        figure.series[0].points = vec![(0.0, 0.0), (1.0, 1.5e308)];
+        assert!(render_rgb(&figure, (640, 400)).is_ok());
+        figure.y_scale = YScale::Log;
+        assert!(render_rgb(&figure, (640, 400)).unwrap_err().to_string().starts_with("cannot draw the y axis (x)"));
     }
 
     #[test]

@@ -68,16 +68,17 @@ pub fn default_image_path(csv: &Path, columns: &[String]) -> PathBuf {
     csv.with_file_name(format!("{name}.png"))
 }
 
-/// The figure of columns `y` against `x` of every table: one line per table and column.
+/// The figure of columns `y` against `x` of every table: one line per table and column. Every value
+/// drawn must be finite, and the values along each axis must span no more than an axis can hold.
 pub fn compose(tables: &[ResultTable], x: &str, y: &[String]) -> Result<Figure, CliError> {
     let units: Vec<Option<String>> = y.iter().map(|c| column_unit(tables, c)).collect();
     let mixed = units.iter().any(|u| *u != units[0]);
     let names = run_names(tables);
     let mut series = Vec::new();
     for (table, run) in tables.iter().zip(&names) {
-        let xs = table.column(x)?;
+        let xs = table.finite_column(x, "a plot")?;
         for (column, unit) in y.iter().zip(&units) {
-            let ys = table.column(column)?;
+            let ys = table.finite_column(column, "a plot")?;
             let mut label = if tables.len() > 1 { format!("{run}: {column}") } else { column.clone() };
             if let (true, Some(u)) = (mixed, unit) {
                 label = format!("{label} [{u}]");
@@ -85,6 +86,8 @@ pub fn compose(tables: &[ResultTable], x: &str, y: &[String]) -> Result<Figure, 
             series.push(Series { label, points: xs.iter().copied().zip(ys.iter().copied()).collect() });
         }
     }
+    check_span(tables, std::slice::from_ref(&x.to_string()), "x", |range| range)?;
+    check_span(tables, y, "y", figure::padded)?;
     let y_quantity = if mixed {
         let listed: Vec<&str> = units.iter().map(|u| u.as_deref().unwrap_or("none")).collect();
         (format!("value, mixed units: {}", listed.join(", ")), None)
@@ -100,6 +103,42 @@ pub fn compose(tables: &[ResultTable], x: &str, y: &[String]) -> Result<Figure, 
         y_scale: YScale::Linear,
         x_range: None,
     })
+}
+
+/// An error, naming where the smallest and largest values are, if the `axis` over `columns` of every
+/// table cannot be drawn: if its range (as `axis_range` makes it of the values') overflows.
+fn check_span(
+    tables: &[ResultTable],
+    columns: &[String],
+    axis: &str,
+    axis_range: fn((f64, f64)) -> (f64, f64),
+) -> Result<(), CliError> {
+    // (value, table, column, row) of the smallest and the largest value.
+    type Place<'a> = (f64, &'a ResultTable, &'a str, usize);
+    let (mut lo, mut hi): (Option<Place>, Option<Place>) = (None, None);
+    for table in tables {
+        for column in columns {
+            for (row, &v) in table.column(column)?.iter().enumerate() {
+                if lo.is_none_or(|(l, ..)| v < l) {
+                    lo = Some((v, table, column, row));
+                }
+                if hi.is_none_or(|(h, ..)| v > h) {
+                    hi = Some((v, table, column, row));
+                }
+            }
+        }
+    }
+    let (Some(lo), Some(hi)) = (lo, hi) else { return Ok(()) };
+    if figure::drawable(axis_range((lo.0, hi.0))) {
+        return Ok(());
+    }
+    let place = |(v, table, column, row): Place| format!("{v:e} (column `{column}`, {})", table.location(row));
+    Err(CliError(format!(
+        "cannot plot: the values along the {axis} axis run from {} to {}; {}",
+        place(lo),
+        place(hi),
+        figure::SPAN_TOO_LARGE
+    )))
 }
 
 /// A column's unit in the first table that knows it.
@@ -173,6 +212,26 @@ mod tests {
         let figure = compose(&[a], "t", &["x".into(), "angle".into()]).unwrap();
         assert_eq!(figure.y_quantity, ("value, mixed units: m, rad".into(), None));
         assert_eq!(figure.series[1].label, "angle [rad]");
+    }
+
+    #[test]
+    fn non_finite_values_and_overflowing_spans_are_errors_that_say_where() {
+        let t = ("t".to_string(), None, vec![0.0, 1.0, 2.0]);
+        let x = |values: Vec<f64>| ("x".to_string(), None, values);
+        let a = ResultTable::from_columns(Path::new("out/a.csv"), vec![t.clone(), x(vec![0.0, f64::INFINITY, 1.0])]);
+        let e = compose(&[a], "t", &["x".into()]).unwrap_err().to_string();
+        assert_eq!(e, "out/a.csv:3: column `x` holds inf; a plot needs finite values");
+        let b = ResultTable::from_columns(Path::new("out/b.csv"), vec![t.clone(), x(vec![1.7e308, 0.0, -1.7e308])]);
+        let e = compose(&[b], "t", &["x".into()]).unwrap_err().to_string();
+        assert!(
+            e.starts_with(
+                "cannot plot: the values along the y axis run from -1.7e308 (column `x`, out/b.csv:4) to 1.7e308 \
+                 (column `x`, out/b.csv:2); with its margins"
+            ),
+            "{e}"
+        );
+        let c = ResultTable::from_columns(Path::new("out/c.csv"), vec![t, x(vec![1.5e308, 0.0, -1.0])]);
+        assert!(compose(&[c], "x", &["t".into()]).is_ok(), "the x axis has no margins");
     }
 
     #[test]

@@ -118,7 +118,7 @@ pub fn read_mesh_file(path: &Path) -> Result<SurfaceMesh, MeshFileError> {
         Some("obj") => obj::read_obj,
         _ => return Err(MeshFileError::whole(format!("expected a mesh file ending in {MESH_EXTENSIONS}"))),
     };
-    let bytes = std::fs::read(path).map_err(|e| MeshFileError::whole(e.to_string()))?;
+    let bytes = flexmb_fem::input::read_file(path).map_err(|e| MeshFileError::whole(e.to_string()))?;
     let mesh = reader(&bytes)?;
     if mesh.cells.is_empty() {
         return Err(MeshFileError::whole("the file holds no faces"));

@@ -37,18 +37,24 @@ const MAIN_LOBE_HALF_WIDTH: f64 = 2.0;
 /// A detrended, Hann-windowed record.
 #[derive(Clone, Debug)]
 pub struct WindowedRecord {
-    /// `x_k w_k`.
+    /// `x_k w_k / scale`.
     weighted: Vec<f64>,
     window_sum: f64,
     dt: f64,
+    /// A power of two near the largest `|x_k|`: the record is held divided by it (exactly), so that
+    /// the sums of the trend and the transform cannot overflow for values up to 1.8e308, and the
+    /// amplitudes are multiplied by it.
+    scale: f64,
 }
 
 impl WindowedRecord {
     pub fn new(samples: &UniformSamples) -> Self {
-        let detrended = remove_linear_trend(&samples.values);
+        let scale = power_of_two_below(samples.values.iter().fold(0.0, |m: f64, x| m.max(x.abs())));
+        let scaled: Vec<f64> = samples.values.iter().map(|x| x / scale).collect();
+        let detrended = remove_linear_trend(&scaled);
         let window = hann(detrended.len());
         let weighted = detrended.iter().zip(&window).map(|(x, w)| x * w).collect();
-        Self { weighted, window_sum: window.iter().sum(), dt: samples.dt }
+        Self { weighted, window_sum: window.iter().sum(), dt: samples.dt, scale }
     }
 
     /// `T = N Δt`.
@@ -69,8 +75,16 @@ impl WindowedRecord {
                 phasor *= rotation;
             }
         }
-        2.0 * sum.norm() / self.window_sum
+        2.0 * sum.norm() / self.window_sum * self.scale
     }
+}
+
+/// The largest power of two not above `x` (1 for zero and for what is not finite).
+fn power_of_two_below(x: f64) -> f64 {
+    if !(x.is_finite() && x > 0.0) {
+        return 1.0;
+    }
+    2f64.powi(x.log2().floor() as i32)
 }
 
 /// `A(f)` on the grid `f_k = k × bin`, `k = 0 … n/2`, of the zero-padded FFT.
@@ -86,7 +100,8 @@ impl AmplitudeSpectrum {
         let mut buffer: Vec<Complex<f64>> = record.weighted.iter().map(|x| Complex::new(*x, 0.0)).collect();
         buffer.resize(size, Complex::new(0.0, 0.0));
         FftPlanner::new().plan_fft_forward(size).process(&mut buffer);
-        let amplitudes = buffer[..=size / 2].iter().map(|c| 2.0 * c.norm() / record.window_sum).collect();
+        let amplitudes =
+            buffer[..=size / 2].iter().map(|c| 2.0 * c.norm() / record.window_sum * record.scale).collect();
         Self { bin: 1.0 / (size as f64 * record.dt), amplitudes }
     }
 
@@ -219,6 +234,19 @@ mod tests {
         assert_eq!(peaks.len(), 1, "{peaks:?}");
         assert!((peaks[0].frequency / 12.345 - 1.0).abs() < 1e-6, "{peaks:?}");
         assert!((peaks[0].amplitude / 3e-3 - 1.0).abs() < 1e-3, "{peaks:?}");
+    }
+
+    #[test]
+    fn huge_values_give_the_same_peaks_scaled() {
+        // 2e306 times the sinusoid of the test above: the sums of the trend overflowed before scaling.
+        let y = |t: f64| 2e306 * (2.0 * std::f64::consts::PI * 12.345 * t).sin() + 1e307 * t;
+        let peaks = peaks_of(&sampled(2.0, 2e-3, y), 3);
+        assert_eq!(peaks.len(), 1, "{peaks:?}");
+        assert!((peaks[0].frequency / 12.345 - 1.0).abs() < 1e-6, "{peaks:?}");
+        assert!((peaks[0].amplitude / 2e306 - 1.0).abs() < 1e-3, "{peaks:?}");
+        assert_eq!(power_of_two_below(1.7e308), 2f64.powi(1023));
+        assert_eq!(power_of_two_below(3.0), 2.0);
+        assert_eq!(power_of_two_below(0.0), 1.0);
     }
 
     #[test]

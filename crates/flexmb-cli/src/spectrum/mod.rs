@@ -59,7 +59,9 @@ pub fn run_spectrum(options: &SpectrumOptions) -> Result<String, CliError> {
         ImageFormat::of(out)?;
     }
     let table = ResultTable::read(&options.file)?;
-    let report = analyse(table.column("t")?, table.column(&options.y)?, options)?;
+    let t = table.finite_column("t", "a spectrum")?;
+    let report = analyse(t, table.column(&options.y)?, options)
+        .map_err(|e| CliError(format!("spectrum of `{}` in {}: {e}", options.y, options.file.display())))?;
     let unit = table.unit(&options.y).map(str::to_string);
     let mut text = describe(&table, &options.y, unit.as_deref(), &report);
     if let Some(out) = &options.out {
@@ -74,6 +76,12 @@ pub fn analyse(t: &[f64], y: &[f64], options: &SpectrumOptions) -> Result<Spectr
     let samples = UniformSamples::select(t, y, options.from, options.to)?;
     let record = WindowedRecord::new(&samples);
     let spectrum = AmplitudeSpectrum::of(&record);
+    if spectrum.amplitudes.iter().any(|a| !a.is_finite()) {
+        let largest = samples.values.iter().fold(0.0, |m: f64, v| m.max(v.abs()));
+        return Err(CliError(format!(
+            "the values reach {largest:e}: their amplitudes pass the largest double-precision number, 1.8e308"
+        )));
+    }
     let peaks = dominant_peaks(&record, &spectrum, options.peaks, options.band);
     Ok(SpectrumReport { samples, spectrum, peaks })
 }

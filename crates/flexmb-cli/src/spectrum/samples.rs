@@ -16,12 +16,19 @@ pub struct UniformSamples {
 /// Fewest samples a spectrum is taken of.
 pub const MIN_SAMPLES: usize = 16;
 
+/// Most samples a record resampled onto a uniform step may have (a few rows far apart among many close
+/// ones would otherwise make more samples than memory holds).
+pub const MAX_RESAMPLED: usize = 10_000_000;
+
 /// Relative spread of the time steps still taken as uniform: the CSV's 11 significant digits, and more.
 const UNIFORM_STEP_TOLERANCE: f64 = 1e-6;
 
 impl UniformSamples {
     /// The samples of `y` with `from ≤ t ≤ to`, on a uniform step.
     pub fn select(t: &[f64], y: &[f64], from: Option<f64>, to: Option<f64>) -> Result<Self, CliError> {
+        if let Some(k) = t.iter().position(|t| !t.is_finite()) {
+            return Err(CliError(format!("time {} (sample {}) is not finite", t[k], k + 1)));
+        }
         let (from, to) = (from.unwrap_or(f64::NEG_INFINITY), to.unwrap_or(f64::INFINITY));
         if from >= to {
             return Err(CliError(format!("--from {from} must be before --to {to}")));
@@ -37,7 +44,7 @@ impl UniformSamples {
             )));
         }
         check_record(&kept)?;
-        Ok(Self::uniform(&kept))
+        Self::uniform(&kept)
     }
 
     /// Number of samples.
@@ -59,18 +66,36 @@ impl UniformSamples {
         self.len() as f64 * self.dt
     }
 
-    /// Uniform as they are, or interpolated onto the median time step.
-    fn uniform(kept: &[(f64, f64)]) -> Self {
+    /// Uniform as they are, or interpolated onto the median time step (of at most [`MAX_RESAMPLED`]
+    /// samples). The record's length and its step's Nyquist frequency must be finite numbers.
+    fn uniform(kept: &[(f64, f64)]) -> Result<Self, CliError> {
         let (t0, t1) = (kept[0].0, kept[kept.len() - 1].0);
         let mean_step = (t1 - t0) / (kept.len() - 1) as f64;
+        if !(t1 - t0).is_finite() || !(0.5 / mean_step).is_finite() {
+            return Err(CliError(format!(
+                "the record from t = {} s to {} s, {} samples, has a length or a time step beyond double precision",
+                time(t0),
+                time(t1),
+                kept.len()
+            )));
+        }
         let steps: Vec<f64> = kept.windows(2).map(|w| w[1].0 - w[0].0).collect();
         if steps.iter().all(|h| (h - mean_step).abs() <= UNIFORM_STEP_TOLERANCE * mean_step) {
-            return Self { t0, dt: mean_step, values: kept.iter().map(|(_, y)| *y).collect(), resampled: false };
+            return Ok(Self { t0, dt: mean_step, values: kept.iter().map(|(_, y)| *y).collect(), resampled: false });
         }
         let dt = median(steps);
-        let count = ((t1 - t0) / dt).floor() as usize + 1;
-        let values = (0..count).map(|k| interpolate(kept, t0 + k as f64 * dt)).collect();
-        Self { t0, dt, values, resampled: true }
+        let count = ((t1 - t0) / dt).floor() + 1.0;
+        if !count.is_finite() || count > MAX_RESAMPLED as f64 || !(0.5 / dt).is_finite() {
+            return Err(CliError(format!(
+                "the times are not uniform, and resampling them onto their median step {} s from t = {} s to {} s \
+                 would make {count:.3e} samples, more than {MAX_RESAMPLED}; choose a stretch with --from and --to",
+                time(dt),
+                time(t0),
+                time(t1)
+            )));
+        }
+        let values = (0..count as usize).map(|k| interpolate(kept, t0 + k as f64 * dt)).collect();
+        Ok(Self { t0, dt, values, resampled: true })
     }
 }
 
@@ -83,6 +108,15 @@ fn check_record(kept: &[(f64, f64)]) -> Result<(), CliError> {
         return Err(CliError(format!("the value at t = {t} s is {y}; a spectrum needs finite values")));
     }
     Ok(())
+}
+
+/// A time for messages: as written if it is of ordinary size, else in scientific notation.
+fn time(t: f64) -> String {
+    if t == 0.0 || (1e-3..1e6).contains(&t.abs()) {
+        format!("{}", (t * 1e9).round() / 1e9)
+    } else {
+        format!("{t:.6e}")
+    }
 }
 
 fn median(mut values: Vec<f64>) -> f64 {
@@ -131,5 +165,23 @@ mod tests {
         y[50] = f64::NAN;
         assert!(UniformSamples::select(&t, &y, None, None).unwrap_err().to_string().contains("t = 0.5 s is NaN"));
         assert!(UniformSamples::select(&t, &t, Some(1.0), Some(0.5)).is_err());
+    }
+
+    #[test]
+    fn records_beyond_double_precision_or_memory_are_errors() {
+        let mut t: Vec<f64> = (0..64).map(|k| k as f64 * 0.01).collect();
+        let y = vec![0.0; t.len()];
+        t[5] = f64::NAN;
+        assert_eq!(UniformSamples::select(&t, &y, None, None).unwrap_err().to_string(), "time NaN (sample 6) is not finite");
+        t[5] = 0.05;
+        t[0] = -1.7e308;
+        t[63] = 1.7e308;
+        let e = UniformSamples::select(&t, &y, None, None).unwrap_err().to_string();
+        assert!(e.contains("beyond double precision"), "{e}");
+        // One late row among many close ones: 1e8 s on a median step of 0.01 s is 1e10 samples.
+        t[0] = 0.0;
+        t[63] = 1e8;
+        let e = UniformSamples::select(&t, &y, None, None).unwrap_err().to_string();
+        assert!(e.contains("would make 1.000e10 samples, more than 10000000"), "{e}");
     }
 }

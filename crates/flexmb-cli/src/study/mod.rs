@@ -86,6 +86,8 @@ fn run_case(study: &Study, case: &Case, integrator: &str, out_dir: &Path) -> Res
     let d = loaded.simulation;
     let (t_end, rtol, atol) = (study.t_end.unwrap_or(d.t_end), study.rtol.unwrap_or(d.rtol), study.atol.unwrap_or(d.atol));
     let (method, max_order) = parse_study_integrator(integrator).map_err(CliError)?;
+    crate::output_limits::check_output_rows(t_end, d.output_step, d.max_output_rows, false)
+        .map_err(|e| CliError(format!("{}: {}: {e}", case.location, study.model.display())))?;
     let assembly = crate::limits::assembly_settings(&d)?;
     check_model(model, assembly).map_err(|e| CliError(format!("{}: {}: {e}", case.location, study.model.display())))?;
     let stem = format!("{}-{}", case.name, integrator.replace(':', "-order"));
@@ -100,10 +102,11 @@ fn run_case(study: &Study, case: &Case, integrator: &str, out_dir: &Path) -> Res
         },
         assembly,
         method,
+        physics_limits: d.physics_limits,
     };
     let model_file = study.model.display().to_string();
     let RecordedRun { report, error: failure, .. } =
-        record_run(model, &settings, &model_file, (&csv_path, &summary_path), &mut |_| {})?;
+        record_run(model, &settings, &model_file, (&csv_path, &summary_path), &mut |_| {}, &|| None)?;
     Ok(StudyRun {
         case: case.name.clone(),
         integrator: integrator.to_string(),

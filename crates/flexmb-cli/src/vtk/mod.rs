@@ -12,7 +12,7 @@ mod run_series;
 pub use mode_animation::{write_mode_animations, ModeAnimation, AMPLITUDE_FRACTION, FRAMES_PER_PERIOD};
 pub use mode_shapes::write_mode_shapes;
 pub use pvd::{PvdEntry, PvdFile};
-pub use run_series::{RunSeries, SeriesWritten};
+pub use run_series::{RunSeries, SeriesTimes, SeriesWritten};
 
 use std::path::Path;
 

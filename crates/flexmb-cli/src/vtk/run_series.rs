@@ -42,18 +42,29 @@ pub struct SeriesWritten {
     pub blocks: usize,
 }
 
+/// When a run's ParaView frames are taken.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SeriesTimes {
+    /// Interval between frames (s; `None`: the output step), a whole multiple of `output_step`.
+    pub step: Option<f64>,
+    pub output_step: f64,
+    /// The run's end time (s).
+    pub t_end: f64,
+}
+
 impl<'a> RunSeries<'a> {
-    /// Starts `DIR/STEM.pvd` for the model `loaded`, with frames every `step` (s; default the output
-    /// step), which must be a whole multiple of `output_step`. The `.vtu` files an earlier run left in
-    /// `DIR/STEM/` are removed.
+    /// Starts `DIR/STEM.pvd` for the model `loaded`, with frames at `times`, of which there may be no
+    /// more than `max_frames`. The `.vtu` files an earlier run left in `DIR/STEM/` are removed.
     pub fn create(
         dir: &Path,
         stem: &str,
         loaded: &'a LoadedModel,
-        step: Option<f64>,
-        output_step: f64,
+        times: SeriesTimes,
+        max_frames: u64,
     ) -> Result<Self, String> {
-        let step = frame_step(step, output_step)?;
+        let output_step = times.output_step;
+        let step = frame_step(times.step, output_step)?;
+        crate::output_limits::check_vtk_frames(times.t_end, step, max_frames)?;
         let folder = dir.join(stem);
         std::fs::create_dir_all(&folder).map_err(|e| format!("cannot create {}: {e}", folder.display()))?;
         remove_old_frames(&folder)?;

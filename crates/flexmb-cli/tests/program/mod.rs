@@ -75,3 +75,65 @@ pub fn largest_difference(a: &[f64], b: &[f64]) -> f64 {
     assert_eq!(a.len(), b.len(), "series of different lengths");
     a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
 }
+
+/// How long a command given hostile input may take before it counts as hanging.
+pub const HANG_LIMIT: std::time::Duration = std::time::Duration::from_secs(30);
+
+/// Runs `flexmb ARGS` with the extra environment `env`, as [`flexmb`] does, but kills it and fails the
+/// test if it has not ended within [`HANG_LIMIT`] (polling `try_wait`). On Unix its address space is
+/// limited to 4 GB (`ulimit -v`), so that a command that reads without bound fails instead of
+/// exhausting the machine.
+pub fn flexmb_within(args: &[&str], env: &[(&str, &str)]) -> Output {
+    use std::io::Read;
+    use std::process::Stdio;
+    let binary = env!("CARGO_BIN_EXE_flexmb");
+    let mut command = if cfg!(unix) {
+        let mut c = Command::new("sh");
+        c.arg("-c").arg("ulimit -v 4000000; exec \"$0\" \"$@\"").arg(binary);
+        c
+    } else {
+        Command::new(binary)
+    };
+    let mut child = command
+        .args(args)
+        .envs(env.iter().copied())
+        .current_dir(workspace())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("flexmb starts");
+    // Read both streams as they come, so that a full pipe never stops the program.
+    let drain = |mut pipe: Box<dyn Read + Send>| {
+        std::thread::spawn(move || {
+            let mut bytes = Vec::new();
+            let _ = pipe.read_to_end(&mut bytes);
+            bytes
+        })
+    };
+    let stdout = drain(Box::new(child.stdout.take().unwrap()));
+    let stderr = drain(Box::new(child.stderr.take().unwrap()));
+    let start = std::time::Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().expect("flexmb can be waited for") {
+            break status;
+        }
+        if start.elapsed() > HANG_LIMIT {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("flexmb {args:?} did not end within {HANG_LIMIT:?}");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    };
+    Output { status, stdout: stdout.join().unwrap(), stderr: stderr.join().unwrap() }
+}
+
+/// Runs flexmb as [`flexmb_within`] does; it must fail, without panicking (exit code 101), and end in
+/// time. Returns its error message.
+pub fn fail_within(args: &[&str], env: &[(&str, &str)]) -> String {
+    let o = flexmb_within(args, env);
+    let e = text(&o.stderr);
+    assert!(!o.status.success(), "flexmb {args:?} should fail:\n{}", text(&o.stdout));
+    assert_ne!(o.status.code(), Some(101), "flexmb {args:?} panicked: {e}");
+    assert!(!e.contains("panicked"), "{e}");
+    e
+}

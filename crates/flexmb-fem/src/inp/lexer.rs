@@ -175,7 +175,7 @@ fn load(
                 Some(d) if Path::new(&input).is_relative() => d.join(&input),
                 _ => PathBuf::from(&input),
             };
-            let bytes = std::fs::read(&path)
+            let bytes = crate::input::read_file(&path)
                 .map_err(|e| loc.error(format!("*INCLUDE: cannot read {}: {e}", path.display())))?;
             let included = String::from_utf8_lossy(&bytes);
             let name: Rc<str> = Rc::from(path.display().to_string());

@@ -84,7 +84,7 @@ impl InpError {
 
 /// Reads an `.inp` file; `*INCLUDE` files are found relative to it.
 pub fn read_inp(path: &Path) -> Result<InpModel, InpError> {
-    let bytes = std::fs::read(path).map_err(|e| InpError::Read {
+    let bytes = crate::input::read_file(path).map_err(|e| InpError::Read {
         file: path.display().to_string(),
         message: e.to_string(),
     })?;

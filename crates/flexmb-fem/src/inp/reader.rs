@@ -8,6 +8,7 @@ use nalgebra::Vector3;
 use super::lexer::{parse_label, parse_real, Card, DataLine, Loc};
 use super::sections::{self, SectionProperties};
 use super::{InpError, InpModel};
+use crate::input::Quantity;
 use crate::mesh::{
     BeamSection, DofSet, Element, ElementKind, FeModel, Material, Mesh, Node, PointMass,
     ShellSection, Support,
@@ -229,6 +230,14 @@ fn label(line: &DataLine, index: usize, what: &str, keyword: &str) -> Result<u64
     }
 }
 
+/// Field `index` of a data line: a number of `quantity`, within its window.
+fn quantity(line: &DataLine, index: usize, what: &str, keyword: &str, quantity: Quantity) -> Result<f64, InpError> {
+    let x = real(line, index, what, keyword)?;
+    quantity
+        .check(x)
+        .map_err(|message| line.loc.error(format!("*{keyword}: {what} (field {}): {message}", index + 1)))
+}
+
 /// The three components of a direction on a data line (fields 1–3), not zero.
 fn direction(line: &DataLine, keyword: &str) -> Result<Vector3<f64>, InpError> {
     let v = Vector3::new(
@@ -333,7 +342,11 @@ impl Reader {
             let fields = line.trimmed_fields();
             let mut xyz = [0.0; 3];
             for (k, c) in xyz.iter_mut().enumerate() {
-                *c = optional_real(line, k + 1, ["x", "y", "z"][k], "NODE", 0.0)?;
+                let what = ["x", "y", "z"][k];
+                *c = optional_real(line, k + 1, what, "NODE", 0.0)?;
+                Quantity::Length.check(*c).map_err(|message| {
+                    line.loc.error(format!("*NODE: node {label}: {what} (field {}): {message}", k + 2))
+                })?;
             }
             if fields.len() > 4 {
                 self.warn_once(
@@ -567,7 +580,7 @@ impl Reader {
         }
         self.check_params(card, &["TYPE"], &[])?;
         let (m, line) = self.material_data(card)?;
-        let e = real(line, 0, "Young's modulus E", "ELASTIC")?;
+        let e = quantity(line, 0, "Young's modulus E", "ELASTIC", Quantity::Modulus)?;
         let nu = real(line, 1, "Poisson's ratio", "ELASTIC")?;
         if e <= 0.0 {
             return Err(line.loc.error(format!(
@@ -587,7 +600,7 @@ impl Reader {
     fn density(&mut self, card: &Card) -> Result<(), InpError> {
         self.check_params(card, &[], &[])?;
         let (m, line) = self.material_data(card)?;
-        let rho = real(line, 0, "the density", "DENSITY")?;
+        let rho = quantity(line, 0, "the density", "DENSITY", Quantity::Density)?;
         if rho < 0.0 {
             return Err(line.loc.error(format!(
                 "*DENSITY: the density must not be negative, got {rho}"
@@ -633,39 +646,35 @@ impl Reader {
         let Some(dims) = data.first().filter(|d| !d.is_blank()) else {
             return Err(card.error("missing the first data line (section dimensions)"));
         };
+        let length = |index, what: &str| quantity(dims, index, what, kw, Quantity::Length);
         let (props, offset) = match section.as_str() {
-            "RECT" => (
-                sections::rect(real(dims, 0, "a", kw)?, real(dims, 1, "b", kw)?),
-                None,
-            ),
-            "CIRC" => (sections::circ(real(dims, 0, "r", kw)?), None),
-            "PIPE" => (
-                sections::pipe(real(dims, 0, "r", kw)?, real(dims, 1, "t", kw)?),
-                None,
-            ),
+            "RECT" => (sections::rect(length(0, "a")?, length(1, "b")?), None),
+            "CIRC" => (sections::circ(length(0, "r")?), None),
+            "PIPE" => (sections::pipe(length(0, "r")?, length(1, "t")?), None),
             "BOX" => {
                 let mut t = [0.0; 4];
                 for (k, tk) in t.iter_mut().enumerate() {
-                    *tk = real(dims, k + 2, &format!("t{}", k + 1), kw)?;
+                    *tk = length(k + 2, &format!("t{}", k + 1))?;
                 }
-                match sections::boxed(real(dims, 0, "a", kw)?, real(dims, 1, "b", kw)?, t) {
+                match sections::boxed(length(0, "a")?, length(1, "b")?, t) {
                     Ok((p, offset)) => (Ok(p), Some(offset)),
                     Err(e) => (Err(e), None),
                 }
             }
             "GENERAL" if general => {
                 let i12 = real(dims, 2, "I12", kw)?;
-                let (i11, i22) = (real(dims, 1, "I11", kw)?, real(dims, 3, "I22", kw)?);
+                let second_moment = |index, what| quantity(dims, index, what, kw, Quantity::SecondMoment);
+                let (i11, i22) = (second_moment(1, "I11")?, second_moment(3, "I22")?);
                 if i12.abs() > 1e-9 * i11.abs().max(i22.abs()) {
                     return Err(dims.loc.error(format!(
                         "*{kw}: I12 = {i12} is not zero: flexmb's beams need principal axes (rotate n1 to a principal axis and give I12 = 0)"
                     )));
                 }
                 let props = SectionProperties {
-                    area: real(dims, 0, "A", kw)?,
+                    area: quantity(dims, 0, "A", kw, Quantity::Area)?,
                     iy: i11,
                     iz: i22,
-                    torsion_constant: real(dims, 4, "J", kw)?,
+                    torsion_constant: second_moment(4, "J")?,
                 };
                 let bad = [
                     ("A", props.area),
@@ -707,8 +716,8 @@ impl Reader {
             let Some(moduli) = data.get(2).filter(|d| !d.is_blank()) else {
                 return Err(card.error("missing the third data line (E, G) of the general section"));
             };
-            let e = real(moduli, 0, "Young's modulus E", kw)?;
-            let g = real(moduli, 1, "the shear modulus G", kw)?;
+            let e = quantity(moduli, 0, "Young's modulus E", kw, Quantity::Modulus)?;
+            let g = quantity(moduli, 1, "the shear modulus G", kw, Quantity::Modulus)?;
             if e <= 0.0 || g <= 0.0 {
                 return Err(moduli.loc.error(format!(
                     "*{kw}: E and G must be positive, got E = {e}, G = {g}"
@@ -721,9 +730,12 @@ impl Reader {
                 )));
             }
             let density = match card.param("DENSITY") {
-                Some(d) => parse_real(d).filter(|d| *d >= 0.0).ok_or_else(|| {
-                    card.error(format!("DENSITY={d} is not a non-negative number"))
-                })?,
+                Some(d) => {
+                    let density = parse_real(d).filter(|d| *d >= 0.0).ok_or_else(|| {
+                        card.error(format!("DENSITY={d} is not a non-negative number"))
+                    })?;
+                    Quantity::Density.check(density).map_err(|m| card.error(format!("DENSITY={d}: {m}")))?
+                }
                 None => {
                     return Err(card
                         .error("missing parameter DENSITY=… (flexmb needs the mass of the beams)"))
@@ -779,7 +791,7 @@ impl Reader {
         let Some(line) = card.lines().next() else {
             return Err(card.error("missing the data line (thickness)"));
         };
-        let thickness = real(line, 0, "the thickness", "SHELL SECTION")?;
+        let thickness = quantity(line, 0, "the thickness", "SHELL SECTION", Quantity::Length)?;
         if thickness <= 0.0 {
             return Err(line.loc.error(format!(
                 "*SHELL SECTION: the thickness must be positive, got {thickness}"
@@ -803,7 +815,7 @@ impl Reader {
         let Some(line) = card.lines().next() else {
             return Err(card.error("missing the data line (mass)"));
         };
-        let mass = real(line, 0, "the mass", "MASS")?;
+        let mass = quantity(line, 0, "the mass", "MASS", Quantity::Mass)?;
         if mass < 0.0 {
             return Err(line
                 .loc
@@ -830,9 +842,9 @@ impl Reader {
         };
         let kw = "ROTARY INERTIA";
         let diagonal = Vector3::new(
-            real(line, 0, "I11", kw)?,
-            real(line, 1, "I22", kw)?,
-            real(line, 2, "I33", kw)?,
+            quantity(line, 0, "I11", kw, Quantity::Inertia)?,
+            quantity(line, 1, "I22", kw, Quantity::Inertia)?,
+            quantity(line, 2, "I33", kw, Quantity::Inertia)?,
         );
         for (k, name) in ["I12", "I13", "I23"].iter().enumerate() {
             let v = optional_real(line, 3 + k, name, kw, 0.0)?;

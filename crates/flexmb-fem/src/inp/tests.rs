@@ -445,3 +445,58 @@ fn include_relative_to_the_including_file() {
         .contains("nested includes"));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn devices_and_directories_are_refused_as_decks_and_includes() {
+    // /dev/zero would be read until memory runs out; a directory cannot be read at all.
+    let dir = std::env::temp_dir().join(format!("flexmb-inp-device-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let e = read_inp(&dir).unwrap_err().to_string();
+    assert_eq!(e, format!("{}: cannot read: it is a directory, not a regular file", dir.display()));
+    #[cfg(unix)]
+    {
+        let e = read_inp(Path::new("/dev/zero")).unwrap_err().to_string();
+        assert_eq!(e, "/dev/zero: cannot read: it is a character device, not a regular file");
+        let e = parse_inp("*NODE\n1, 0, 0, 0\n*INCLUDE, INPUT=/dev/zero\n", "deck.inp").unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "deck.inp:3: *INCLUDE: cannot read /dev/zero: it is a character device, not a regular file"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn absurd_magnitudes_are_named_at_their_keyword_and_line() {
+    // Finite but absurd: once accepted and reported later as a mechanism or a massless mode.
+    let beam = "*NODE\n1, 0, 0, 0\n2, 1, 0, 0\n*ELEMENT, TYPE=B31, ELSET=E\n1, 1, 2\n";
+    let section = "*BEAM SECTION, ELSET=E, MATERIAL=STEEL, SECTION=RECT\n0.02, 0.01\n0, 1, 0\n";
+    let deck = format!("{beam}{MATERIAL}{section}");
+    parse(&deck);
+    let e = error(&deck.replace("210e9, 0.3", "1e308, 0.3"));
+    assert_eq!(
+        e,
+        "bad.inp:8: *ELASTIC: Young's modulus E (field 1): 1e308 Pa is outside the range of an elastic modulus, \
+         |x| ≤ 1e15 Pa"
+    );
+    let e = error(&deck.replace("7850", "1e300"));
+    assert_eq!(
+        e,
+        "bad.inp:10: *DENSITY: the density (field 1): 1e300 kg/m³ is outside the range of a density, |x| ≤ 1e8 kg/m³"
+    );
+    let e = error(&deck.replace("2, 1, 0, 0", "2, 1, 1e300, 0"));
+    assert_eq!(e, "bad.inp:3: *NODE: node 2: y (field 3): 1e300 m is outside the range of a length, |x| ≤ 1e12 m");
+    let e = error(&deck.replace("0.02, 0.01", "0.02, 1e13"));
+    assert!(e.starts_with("bad.inp:12: *BEAM SECTION: b (field 2): 1e13 m is outside the range of a length"), "{e}");
+    let general = "*BEAM GENERAL SECTION, ELSET=E, DENSITY=1e300\n1e-4, 1e-8, 0, 1e-8, 2e-8\n0, 1, 0\n210e9, 80e9\n";
+    let e = error(&format!("{beam}{general}"));
+    assert!(e.starts_with("bad.inp:6: *BEAM GENERAL SECTION: DENSITY=1e300: 1e300 kg/m³ is outside the range"), "{e}");
+    let e = error(&format!("{beam}{}", general.replace("DENSITY=1e300", "DENSITY=7850").replace("210e9", "1e308")));
+    assert!(e.starts_with("bad.inp:9: *BEAM GENERAL SECTION: Young's modulus E (field 1): 1e308 Pa"), "{e}");
+    let shell = "*SHELL SECTION, ELSET=S, MATERIAL=STEEL\n1e20\n";
+    let e = error(&format!("{MATERIAL}{shell}"));
+    assert!(e.contains("*SHELL SECTION: the thickness (field 1): 1e20 m is outside the range of a length"), "{e}");
+    let mass = "*ELEMENT, TYPE=MASS, ELSET=M\n3, 1\n*MASS, ELSET=M\n1e300\n";
+    let e = error(&format!("{beam}{mass}"));
+    assert!(e.contains("*MASS: the mass (field 1): 1e300 kg is outside the range of a mass, |x| ≤ 1e12 kg"), "{e}");
+}

@@ -134,6 +134,8 @@ pub struct FlexibleBody {
 pub enum BodyFileError {
     #[error("{file}: {source}")]
     Io { file: String, source: std::io::Error },
+    #[error("{file}: cannot read: {source}")]
+    Read { file: String, source: crate::input::InputFileError },
     #[error("{file}:{line}:{column}: {message}")]
     Parse { file: String, line: usize, column: usize, message: String },
     #[error("{file}: {message}")]
@@ -182,7 +184,7 @@ impl FlexibleBody {
     /// Reads a body from the JSON file at `path`.
     pub fn read(path: &Path) -> Result<FlexibleBody, BodyFileError> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|source| BodyFileError::Io { file: file.clone(), source })?;
+        let text = crate::input::read_text(path).map_err(|source| BodyFileError::Read { file: file.clone(), source })?;
         FlexibleBody::from_json(&text, &file)
     }
 

@@ -85,6 +85,14 @@ pub enum AssemblyError {
         /// The equations in force that the first of them depends on.
         dependency: Vec<String>,
     },
+    /// A constraint equation's value or time derivative is not finite (a driver's function evaluated
+    /// outside its domain, or a non-finite position).
+    #[error(
+        "at t = {t} s {equation} is not finite (its {what} is {value}): check the driver's or distance's \
+         function of time at this time (sqrt or ln of a negative number, a division by zero) and the \
+         positions of its markers"
+    )]
+    NonFinite { t: f64, equation: String, what: &'static str, value: f64 },
     /// The dense analyses would need more memory than the machine has.
     #[error(
         "the model is too large for the dense initial-condition analyses: they need about {} for {nc} \
@@ -148,6 +156,7 @@ pub fn assemble(
 ) -> Result<AssemblyReport, AssemblyError> {
     check_memory(model, settings.memory_limit)?;
     let (mut redundant, mut rank) = find_redundant_rows(model, data, state.t, &state.q, settings.tolerance);
+    check_finite(model, data, state.t)?;
     set_active(state, &redundant);
     let initial_residual = residual_norm(model, data, state);
     let mut iterations = newton(model, data, state, settings)?;
@@ -175,6 +184,19 @@ pub fn assemble(
         redundant,
         degrees_of_freedom: model.layout.nv - rank,
     })
+}
+
+/// Fails on the first constraint equation whose value or time derivative is not finite (after
+/// `constraint_equations` at `t`).
+pub(crate) fn check_finite(model: &Model, data: &Data, t: f64) -> Result<(), AssemblyError> {
+    for (row, terms) in data.equations.iter().enumerate() {
+        for (what, value) in [("value", terms.phi), ("time derivative", terms.phi_t)] {
+            if !value.is_finite() {
+                return Err(AssemblyError::NonFinite { t, equation: model.describe_constraint_row(row), what, value });
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Refuses a model whose dense analyses would need more memory than `limit` allows.
@@ -229,7 +251,7 @@ fn newton(model: &Model, data: &mut Data, state: &mut State, settings: AssemblyS
     for it in 0..=settings.max_iterations {
         constraint_values(model, data, state, &mut phi);
         let norm = phi.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
-        if norm <= settings.tolerance {
+        if norm <= settings.tolerance && phi.iter().all(|x| x.is_finite()) {
             return Ok(it);
         }
         if it == settings.max_iterations {

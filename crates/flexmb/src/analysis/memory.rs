@@ -25,13 +25,13 @@ impl MemoryLimit {
 }
 
 /// Bytes of the largest dense working set of the initial-condition analyses for `nc` constraint rows,
-/// `nb` bodies, `nq` positions and `nv` velocities: the assembly's Jacobian `Φ_q` (`(nc + nb) × nq`),
-/// the velocity Jacobian `B` (`nc × nv`, also held by the redundancy check) and the normal matrix
-/// `Φ_q Φ_qᵀ` (`(nc + nb)²`), in `f64`.
+/// `nb` bodies, `nq` positions and `nv` velocities, in `f64`: the redundancy check's `Bᵀ` and its
+/// orthonormal basis (`2 · nv × nc`), or the assembly's velocity Jacobian `B` (`nc × nv`), position
+/// Jacobian `Φ_q` (`(nc + nb) × nq`) and normal matrix `Φ_q Φ_qᵀ` (`(nc + nb)²`), whichever is larger.
 pub fn dense_analysis_bytes(nc: usize, nb: usize, nq: usize, nv: usize) -> u64 {
     let (nc, nb, nq, nv) = (nc as u64, nb as u64, nq as u64, nv as u64);
     let m = nc + nb;
-    8 * (m * nq + nc * nv + m * m)
+    8 * (2 * nc * nv).max(nc * nv + m * nq + m * m)
 }
 
 /// `MemAvailable` of `/proc/meminfo` in bytes, where there is one.
@@ -42,13 +42,13 @@ fn available_memory() -> Option<u64> {
     Some(kb * 1024)
 }
 
-/// `12.3 GB`, `456 MB`: a byte count for messages.
+/// `184.8 GiB`, `473.0 MiB`: a byte count for messages, in binary multiples.
 pub fn format_bytes(bytes: u64) -> String {
-    const UNITS: [&str; 5] = ["B", "kB", "MB", "GB", "TB"];
+    const UNITS: [&str; 5] = ["B", "kiB", "MiB", "GiB", "TiB"];
     let mut x = bytes as f64;
     let mut unit = 0;
-    while x >= 1000.0 && unit < UNITS.len() - 1 {
-        x /= 1000.0;
+    while x >= 1024.0 && unit < UNITS.len() - 1 {
+        x /= 1024.0;
         unit += 1;
     }
     if unit == 0 {
@@ -66,9 +66,9 @@ mod tests {
     fn a_chain_of_20000_bodies_needs_tens_of_gigabytes() {
         // 20,000 rigid bodies on spherical joints: nc = 60,000, nq = 140,000, nv = 120,000.
         let bytes = dense_analysis_bytes(60_000, 20_000, 140_000, 120_000);
-        assert!(bytes > 100_000_000_000, "{}", format_bytes(bytes));
-        assert_eq!(format_bytes(bytes), "198.4 GB");
+        assert_eq!(bytes, 198_400_000_000);
+        assert_eq!(format_bytes(bytes), "184.8 GiB");
         assert_eq!(format_bytes(999), "999 B");
-        assert_eq!(format_bytes(1_500_000), "1.5 MB");
+        assert_eq!(format_bytes(3 << 19), "1.5 MiB");
     }
 }

@@ -10,6 +10,9 @@ mod simulation;
 mod static_deformation;
 mod state;
 mod velocity;
+mod watchdog;
+#[cfg(test)]
+mod watchdog_tests;
 #[doc(hidden)]
 pub mod test_models;
 
@@ -20,6 +23,10 @@ pub use outputs::{output_columns, OutputColumn};
 pub use memory::{dense_analysis_bytes, format_bytes, MemoryLimit};
 pub(crate) use redundancy::{dependency_of, newly_dependent_rows, violated_rows};
 pub use redundancy::{find_redundant_rows, RedundantConstraint, ViolatedEquation};
-pub use simulation::{simulate, OutputFrame, SimulationError, SimulationFailure, SimulationReport, SimulationSettings};
+pub use simulation::{
+    simulate, simulate_interruptible, Interruption, OutputFrame, SimulationError, SimulationFailure, SimulationReport,
+    SimulationSettings,
+};
 pub use state::State;
 pub use velocity::{velocity_analysis, VelocityReport};
+pub use watchdog::{Balance, Deflection, PhysicsLimits, PhysicsMeasures, SimulationWarning, Unphysical, WarningKind};

@@ -9,6 +9,10 @@
 //! assembly and the velocity analysis every removed row is checked ([`violated_rows`]): when one does not
 //! hold, the declared equations cannot all hold there and the mechanism is at a singular position.
 
+use faer::linalg::matmul::matmul;
+use faer::prelude::*;
+use faer::{Accum, Par};
+
 use crate::data::Data;
 use crate::model::Model;
 use crate::stage::{constraint_equations, jacobian_entries, kinematics};
@@ -40,31 +44,62 @@ pub fn find_redundant_rows(
     kinematics(model, data, q, &zero_v);
     constraint_equations(model, data, t);
     let order = keep_order(model, data, satisfied_tolerance);
-    let mut rows = vec![vec![0.0; nv]; nc];
-    jacobian_entries(model, data, |r, c, x| rows[r][c] += x);
-    let mut basis: Vec<Vec<f64>> = Vec::new();
-    let mut redundant = Vec::new();
-    for r in order {
-        let mut row = std::mem::take(&mut rows[r]);
-        let norm0 = norm(&row);
-        if norm0 > 0.0 {
-            for _ in 0..2 {
-                for e in &basis {
-                    let proj = dot(&row, e);
-                    row.iter_mut().zip(e).for_each(|(x, y)| *x -= proj * y);
-                }
+    let mut position = vec![0; nc];
+    order.iter().enumerate().for_each(|(k, &r)| position[r] = k);
+    // Bᵀ with its columns in keep order.
+    let mut rows = Mat::<f64>::zeros(nv, nc);
+    jacobian_entries(model, data, |r, c, x| rows[(c, position[r])] += x);
+    let dependent = dependent_columns(&mut rows);
+    let mut redundant: Vec<RedundantConstraint> = (0..nc)
+        .filter(|&k| dependent[k])
+        .map(|k| RedundantConstraint { row: order[k], description: model.describe_constraint_row(order[k]) })
+        .collect();
+    redundant.sort_by_key(|r| r.row);
+    let rank = nc - redundant.len();
+    (redundant, rank)
+}
+
+/// Columns of `a` that depend on the columns before them: Gram–Schmidt with reorthogonalization,
+/// blocked so that the projections on the basis found so far are matrix products (classical
+/// Gram–Schmidt, twice, against the earlier blocks; modified Gram–Schmidt, twice, within a block). A
+/// column whose remainder is at most [`REDUNDANCY_TOLERANCE`] of its length is dependent. `a` is
+/// overwritten.
+fn dependent_columns(a: &mut Mat<f64>) -> Vec<bool> {
+    const BLOCK: usize = 128;
+    let (n, m) = (a.nrows(), a.ncols());
+    let lengths: Vec<f64> = (0..m).map(|j| a.col(j).norm_l2()).collect();
+    let mut basis = Mat::<f64>::zeros(n, m.min(n));
+    let mut rank = 0;
+    let mut dependent = vec![false; m];
+    for start in (0..m).step_by(BLOCK) {
+        let width = BLOCK.min(m - start);
+        for _ in 0..2 {
+            if rank > 0 {
+                let q = basis.as_ref().subcols(0, rank);
+                let c = q.transpose() * a.as_ref().subcols(start, width);
+                matmul(a.as_mut().subcols_mut(start, width), Accum::Add, q, &c, -1.0, Par::Seq);
             }
         }
-        let n = norm(&row);
-        if norm0 == 0.0 || n <= REDUNDANCY_TOLERANCE * norm0 {
-            redundant.push(RedundantConstraint { row: r, description: model.describe_constraint_row(r) });
-        } else {
-            row.iter_mut().for_each(|x| *x /= n);
-            basis.push(row);
+        let block_rank = rank;
+        for j in start..start + width {
+            for _ in 0..2 {
+                for e in block_rank..rank {
+                    let projection = basis.col(e).transpose() * a.col(j);
+                    let (q, x) = (basis.col(e), a.col_mut(j));
+                    x.iter_mut().zip(q.iter()).for_each(|(x, q)| *x -= projection * q);
+                }
+            }
+            let remainder = a.col(j).norm_l2();
+            if lengths[j] == 0.0 || remainder <= REDUNDANCY_TOLERANCE * lengths[j] || rank == n {
+                dependent[j] = true;
+            } else {
+                let (x, q) = (a.col(j), basis.col_mut(rank));
+                q.iter_mut().zip(x.iter()).for_each(|(q, x)| *q = x / remainder);
+                rank += 1;
+            }
         }
     }
-    redundant.sort_by_key(|r| r.row);
-    (redundant, basis.len())
+    dependent
 }
 
 /// The order in which rows are kept when some are dependent (after `constraint_equations`): rows that
@@ -83,14 +118,6 @@ fn keep_order(model: &Model, data: &Data, satisfied_tolerance: f64) -> Vec<usize
     let mut order: Vec<usize> = (0..model.layout.nc).collect();
     order.sort_by_key(|&r| rank(r));
     order
-}
-
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
-}
-
-fn norm(a: &[f64]) -> f64 {
-    dot(a, a).sqrt()
 }
 
 /// A declared equation that does not hold, with its residual.
@@ -129,7 +156,6 @@ pub(crate) fn violated_rows(model: &Model, data: &Data, active: &[bool], velocit
 /// least squares), grouped by joint, e.g. `joint 'slide' (translational), equations 1, 3`; after
 /// `constraint_equations` at the state.
 pub(crate) fn dependency_of(model: &Model, data: &Data, active: &[bool], violated: &ViolatedEquation) -> Vec<String> {
-    use faer::prelude::*;
     let l = &model.layout;
     let rows: Vec<usize> = (0..l.nc).filter(|&r| active[r]).collect();
     let mut row_of = vec![usize::MAX; l.nc];

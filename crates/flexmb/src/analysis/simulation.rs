@@ -4,6 +4,7 @@
 use std::time::Instant;
 
 use super::outputs::{constraint_residuals, evaluate_outputs, output_columns};
+use super::watchdog::{PhysicsLimits, PhysicsMeasures, SimulationWarning, Unphysical, Watchdog};
 use super::{
     assemble, velocity_analysis, AccelerationSolver, AssemblyError, AssemblyReport, AssemblySettings, State,
     VelocityReport,
@@ -27,6 +28,8 @@ pub struct SimulationSettings {
     pub assembly: AssemblySettings,
     /// The integration method. Default [`Method::Bdf`].
     pub method: Method,
+    /// When the physics watchdog warns and when it stops the run.
+    pub physics_limits: PhysicsLimits,
 }
 
 impl Default for SimulationSettings {
@@ -37,6 +40,7 @@ impl Default for SimulationSettings {
             integrator: BdfConfig::default(),
             assembly: AssemblySettings::default(),
             method: Method::Bdf,
+            physics_limits: PhysicsLimits::default(),
         }
     }
 }
@@ -65,9 +69,15 @@ pub struct SimulationReport {
     pub t_reached: f64,
     /// Wall time of the integration (s).
     pub wall_time: f64,
-    /// Largest position and velocity constraint residual over the accepted steps.
+    /// Largest position and velocity constraint residual over the accepted steps (the states the
+    /// integrator solved for, to its Newton tolerance).
     pub max_position_residual: f64,
     pub max_velocity_residual: f64,
+    /// Largest position and velocity constraint residual over the output times: the states the outputs
+    /// were evaluated at, interpolated between steps by the method's dense output (larger than at the
+    /// steps: the interpolant holds the constraints only to its own truncation error).
+    pub max_output_position_residual: f64,
+    pub max_output_velocity_residual: f64,
     /// Largest `|pᵀp − 1|` over the accepted steps.
     pub max_normalization_error: f64,
     /// Total mechanical energy at the start and at the last output (J).
@@ -81,6 +91,21 @@ pub struct SimulationReport {
     /// Power of the non-conservative forces and time at the last output (W, s).
     pub last_power: (f64, f64),
     pub output_frames: usize,
+    /// The physics watchdog's warnings, in the order they were raised.
+    pub warnings: Vec<SimulationWarning>,
+    /// The largest deflection and energy-balance error the watchdog measured.
+    pub physics: PhysicsMeasures,
+    /// Set when the run was stopped from outside before its end time.
+    pub interrupted: Option<Interruption>,
+}
+
+/// A run stopped from outside (a signal, a user) after an accepted step.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Interruption {
+    /// Time of the last accepted step (s); the output times up to it were all reported.
+    pub t: f64,
+    /// What stopped it, as the caller named it (e.g. `SIGINT`).
+    pub reason: String,
 }
 
 /// Why a simulation stopped.
@@ -92,6 +117,8 @@ pub enum SimulationFailure {
     Integration(#[from] IntegrationError),
     #[error("at t = {t:.6} s the accelerations cannot be solved: the mass matrix or the constraint Jacobian is singular{detail}")]
     SingularAccelerations { t: f64, detail: String },
+    #[error(transparent)]
+    Unphysical(#[from] Unphysical),
     #[error("{0}")]
     Invalid(String),
 }
@@ -110,8 +137,20 @@ pub fn simulate(
     settings: &SimulationSettings,
     observer: &mut dyn FnMut(&OutputFrame),
 ) -> Result<SimulationReport, SimulationError> {
+    simulate_interruptible(model, settings, observer, &|| None)
+}
+
+/// [`simulate`], asking `interrupt` after every accepted step (once its output frames are reported)
+/// whether to stop; when it answers with a reason, the run ends there and its report carries
+/// [`SimulationReport::interrupted`].
+pub fn simulate_interruptible(
+    model: &Model,
+    settings: &SimulationSettings,
+    observer: &mut dyn FnMut(&OutputFrame),
+    interrupt: &dyn Fn() -> Option<String>,
+) -> Result<SimulationReport, SimulationError> {
     let mut report = SimulationReport::default();
-    match run(model, settings, observer, &mut report) {
+    match run(model, settings, observer, interrupt, &mut report) {
         Ok(()) => Ok(report),
         Err(cause) => Err(SimulationError { cause, report: Box::new(report) }),
     }
@@ -121,6 +160,7 @@ fn run(
     model: &Model,
     settings: &SimulationSettings,
     observer: &mut dyn FnMut(&OutputFrame),
+    interrupt: &dyn Fn() -> Option<String>,
     report: &mut SimulationReport,
 ) -> Result<(), SimulationFailure> {
     if !(settings.t_end > 0.0 && settings.t_end.is_finite()) {
@@ -129,6 +169,8 @@ fn run(
     if !(settings.output_step > 0.0 && settings.output_step.is_finite()) {
         return Err(SimulationFailure::Invalid(format!("output_step must be positive, got {}", settings.output_step)));
     }
+    settings.physics_limits.validate().map_err(SimulationFailure::Invalid)?;
+    let mut watchdog = Watchdog::new(model, settings.physics_limits, settings.integrator.atol);
     let mut data = Data::new(model);
     let mut state = State::initial(model);
     report.assembly = Some(assemble(model, &mut data, &mut state, settings.assembly)?);
@@ -165,17 +207,23 @@ fn run(
             .map_err(|_| SimulationFailure::SingularAccelerations { t, detail: String::new() })?;
         let power = nonconservative_power(model, data, t, &acc.lambda);
         evaluate_outputs(model, data, q, v, acc, &active, values);
-        let e = energy(model, data, q, v).total();
+        let (p, vel) = constraint_residuals(model, data, &active);
+        report.max_output_position_residual = report.max_output_position_residual.max(p);
+        report.max_output_velocity_residual = report.max_output_velocity_residual.max(vel);
+        let e = energy(model, data, q, v);
         if report.output_frames == 0 {
-            report.energy_initial = e;
+            report.energy_initial = e.total();
         } else {
             let (p0, t0) = report.last_power;
             report.nonconservative_work += 0.5 * (p0 + power) * (t - t0);
         }
         report.last_power = (power, t);
-        report.energy_final = e;
+        report.energy_final = e.total();
+        let balance_error = report.energy_final - report.energy_initial - report.nonconservative_work;
+        Watchdog::check_finite_frame(model, (t, q, v), &e, power)?;
         report.output_frames += 1;
         observer(&OutputFrame { t, values, q, v });
+        watchdog.check_frame(model, data, (t, q, v), (&e, balance_error, power), &mut report.warnings, &mut report.physics)?;
         Ok::<(), SimulationFailure>(())
     };
 
@@ -191,6 +239,7 @@ fn run(
         report.wall_time = start.elapsed().as_secs_f64();
         step?;
         copy_state(integrator.as_ref(), &mut q, &mut v);
+        Watchdog::check_finite(model, integrator.t(), &q, &v)?;
         check_step(model, integrator.as_mut(), &q, &v, &active, report);
         while next <= n_frames && next as f64 * settings.output_step <= integrator.t() * (1.0 + 1e-12) {
             let t_out = next as f64 * settings.output_step;
@@ -198,6 +247,11 @@ fn run(
             integrator.interpolate(t_eval, &mut q, &mut v);
             frame(integrator.as_mut(), t_out, &q, &v, &mut values, report)?;
             next += 1;
+        }
+        if let Some(reason) = interrupt() {
+            report.interrupted = Some(Interruption { t: integrator.t(), reason });
+            report.wall_time = start.elapsed().as_secs_f64();
+            return Ok(());
         }
     }
     // The end time itself when it is not on the output grid.

@@ -48,6 +48,7 @@ pub fn velocity_analysis(model: &Model, data: &mut Data, state: &mut State) -> R
     rows.iter().enumerate().for_each(|(k, r)| row_of[*r] = k);
     kinematics(model, data, &state.q, &state.v);
     constraint_equations(model, data, state.t);
+    super::assembly::check_finite(model, data, state.t)?;
     let mut b = Mat::<f64>::zeros(rows.len(), l.nv);
     jacobian_entries(model, data, |r, c, x| {
         if row_of[r] != usize::MAX {

@@ -184,6 +184,31 @@ impl ModalBody {
         self.invariants.modes()
     }
 
+    /// The natural modes of the reduced model: the eigenvalues `ω²` of `(K_aa, M_aa)`, lowest first,
+    /// and the mass-normalized eigenvectors `X` (columns, in the same order); an error if the modal
+    /// mass is not positive definite.
+    pub fn natural_modes(&self) -> Result<(Vec<f64>, DMatrix<f64>), String> {
+        let mass = self.invariants.modal_mass();
+        let chol = nalgebra::Cholesky::new(mass).ok_or("the modal mass is not positive definite")?;
+        let l_inv = chol.l().try_inverse().ok_or("the modal mass is singular")?;
+        let reduced = &l_inv * &self.stiffness * l_inv.transpose();
+        let reduced = 0.5 * (&reduced + reduced.transpose());
+        let eigen = nalgebra::SymmetricEigen::new(reduced);
+        // X = L⁻ᵀ Y; nalgebra does not sort the eigenvalues.
+        let x = l_inv.transpose() * &eigen.eigenvectors;
+        let mut order: Vec<usize> = (0..self.modes()).collect();
+        order.sort_by(|&a, &b| eigen.eigenvalues[a].total_cmp(&eigen.eigenvalues[b]));
+        let omega_squared = order.iter().map(|&k| eigen.eigenvalues[k]).collect();
+        Ok((omega_squared, x.select_columns(order.iter())))
+    }
+
+    /// The lowest natural circular frequency of the reduced model (rad/s); `None` without modes or
+    /// with a modal mass that is not positive definite.
+    pub fn lowest_frequency(&self) -> Option<f64> {
+        let (omega_squared, _) = self.natural_modes().ok()?;
+        omega_squared.first().map(|w2| w2.max(0.0).sqrt())
+    }
+
     /// The damping matrix of `damping` for this body's modal mass and stiffness; `None` if the modal
     /// mass is not positive definite or a ratio list has the wrong length.
     pub fn damping_matrix(&self, damping: &ModalDamping) -> Result<DMatrix<f64>, String> {
@@ -199,20 +224,12 @@ impl ModalBody {
                 if ratios.len() != 1 && ratios.len() != m {
                     return Err(format!("{} damping ratios for {m} modes; give one for all or one per mode", ratios.len()));
                 }
-                let chol = nalgebra::Cholesky::new(mass.clone()).ok_or("the modal mass is not positive definite")?;
-                let l_inv = chol.l().try_inverse().ok_or("the modal mass is singular")?;
-                let reduced = &l_inv * &self.stiffness * l_inv.transpose();
-                let reduced = 0.5 * (&reduced + reduced.transpose());
-                let eigen = nalgebra::SymmetricEigen::new(reduced);
-                // X = L⁻ᵀ Y, mass-normalized; D = M X diag(2ζω) Xᵀ M. The k-th ratio goes to the mode
-                // of k-th lowest frequency (nalgebra does not sort the eigenvalues).
-                let x = l_inv.transpose() * &eigen.eigenvectors;
-                let mut order: Vec<usize> = (0..m).collect();
-                order.sort_by(|&a, &b| eigen.eigenvalues[a].total_cmp(&eigen.eigenvalues[b]));
+                // D = M X diag(2ζω) Xᵀ M. The k-th ratio goes to the mode of k-th lowest frequency.
+                let (omega_squared, x) = self.natural_modes()?;
                 let mut diag = DMatrix::zeros(m, m);
-                for (rank, &k) in order.iter().enumerate() {
-                    let zeta = if ratios.len() == 1 { ratios[0] } else { ratios[rank] };
-                    diag[(k, k)] = 2.0 * zeta * eigen.eigenvalues[k].max(0.0).sqrt();
+                for (k, w2) in omega_squared.iter().enumerate() {
+                    let zeta = if ratios.len() == 1 { ratios[0] } else { ratios[k] };
+                    diag[(k, k)] = 2.0 * zeta * w2.max(0.0).sqrt();
                 }
                 let mx = &mass * &x;
                 Ok(&mx * diag * mx.transpose())

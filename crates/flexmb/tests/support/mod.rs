@@ -61,8 +61,7 @@ pub fn settings(t_end: f64, output_step: f64, tol: f64) -> SimulationSettings {
         t_end,
         output_step,
         integrator: BdfConfig { rtol: tol, atol: tol, ..Default::default() },
-        assembly: Default::default(),
-        method: Default::default(),
+        ..Default::default()
     }
 }
 

@@ -7,6 +7,7 @@ use flexmb::body::{InitialState, RigidBody};
 use flexmb::math::EulerParameters;
 use flexmb::model::{BodyId, ModelError};
 use flexmb::ModelBuilder;
+use flexmb_fem::input::Quantity;
 use toml::Spanned;
 
 use super::context::Context;
@@ -53,7 +54,7 @@ pub(crate) fn add_bodies(
 }
 
 fn rigid_body(ctx: &Context, b: &BodySection, element: &KeyPath) -> Result<RigidBody, ModelFileError> {
-    let mass = ctx.number(&b.mass, &element.key("mass"))?;
+    let mass = ctx.quantity(&b.mass, &element.key("mass"), Quantity::Mass)?;
     if mass <= 0.0 {
         return Err(ctx.invalid(
             &b.mass.span(),
@@ -70,7 +71,7 @@ fn rigid_body(ctx: &Context, b: &BodySection, element: &KeyPath) -> Result<Rigid
     Ok(RigidBody {
         name: b.name.get_ref().clone(),
         mass,
-        center_of_mass: ctx.vector_or_zero(&b.center_of_mass, &element.key("center_of_mass"))?,
+        center_of_mass: ctx.vector_or_zero(&b.center_of_mass, &element.key("center_of_mass"), Quantity::Length)?,
         inertia: inertia(ctx, &b.inertia, &element.key("inertia"))?,
         initial: initial_state(ctx, &keys, element)?,
     })
@@ -96,10 +97,14 @@ pub(crate) fn initial_state(
         None => EulerParameters::identity(),
     };
     Ok(InitialState {
-        position: ctx.vector_or_zero(keys.position, &element.key("position"))?,
+        position: ctx.vector_or_zero(keys.position, &element.key("position"), Quantity::Length)?,
         orientation,
-        velocity: ctx.optional_vector(keys.velocity, &element.key("velocity"))?,
-        angular_velocity: ctx.optional_vector(keys.angular_velocity, &element.key("angular_velocity"))?,
+        velocity: ctx.optional_vector(keys.velocity, &element.key("velocity"), Quantity::Velocity)?,
+        angular_velocity: ctx.optional_vector(
+            keys.angular_velocity,
+            &element.key("angular_velocity"),
+            Quantity::AngularVelocity,
+        )?,
     })
 }
 

@@ -87,7 +87,7 @@ fn cache_hash(loaded: &LoadedFeModel, set: &ModeSet, basis: Basis) -> Option<u64
     hash.field(basis_name(basis).as_bytes());
     hash.field(&(loaded.sources.len() as u64).to_le_bytes());
     for source in &loaded.sources {
-        hash.field(&std::fs::read(source).ok()?);
+        hash.field(&flexmb_fem::input::read_file(source).ok()?);
     }
     Some(hash.finish())
 }

@@ -7,6 +7,7 @@ use std::ops::Range;
 use flexmb::function::{Expression, TimeFunction};
 use flexmb::math::Vec3;
 use flexmb::model::MeasureId;
+use flexmb_fem::input::Quantity;
 use toml::Spanned;
 
 use crate::model_file::error::{ErrorKind, ModelFileError};
@@ -57,23 +58,31 @@ impl<'a> Context<'a> {
         }
     }
 
+    /// A finite constant of a physical `quantity`, within its window (`flexmb_fem::input::magnitude`).
+    pub(crate) fn quantity(&self, value: &Number, key: &KeyPath, quantity: Quantity) -> Result<f64, ModelFileError> {
+        let x = self.number(value, key)?;
+        quantity.check(x).map_err(|message| self.invalid(&value.span(), key, message))
+    }
+
     /// An optional constant with its default.
     pub(crate) fn number_or(&self, value: &Option<Number>, key: &KeyPath, default: f64) -> Result<f64, ModelFileError> {
         value.as_ref().map_or(Ok(default), |v| self.number(v, key))
     }
 
-    /// A constant that must not be negative.
+    /// An optional constant of a physical `quantity` that must not be negative.
     pub(crate) fn non_negative_or(
         &self,
         value: &Option<Number>,
         key: &KeyPath,
         default: f64,
+        quantity: Quantity,
     ) -> Result<f64, ModelFileError> {
-        let x = self.number_or(value, key, default)?;
-        match value {
-            Some(v) if x < 0.0 => Err(self.invalid(&v.span(), key, format!("expected a value >= 0, got {x}"))),
-            _ => Ok(x),
+        let Some(v) = value else { return Ok(default) };
+        let x = self.quantity(v, key, quantity)?;
+        if x < 0.0 {
+            return Err(self.invalid(&v.span(), key, format!("expected a value >= 0, got {x}")));
         }
+        Ok(x)
     }
 
     /// An array of exactly `N` constants.
@@ -104,18 +113,33 @@ impl<'a> Context<'a> {
         Ok(Vec3::new(x, y, z))
     }
 
-    /// An optional 3-vector, zero if absent.
-    pub(crate) fn vector_or_zero(&self, value: &Option<Vector>, key: &KeyPath) -> Result<Vec3, ModelFileError> {
-        value.as_ref().map_or(Ok(Vec3::zeros()), |v| self.vector(v, key))
+    /// A 3-vector of a physical `quantity`, each component within its window.
+    pub(crate) fn vector_of(&self, value: &Vector, key: &KeyPath, quantity: Quantity) -> Result<Vec3, ModelFileError> {
+        let v = self.vector(value, key)?;
+        for (k, item) in value.get_ref().iter().enumerate() {
+            quantity.check(v[k]).map_err(|message| self.invalid(&item.span(), &key.index(k), message))?;
+        }
+        Ok(v)
     }
 
-    /// An optional 3-vector, `None` if absent.
+    /// An optional 3-vector of a physical `quantity`, zero if absent.
+    pub(crate) fn vector_or_zero(
+        &self,
+        value: &Option<Vector>,
+        key: &KeyPath,
+        quantity: Quantity,
+    ) -> Result<Vec3, ModelFileError> {
+        value.as_ref().map_or(Ok(Vec3::zeros()), |v| self.vector_of(v, key, quantity))
+    }
+
+    /// An optional 3-vector of a physical `quantity`, `None` if absent.
     pub(crate) fn optional_vector(
         &self,
         value: &Option<Vector>,
         key: &KeyPath,
+        quantity: Quantity,
     ) -> Result<Option<Vec3>, ModelFileError> {
-        value.as_ref().map(|v| self.vector(v, key)).transpose()
+        value.as_ref().map(|v| self.vector_of(v, key, quantity)).transpose()
     }
 
     /// An expression of `t` and measures (a number is a constant expression).

@@ -182,7 +182,7 @@ impl Table<'_> {
         }
         let path = Path::new(text);
         let path = if path.is_absolute() { path.to_path_buf() } else { base_dir.join(path) };
-        if let Err(e) = std::fs::File::open(&path) {
+        if let Err(e) = flexmb_fem::input::check_file(&path) {
             return Err(self.ctx.invalid(&value.span(), key, format!("cannot read {what} `{}`: {e}", path.display())));
         }
         Ok(path)

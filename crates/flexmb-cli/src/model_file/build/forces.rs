@@ -5,6 +5,7 @@ use flexmb::force::{ForceElement, ForceFrame, ForceKind};
 use flexmb::function::Expression;
 use flexmb::model::{ForceId, JointId, MarkerId};
 use flexmb::ModelBuilder;
+use flexmb_fem::input::Quantity;
 use toml::Spanned;
 
 use super::context::Context;
@@ -79,8 +80,8 @@ impl ForceBuild<'_> {
         Ok(match force_type {
             ForceType::RotationalSpringDamper => ForceKind::RotationalSpringDamper {
                 joint: self.rotating_joint(&description)?,
-                stiffness: ctx.non_negative_or(&f.stiffness, &element.key("stiffness"), 0.0)?,
-                damping: ctx.non_negative_or(&f.damping, &element.key("damping"), 0.0)?,
+                stiffness: ctx.non_negative_or(&f.stiffness, &element.key("stiffness"), 0.0, Quantity::Stiffness)?,
+                damping: ctx.non_negative_or(&f.damping, &element.key("damping"), 0.0, Quantity::Damping)?,
                 free_angle: ctx.number_or(&f.free_angle, &element.key("free_angle"), 0.0)?,
                 actuator: self.actuator()?,
             },
@@ -91,9 +92,9 @@ impl ForceBuild<'_> {
                 ForceKind::TranslationalSpringDamper {
                     marker_i,
                     marker_j,
-                    stiffness: ctx.non_negative_or(&f.stiffness, &element.key("stiffness"), 0.0)?,
-                    damping: ctx.non_negative_or(&f.damping, &element.key("damping"), 0.0)?,
-                    free_length: ctx.non_negative_or(&f.free_length, &element.key("free_length"), initial_length)?,
+                    stiffness: ctx.non_negative_or(&f.stiffness, &element.key("stiffness"), 0.0, Quantity::Stiffness)?,
+                    damping: ctx.non_negative_or(&f.damping, &element.key("damping"), 0.0, Quantity::Damping)?,
+                    free_length: ctx.non_negative_or(&f.free_length, &element.key("free_length"), initial_length, Quantity::Length)?,
                     actuator: self.actuator()?,
                 }
             }

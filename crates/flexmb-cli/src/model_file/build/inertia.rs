@@ -2,6 +2,7 @@
 //! definite, triangle inequality) is checked by the engine's own rules when the body is validated.
 
 use flexmb::math::Mat3;
+use flexmb_fem::input::Quantity;
 use toml::Spanned;
 
 use super::context::Context;
@@ -12,7 +13,8 @@ use crate::model_file::value::{InertiaInput, NumberOrExpression};
 /// The tensor about the centre of mass in body axes (kg m²).
 pub(crate) fn inertia(ctx: &Context, value: &Spanned<InertiaInput>, key: &KeyPath) -> Result<Mat3, ModelFileError> {
     let span = value.span();
-    let number = |x: &NumberOrExpression, k: &KeyPath| ctx.number(&Spanned::new(span.clone(), x.clone()), k);
+    let number =
+        |x: &NumberOrExpression, k: &KeyPath| ctx.quantity(&Spanned::new(span.clone(), x.clone()), k, Quantity::Inertia);
     Ok(match value.get_ref() {
         InertiaInput::Diagonal(d) => Mat3::from_diagonal(&flexmb::math::Vec3::new(
             number(&d[0], &key.index(0))?,

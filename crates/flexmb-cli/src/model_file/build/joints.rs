@@ -3,6 +3,7 @@
 use flexmb::joint::{Axis, Joint, JointKind};
 use flexmb::model::{BodyId, JointId, MarkerId};
 use flexmb::ModelBuilder;
+use flexmb_fem::input::Quantity;
 use toml::Spanned;
 
 use super::context::Context;
@@ -135,7 +136,7 @@ fn joint_kind(
             let key = element.key("length");
             let length = match &j.length {
                 Some(length) if matches!(length.get_ref(), NumberOrExpression::Number(_)) => {
-                    let l = ctx.number(length, &key)?;
+                    let l = ctx.quantity(length, &key, Quantity::Length)?;
                     if l <= 0.0 {
                         return Err(ctx.invalid(&length.span(), &key, format!("length must be positive, got {l}")));
                     }

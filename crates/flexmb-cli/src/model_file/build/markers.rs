@@ -5,6 +5,7 @@ use flexmb::body::Marker;
 use flexmb::math::Mat3;
 use flexmb::model::{BodyId, BodyRef, MarkerId};
 use flexmb::ModelBuilder;
+use flexmb_fem::input::Quantity;
 use toml::Spanned;
 
 use super::bodies::GROUND;
@@ -79,7 +80,7 @@ pub(crate) fn add_markers(
             (None, None) => builder.add_marker(Marker {
                 name: m.name.get_ref().clone(),
                 body,
-                origin: ctx.vector_or_zero(&m.origin, &element.key("origin"))?,
+                origin: ctx.vector_or_zero(&m.origin, &element.key("origin"), Quantity::Length)?,
                 axes,
             }),
         };

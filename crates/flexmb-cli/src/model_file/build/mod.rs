@@ -69,7 +69,7 @@ pub(crate) fn build(
     let parameters = parameters::evaluate(&file.parameters, source)?;
     let declared_measures = file.measure.iter().map(|m| m.get_ref().name.get_ref().clone()).collect();
     let mut ctx = Context::new(source, parameters, declared_measures);
-    let (name, gravity) = simulation::model_settings(&ctx, file.model.as_ref(), default_name)?;
+    let (name, gravity) = simulation::model_settings(&ctx, file, default_name)?;
     let simulation = simulation::simulation_defaults(&ctx, file.simulation.as_ref())?;
     let mut builder = ModelBuilder::new(name).gravity(gravity);
     let mut names = Names::default();

@@ -6,6 +6,7 @@ use std::path::Path;
 
 use flexmb::body::RigidBody;
 use flexmb::math::{Mat3, Vec3};
+use flexmb_fem::input::Quantity;
 use toml::Spanned;
 
 use super::context::Context;
@@ -37,10 +38,10 @@ pub(crate) fn body_shape(
     }
     if let Some(size) = &s.frame {
         table.reject_placement("frame")?;
-        return Ok(Shape::Frame { size: table.positive(size, &key.key("frame"), "the frame glyph's size")? });
+        return Ok(Shape::Frame { size: table.positive(size, &key.key("frame"), "the frame glyph's size", Quantity::Length)? });
     }
     let scale = match &s.scale {
-        Some(scale) => table.positive(scale, &key.key("scale"), "the mesh's scale")?,
+        Some(scale) => table.positive(scale, &key.key("scale"), "the mesh's scale", Quantity::Factor)?,
         None => 1.0,
     };
     let mesh = if let Some(lengths) = &s.cuboid {
@@ -48,7 +49,7 @@ pub(crate) fn body_shape(
     } else if let Some(c) = &s.cylinder {
         table.cylinder(c)?
     } else if let Some(radius) = &s.sphere {
-        sphere(table.positive(radius, &key.key("sphere"), "the sphere's radius")?)
+        sphere(table.positive(radius, &key.key("sphere"), "the sphere's radius", Quantity::Length)?)
     } else if let Some(file) = &s.mesh {
         table.mesh(file, base_dir)?
     } else {
@@ -93,8 +94,9 @@ impl ShapeTable<'_> {
         }
     }
 
-    fn positive(&self, value: &Number, key: &KeyPath, what: &str) -> Result<f64, ModelFileError> {
-        let x = self.ctx.number(value, key)?;
+    /// A positive `what`, of `quantity` (within its window).
+    fn positive(&self, value: &Number, key: &KeyPath, what: &str, quantity: Quantity) -> Result<f64, ModelFileError> {
+        let x = self.ctx.quantity(value, key, quantity)?;
         if x <= 0.0 {
             return Err(self.ctx.invalid(&value.span(), key, format!("{what} must be positive, got {x}")));
         }
@@ -107,7 +109,7 @@ impl ShapeTable<'_> {
         self.ctx.numbers::<3>(lengths, &key, "the box's edge lengths [lx, ly, lz]")?;
         let mut out = Vec3::zeros();
         for (k, value) in lengths.get_ref().iter().enumerate() {
-            out[k] = self.positive(value, &key.index(k), "a box's edge length")?;
+            out[k] = self.positive(value, &key.index(k), "a box's edge length", Quantity::Length)?;
         }
         Ok(out)
     }
@@ -115,8 +117,8 @@ impl ShapeTable<'_> {
     fn cylinder(&self, section: &Spanned<CylinderSection>) -> Result<SurfaceMesh, ModelFileError> {
         let key = self.key.key("cylinder");
         let c = section.get_ref();
-        let radius = self.positive(&c.radius, &key.key("radius"), "the cylinder's radius")?;
-        let length = self.positive(&c.length, &key.key("length"), "the cylinder's length")?;
+        let radius = self.positive(&c.radius, &key.key("radius"), "the cylinder's radius", Quantity::Length)?;
+        let length = self.positive(&c.length, &key.key("length"), "the cylinder's length", Quantity::Length)?;
         let axis = match &c.axis {
             Some(axis) => self.ctx.keyword(axis, &key.key("axis"), "axis", &[("x", 0), ("y", 1), ("z", 2)])?,
             None => 2,
@@ -149,7 +151,7 @@ impl ShapeTable<'_> {
             Some(o) => orientation(self.ctx, o, &self.key.key("orientation"))?.rotation_matrix(),
             None => Mat3::identity(),
         };
-        let origin = self.ctx.vector_or_zero(&self.s.origin, &self.key.key("origin"))?;
+        let origin = self.ctx.vector_or_zero(&self.s.origin, &self.key.key("origin"), Quantity::Length)?;
         Ok((rotation, origin))
     }
 }
