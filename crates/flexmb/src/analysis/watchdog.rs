@@ -12,9 +12,10 @@
 //!   the largest `T + |V| + U` seen at the output times (kinetic, potential and strain energy) and the
 //!   accumulated `∫ |P_nc| dt`. What the computation explains: three times the estimated error of the
 //!   trapezoidal rule of `W_nc` over the output times (`Σ h³/12 |P''|`), plus the energy error the
-//!   integrator's absolute tolerance allows at the state, `atol (Σ |(M v)_k| + Σ |Q_k|)` (the first-order
-//!   change of `T` and of the work of the applied forces for velocity and position errors of `atol`),
-//!   which covers the start of a run, when the motion is still below the tolerance.
+//!   integrator's absolute tolerance allows at the state, `atol (Σ |(M v)_k| + Σ |Q_k|) + atol²/2 Σ |M_rc|`
+//!   (the first-order change of `T` and of the work of the applied forces for velocity and position
+//!   errors of `atol`, and the second-order change of `T`), which covers the start of a run, when the
+//!   motion is still below the tolerance, and a body held at rest, whose energy is round-off.
 //!
 //! Deflection and energy balance are checked at the output times.
 
@@ -348,19 +349,25 @@ impl Watchdog {
         self.check_energy(t, e, (balance_error, tolerated), power, warnings, measures)
     }
 
-    /// `atol (Σ |(M v)_k| + Σ |Q_k|)`: how much the energy may be off at a state known to `atol` in
-    /// every position and velocity coordinate (to first order: `δT = (M v)ᵀ δv`, and the applied
-    /// forces' work over `δq`).
+    /// `atol (Σ |(M v)_k| + Σ |Q_k|) + atol²/2 Σ |M_rc|`: how much the energy may be off at a state
+    /// known to `atol` in every position and velocity coordinate: to first order `δT = (M v)ᵀ δv` and
+    /// the applied forces' work over `δq`; to second order `δvᵀ M δv / 2`, which is what is left when
+    /// the velocities are zero (a body held at rest has a kinetic energy of the size of round-off,
+    /// the whole of the energy that flowed).
     fn tolerated_energy_error(&mut self, model: &Model, data: &Data, v: &[f64]) -> f64 {
         let mut sum: f64 = data.applied.iter().map(|q| q.abs()).sum();
+        let mut mass_sum = 0.0;
         for b in 0..model.bodies.len() {
             let vo = model.layout.v_offset[b];
             let momentum = &mut self.momentum[..6 + model.layout.modes[b]];
             momentum.fill(0.0);
-            body_mass_entries(model, data, b, |r, c, m| momentum[r] += m * v[vo + c]);
+            body_mass_entries(model, data, b, |r, c, m| {
+                momentum[r] += m * v[vo + c];
+                mass_sum += m.abs();
+            });
             sum += momentum.iter().map(|p| p.abs()).sum::<f64>();
         }
-        self.atol * sum
+        self.atol * sum + 0.5 * self.atol * self.atol * mass_sum
     }
 
     fn check_deflections(
