@@ -9,7 +9,7 @@ use flexmb::analysis::SimulationSettings;
 use flexmb::integrate::Method;
 use flexmb::Model;
 
-use crate::model_file::{load_model_with, ModelOverrides};
+use flexmb_files::model_file::{load_model_with, LoadOptions, ModelOverrides};
 
 /// The seed's CPU time for the 4N5S door over 2 s (s).
 pub const SEED_DOOR_4N5S_CPU: f64 = 7281.0;
@@ -20,7 +20,8 @@ fn shipped(path: &str) -> PathBuf {
 
 /// A shipped model with the BDF and its file's settings for `t_end`.
 fn load(path: &str, overrides: &ModelOverrides, t_end: f64) -> Result<(Model, SimulationSettings), String> {
-    let loaded = load_model_with(&shipped(path), overrides).map_err(|e| e.to_string())?;
+    let options = LoadOptions { overrides: overrides.clone(), ..crate::limits::load_options() };
+    let loaded = load_model_with(&shipped(path), &options).map_err(|e| e.to_string())?;
     let d = loaded.simulation;
     let settings = SimulationSettings {
         t_end,

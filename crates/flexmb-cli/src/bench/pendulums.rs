@@ -10,7 +10,7 @@ use flexmb::math::{Mat3, Vec3};
 use flexmb::model::{BodyId, BodyRef, ModelBuilder};
 use flexmb::Model;
 
-use crate::model_file::parse_model_in;
+use flexmb_files::model_file::parse_model_in;
 
 /// The shipped model file (its FE model is read relative to it, so the case runs from a checkout).
 fn model_path() -> PathBuf {

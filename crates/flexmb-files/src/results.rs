@@ -12,7 +12,13 @@ use flexmb::analysis::{
 use flexmb::Model;
 use serde_json::{json, Value};
 
-use crate::run::CliError;
+use crate::model_file::LoadedModel;
+use crate::vtk::{RunSeries, SeriesTimes, SeriesWritten};
+
+/// A result file that could not be written or read, with the message that names it.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct ResultFileError(pub String);
 
 /// Streams output frames into a CSV file with a header `t,<column>,…`.
 pub struct CsvWriter {
@@ -237,9 +243,96 @@ pub fn balance_error(report: &SimulationReport) -> f64 {
 
 /// A run recorded to files: its report, the failure if it stopped early, and the rows written.
 pub struct RecordedRun {
+    /// The engine's report: statistics, constraint residuals, energy, warnings, interruption.
     pub report: SimulationReport,
+    /// The simulation's failure, if it stopped early (the files hold what it computed before).
     pub error: Option<String>,
+    /// Rows written to the CSV.
     pub rows: usize,
+    /// The ParaView series written, if one was asked for (only [`record_model_run`] writes one).
+    pub paraview: Option<SeriesWritten>,
+}
+
+/// Where a run's results go: the CSV of its outputs, its JSON summary, and optionally a ParaView
+/// series.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunOutputs {
+    /// The result CSV: a header `t,<column>,…` and a row per output time.
+    pub csv: PathBuf,
+    /// The JSON summary: settings, statistics, residuals, energy, columns and their units.
+    pub summary: PathBuf,
+    /// A ParaView time series of the bodies and joints, if wanted.
+    pub paraview: Option<ParaViewSeries>,
+}
+
+/// A ParaView time series to write as a run proceeds: `dir/name.pvd` and its files in `dir/name/`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ParaViewSeries {
+    /// The directory of the `.pvd` file.
+    pub dir: PathBuf,
+    /// The series' name: the `.pvd` file's stem and the folder of its `.vtu` files.
+    pub name: String,
+    /// When frames are taken.
+    pub times: SeriesTimes,
+    /// Most frames the series may have; more is an error before the run starts.
+    pub max_frames: u64,
+}
+
+impl RunOutputs {
+    /// `dir/name.csv` and `dir/name.json`, as `flexmb run` names them; no ParaView series.
+    pub fn in_directory(dir: &Path, name: &str) -> Self {
+        Self { csv: dir.join(format!("{name}.csv")), summary: dir.join(format!("{name}.json")), paraview: None }
+    }
+}
+
+/// Simulates a loaded model as `flexmb run` does: its outputs go to `outputs.csv` as they come, its
+/// summary to `outputs.summary` at the end, and a ParaView series frame by frame if
+/// `outputs.paraview` asks for one; `observe` sees every output frame, and `interrupt` is asked
+/// after every step whether to stop (see [`record_run`]). The directories must exist.
+///
+/// ```
+/// use flexmb_files::{load_model, record_model_run, RunOutputs};
+///
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../models/pendulum.toml");
+/// let loaded = load_model(std::path::Path::new(path))?;
+/// let mut defaults = loaded.simulation;
+/// defaults.t_end = 0.1;
+/// let settings = defaults.settings(&loaded.model, defaults.assembly());
+/// let dir = std::env::temp_dir().join(format!("flexmb-files-doctest-{}", std::process::id()));
+/// std::fs::create_dir_all(&dir)?;
+/// let outputs = RunOutputs::in_directory(&dir, "pendulum");
+/// let mut frames = 0;
+/// let run = record_model_run(&loaded, &settings, path, &outputs, &mut |_frame| frames += 1, &|| None)?;
+/// assert!(run.error.is_none());
+/// assert_eq!((run.rows, frames), (11, 11));
+/// let table = flexmb_files::ResultTable::read(&outputs.csv)?;
+/// assert_eq!(table.column("t")?.len(), 11);
+/// std::fs::remove_dir_all(&dir)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn record_model_run(
+    loaded: &LoadedModel,
+    settings: &SimulationSettings,
+    model_file: &str,
+    outputs: &RunOutputs,
+    observe: &mut dyn FnMut(&OutputFrame),
+    interrupt: &dyn Fn() -> Option<String>,
+) -> Result<RecordedRun, ResultFileError> {
+    let mut series = outputs
+        .paraview
+        .as_ref()
+        .map(|p| RunSeries::create(&p.dir, &p.name, loaded, p.times, p.max_frames))
+        .transpose()
+        .map_err(ResultFileError)?;
+    let observe = &mut |frame: &OutputFrame| {
+        if let Some(series) = series.as_mut() {
+            series.observe(frame);
+        }
+        observe(frame);
+    };
+    let run = record_run(&loaded.model, settings, model_file, (&outputs.csv, &outputs.summary), observe, interrupt)?;
+    let paraview = series.map(RunSeries::finish).transpose().map_err(ResultFileError)?;
+    Ok(RecordedRun { paraview, ..run })
 }
 
 /// Simulates `model`, writing every output frame to `csv` as it comes (a run that fails keeps what
@@ -253,9 +346,9 @@ pub fn record_run(
     (csv_path, summary_path): (&Path, &Path),
     observe: &mut dyn FnMut(&OutputFrame),
     interrupt: &dyn Fn() -> Option<String>,
-) -> Result<RecordedRun, CliError> {
+) -> Result<RecordedRun, ResultFileError> {
     let columns = output_columns(model);
-    let mut csv = CsvWriter::create(csv_path, &columns).map_err(|e| CliError(format!("cannot write {}: {e}", csv_path.display())))?;
+    let mut csv = CsvWriter::create(csv_path, &columns).map_err(|e| ResultFileError(format!("cannot write {}: {e}", csv_path.display())))?;
     let mut write_error: Option<std::io::Error> = None;
     let result = simulate_interruptible(
         model,
@@ -269,7 +362,7 @@ pub fn record_run(
         interrupt,
     );
     if let Some(e) = write_error {
-        return Err(CliError(format!("cannot write {}: {e}", csv_path.display())));
+        return Err(ResultFileError(format!("cannot write {}: {e}", csv_path.display())));
     }
     let (report, error) = match result {
         Ok(r) => (r, None),
@@ -286,7 +379,7 @@ pub fn record_run(
         limits: settings.physics_limits,
     };
     let summary = summary_json(&request, &report, &columns, csv_path, error.as_deref());
-    let text = serde_json::to_string_pretty(&summary).map_err(|e| CliError(e.to_string()))?;
-    std::fs::write(summary_path, text + "\n").map_err(|e| CliError(format!("cannot write {}: {e}", summary_path.display())))?;
-    Ok(RecordedRun { report, error, rows: csv.rows() })
+    let text = serde_json::to_string_pretty(&summary).map_err(|e| ResultFileError(e.to_string()))?;
+    std::fs::write(summary_path, text + "\n").map_err(|e| ResultFileError(format!("cannot write {}: {e}", summary_path.display())))?;
+    Ok(RecordedRun { report, error, rows: csv.rows(), paraview: None })
 }

@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::model_file::suggest::did_you_mean;
-use crate::run::CliError;
+use crate::results::ResultFileError;
 
 /// The columns of one result CSV, by name, with their units.
 #[derive(Clone, Debug)]
@@ -20,12 +20,23 @@ pub struct ResultTable {
 
 impl ResultTable {
     /// Reads `path` (header `t,<column>,…`, one row per output time) and the units of its summary.
-    pub fn read(path: &Path) -> Result<Self, CliError> {
+    ///
+    /// ```
+    /// let path = std::env::temp_dir().join(format!("flexmb-files-table-{}.csv", std::process::id()));
+    /// std::fs::write(&path, "t,x\n0,1.5\n0.1,2.5\n")?;
+    /// let table = flexmb_files::ResultTable::read(&path)?;
+    /// assert_eq!(table.names(), ["t", "x"]);
+    /// assert_eq!(table.column("x")?, [1.5, 2.5]);
+    /// assert_eq!(table.unit("t"), Some("s"));
+    /// std::fs::remove_file(&path)?;
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn read(path: &Path) -> Result<Self, ResultFileError> {
         let text = flexmb_fem::input::read_text(path)
-            .map_err(|e| CliError(format!("cannot read {}: {e}", path.display())))?;
+            .map_err(|e| ResultFileError(format!("cannot read {}: {e}", path.display())))?;
         let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty());
         let Some((_, header)) = lines.next() else {
-            return Err(CliError(format!("{} is empty: no header and no rows", path.display())));
+            return Err(ResultFileError(format!("{} is empty: no header and no rows", path.display())));
         };
         let names: Vec<String> = header.split(',').map(|n| n.trim().to_string()).collect();
         let mut columns = vec![Vec::new(); names.len()];
@@ -35,7 +46,7 @@ impl ResultTable {
             row_lines.push(index + 1);
         }
         if columns[0].is_empty() {
-            return Err(CliError(format!("{} has a header but no rows", path.display())));
+            return Err(ResultFileError(format!("{} has a header but no rows", path.display())));
         }
         let units = summary_units(path, &names);
         Ok(Self { path: path.to_path_buf(), names, units, columns, lines: row_lines })
@@ -73,17 +84,17 @@ impl ResultTable {
     }
 
     /// The values of a column, or an error listing the columns there are.
-    pub fn column(&self, name: &str) -> Result<&[f64], CliError> {
+    pub fn column(&self, name: &str) -> Result<&[f64], ResultFileError> {
         self.index(name).map(|i| self.columns[i].as_slice())
     }
 
     /// The values of a column, which must all be finite: a NaN or an infinity is an error at its
     /// line, saying that `purpose` ("a plot", "a spectrum") needs finite values.
-    pub fn finite_column(&self, name: &str, purpose: &str) -> Result<&[f64], CliError> {
+    pub fn finite_column(&self, name: &str, purpose: &str) -> Result<&[f64], ResultFileError> {
         let values = self.column(name)?;
         match values.iter().position(|v| !v.is_finite()) {
             None => Ok(values),
-            Some(row) => Err(CliError(format!(
+            Some(row) => Err(ResultFileError(format!(
                 "{}: column `{name}` holds {}; {purpose} needs finite values",
                 self.location(row),
                 values[row]
@@ -101,9 +112,9 @@ impl ResultTable {
         self.index(name).ok().and_then(|i| self.units[i].as_deref())
     }
 
-    fn index(&self, name: &str) -> Result<usize, CliError> {
+    fn index(&self, name: &str) -> Result<usize, ResultFileError> {
         self.names.iter().position(|n| n == name).ok_or_else(|| {
-            CliError(format!(
+            ResultFileError(format!(
                 "{} has no column `{name}`{}\navailable columns: {}",
                 self.path.display(),
                 did_you_mean(name, self.names.iter().map(String::as_str)),
@@ -120,10 +131,10 @@ fn push_row(
     line: &str,
     names: &[String],
     columns: &mut [Vec<f64>],
-) -> Result<(), CliError> {
+) -> Result<(), ResultFileError> {
     let fields: Vec<&str> = line.split(',').collect();
     if fields.len() != names.len() {
-        return Err(CliError(format!(
+        return Err(ResultFileError(format!(
             "{}:{line_number}: {} values, but the header has {} columns",
             path.display(),
             fields.len(),
@@ -132,7 +143,7 @@ fn push_row(
     }
     for ((field, name), column) in fields.iter().zip(names).zip(columns.iter_mut()) {
         let value = field.trim().parse::<f64>().map_err(|_| {
-            CliError(format!("{}:{line_number}: column `{name}`: `{}` is not a number", path.display(), field.trim()))
+            ResultFileError(format!("{}:{line_number}: column `{name}`: `{}` is not a number", path.display(), field.trim()))
         })?;
         column.push(value);
     }

@@ -65,6 +65,8 @@ pub(crate) struct FlexibleTables<'a> {
     pub sections: &'a [Spanned<FlexibleBodySection>],
     /// The model file's directory: `fe_model` and `body_file` paths are relative to it.
     pub base_dir: &'a Path,
+    /// Most bytes the mode analysis of a body reduced now may use; `None`: no limit.
+    pub memory_limit: Option<u64>,
 }
 
 pub(crate) fn add_flexible_bodies(
@@ -86,7 +88,7 @@ pub(crate) fn add_flexible_bodies(
                 "`ground` is the inertial frame and cannot name a body",
             ));
         }
-        let table = Table { ctx, f, element: &element, span: section.span() };
+        let table = Table { ctx, f, element: &element, span: section.span(), memory_limit: tables.memory_limit };
         let obtained = table.obtain(tables.base_dir)?;
         let modal = table.modal(&obtained.body)?;
         let keys = InitialKeys {
@@ -142,6 +144,8 @@ struct Table<'a> {
     element: &'a KeyPath,
     /// The table's span (its header line).
     span: Range<usize>,
+    /// Most bytes the mode analysis may use.
+    memory_limit: Option<u64>,
 }
 
 impl Table<'_> {
@@ -202,7 +206,7 @@ impl Table<'_> {
             )?,
             None => loaded.defaults.basis.unwrap_or_default(),
         };
-        let obtained = reduced_body(&loaded, &path, &set, basis).map_err(|e| {
+        let obtained = reduced_body(&loaded, &path, &set, basis, self.memory_limit).map_err(|e| {
             let (span, key) = match &self.f.modes {
                 Some(modes) => (modes.span(), self.key("modes")),
                 None => (fe_model.span(), key.clone()),
