@@ -1,3 +1,5 @@
+#![warn(missing_docs)]
+
 //! flexmb's files: what a program or a binding calls to load a mechanism, run it and keep its results.
 //!
 //! - [`model_file`]: model files (TOML, `docs/model-file.md`) with parameter overrides, built into a

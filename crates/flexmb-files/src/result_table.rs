@@ -34,16 +34,31 @@ impl ResultTable {
     pub fn read(path: &Path) -> Result<Self, ResultFileError> {
         let text = flexmb_fem::input::read_text(path)
             .map_err(|e| ResultFileError(format!("cannot read {}: {e}", path.display())))?;
-        let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty());
-        let Some((_, header)) = lines.next() else {
+        let mut records = csv::ReaderBuilder::new()
+            .has_headers(false)
+            .flexible(true)
+            .trim(csv::Trim::All)
+            .from_reader(text.as_bytes())
+            .into_records()
+            .filter(|r| r.as_ref().map_or(true, |r| !(r.len() == 1 && r[0].is_empty())));
+        let read_error = |e: csv::Error| ResultFileError(format!("cannot read {}: {e}", path.display()));
+        let Some(header) = records.next().transpose().map_err(read_error)? else {
             return Err(ResultFileError(format!("{} is empty: no header and no rows", path.display())));
         };
-        let names: Vec<String> = header.split(',').map(|n| n.trim().to_string()).collect();
+        let names: Vec<String> = header.iter().map(str::to_string).collect();
         let mut columns = vec![Vec::new(); names.len()];
         let mut row_lines = Vec::new();
-        for (index, line) in lines {
-            push_row(path, index + 1, line, &names, &mut columns)?;
-            row_lines.push(index + 1);
+        // The csv reader counts no blank lines, and a record's position is where the blank lines
+        // before it begin: the line is counted from the byte where the record's text begins.
+        let (mut line, mut counted) = (1, 0);
+        for record in records {
+            let record = record.map_err(read_error)?;
+            let position = record.position().map_or(counted, |p| p.byte() as usize);
+            let start = position + text.as_bytes()[position..].iter().take_while(|b| matches!(b, b'\n' | b'\r')).count();
+            line += text.as_bytes()[counted..start].iter().filter(|&&b| b == b'\n').count();
+            counted = start;
+            push_row(path, line, &record, &names, &mut columns)?;
+            row_lines.push(line);
         }
         if columns[0].is_empty() {
             return Err(ResultFileError(format!("{} has a header but no rows", path.display())));
@@ -66,6 +81,7 @@ impl ResultTable {
         table
     }
 
+    /// The file read.
     pub fn path(&self) -> &Path {
         &self.path
     }
@@ -75,10 +91,12 @@ impl ResultTable {
         self.path.file_stem().and_then(|s| s.to_str()).unwrap_or("results")
     }
 
+    /// The columns' names, in the file's order (`t` first in files `flexmb run` writes).
     pub fn names(&self) -> &[String] {
         &self.names
     }
 
+    /// The number of rows.
     pub fn rows(&self) -> usize {
         self.columns.first().map_or(0, Vec::len)
     }
@@ -128,11 +146,10 @@ impl ResultTable {
 fn push_row(
     path: &Path,
     line_number: usize,
-    line: &str,
+    fields: &csv::StringRecord,
     names: &[String],
     columns: &mut [Vec<f64>],
 ) -> Result<(), ResultFileError> {
-    let fields: Vec<&str> = line.split(',').collect();
     if fields.len() != names.len() {
         return Err(ResultFileError(format!(
             "{}:{line_number}: {} values, but the header has {} columns",
@@ -142,8 +159,8 @@ fn push_row(
         )));
     }
     for ((field, name), column) in fields.iter().zip(names).zip(columns.iter_mut()) {
-        let value = field.trim().parse::<f64>().map_err(|_| {
-            ResultFileError(format!("{}:{line_number}: column `{name}`: `{}` is not a number", path.display(), field.trim()))
+        let value = field.parse::<f64>().map_err(|_| {
+            ResultFileError(format!("{}:{line_number}: column `{name}`: `{field}` is not a number", path.display()))
         })?;
         column.push(value);
     }

@@ -2,7 +2,6 @@
 //! keeps everything computed so far), and a JSON summary with the solver statistics.
 
 use std::fs::File;
-use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 use flexmb::analysis::{
@@ -20,39 +19,35 @@ use crate::vtk::{RunSeries, SeriesTimes, SeriesWritten};
 #[error("{0}")]
 pub struct ResultFileError(pub String);
 
-/// Streams output frames into a CSV file with a header `t,<column>,…`.
+/// Streams output frames into a CSV file with a header `t,<column>,…`, a row per frame, every value
+/// in scientific notation with 10 decimals, each row flushed as it is written.
 pub struct CsvWriter {
     path: PathBuf,
-    out: BufWriter<File>,
+    out: csv::Writer<File>,
     rows: usize,
 }
 
 impl CsvWriter {
+    /// Creates the file at `path` and writes the header: `t` and the columns' names.
     pub fn create(path: &Path, columns: &[OutputColumn]) -> std::io::Result<Self> {
-        let mut out = BufWriter::new(File::create(path)?);
-        write!(out, "t")?;
-        for c in columns {
-            write!(out, ",{}", c.name)?;
-        }
-        writeln!(out)?;
+        let mut out = csv::Writer::from_writer(File::create(path)?);
+        out.write_record(std::iter::once("t").chain(columns.iter().map(|c| c.name.as_str())))?;
         Ok(Self { path: path.to_path_buf(), out, rows: 0 })
     }
 
     /// Appends one row and flushes it to the file.
     pub fn write_row(&mut self, t: f64, values: &[f64]) -> std::io::Result<()> {
-        write!(self.out, "{t:.10e}")?;
-        for v in values {
-            write!(self.out, ",{v:.10e}")?;
-        }
-        writeln!(self.out)?;
+        self.out.write_record(std::iter::once(&t).chain(values).map(|v| format!("{v:.10e}")))?;
         self.rows += 1;
         self.out.flush()
     }
 
+    /// The rows written so far, the header not counted.
     pub fn rows(&self) -> usize {
         self.rows
     }
 
+    /// The file written.
     pub fn path(&self) -> &Path {
         &self.path
     }
@@ -60,13 +55,21 @@ impl CsvWriter {
 
 /// What a run was asked to do, for the summary.
 pub struct RunRequest<'a> {
+    /// The model file, as named in messages.
     pub model_file: &'a str,
+    /// The model's name.
     pub model_name: &'a str,
+    /// End time (s).
     pub t_end: f64,
+    /// Interval between output times (s).
     pub output_step: f64,
+    /// Relative error tolerance.
     pub rtol: f64,
+    /// Absolute error tolerance.
     pub atol: f64,
+    /// The integrator's name.
     pub integrator: &'a str,
+    /// The physics watchdog's thresholds.
     pub limits: PhysicsLimits,
 }
 

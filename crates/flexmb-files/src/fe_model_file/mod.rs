@@ -41,7 +41,9 @@ use schema::FeModelFile;
 pub struct LoadedFeModel {
     /// `[fe_model] name`, or the file name without extension.
     pub name: String,
+    /// The finite-element model: mesh, materials, sections, supports, static loads, options.
     pub model: flexmb_fem::FeModel,
+    /// The `[modes]` defaults.
     pub defaults: ModesDefaults,
     /// Things worth knowing that do not stop the model from being built (a definition nothing uses,
     /// a skipped keyword of the mesh file), each `file:line: …`.
@@ -55,7 +57,9 @@ pub struct LoadedFeModel {
 /// `[modes]`: what `flexmb modes` uses unless told otherwise; `None` where the file says nothing.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ModesDefaults {
+    /// `set`: the mode set, e.g. `4N2S`.
     pub mode_set: Option<ModeSet>,
+    /// `basis`: raw or mass-orthonormalized modes.
     pub basis: Option<Basis>,
 }
 

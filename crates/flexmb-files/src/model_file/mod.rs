@@ -28,7 +28,9 @@ use source::Source;
 /// A model read from a file, with the file's defaults for simulation runs.
 #[derive(Clone, Debug)]
 pub struct LoadedModel {
+    /// The model, built and validated by the engine.
     pub model: flexmb::Model,
+    /// The file's `[simulation]` values, for runs.
     pub simulation: SimulationDefaults,
     /// The flexible bodies, in the order of their `[[flexible_body]]` tables: mode set, frequencies,
     /// and whether each was reduced now, read from the cache or read from a flexible-body file.
