@@ -10,6 +10,7 @@ use flexmb::integrate::Method;
 
 use flexmb_files::integrator_choice::parse_method;
 use flexmb_files::model_file::load_model_with;
+use flexmb_files::SimulationDefaults;
 use crate::run::CliError;
 
 /// What `flexmb compare` was asked to do.
@@ -94,14 +95,7 @@ pub fn compare_model(path: &Path, options: &CompareOptions) -> Result<String, Cl
         )));
     }
     let assembly = crate::limits::assembly_settings(&d)?;
-    let settings = |method: Method, rtol: f64, atol: f64| SimulationSettings {
-        t_end,
-        output_step: d.output_step,
-        integrator: d.integrator(model, rtol, atol),
-        assembly,
-        method,
-        physics_limits: d.physics_limits,
-    };
+    let settings = |method: Method, rtol: f64, atol: f64| SimulationDefaults { t_end, rtol, atol, method, ..d }.settings(model, assembly);
     // The reference: the BDF at a thousandth of the tolerances and orders up to 5 (its steps are then
     // small enough to resolve every retained mode, so the high orders are accurate and stable).
     let reference_tolerance = (rtol * 1e-3).max(1e-11);

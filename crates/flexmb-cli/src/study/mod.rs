@@ -6,11 +6,11 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use flexmb::analysis::SimulationSettings;
 
 use crate::check::check_model;
 use flexmb_files::integrator_choice::parse_study_integrator;
 use flexmb_files::model_file::{load_model_with, LoadOptions};
+use flexmb_files::SimulationDefaults;
 use flexmb_files::results::{record_run, RecordedRun};
 use crate::run::CliError;
 
@@ -93,17 +93,8 @@ fn run_case(study: &Study, case: &Case, integrator: &str, out_dir: &Path) -> Res
     let stem = format!("{}-{}", case.name, integrator.replace(':', "-order"));
     let csv_path = out_dir.join(format!("{stem}.csv"));
     let summary_path = out_dir.join(format!("{stem}.json"));
-    let settings = SimulationSettings {
-        t_end,
-        output_step: d.output_step,
-        integrator: flexmb::integrate::BdfConfig {
-            max_order: max_order.unwrap_or(d.integrator(model, rtol, atol).max_order),
-            ..d.integrator(model, rtol, atol)
-        },
-        assembly,
-        method,
-        physics_limits: d.physics_limits,
-    };
+    let max_order = max_order.or(d.max_order);
+    let settings = SimulationDefaults { t_end, rtol, atol, method, max_order, ..d }.settings(model, assembly);
     let model_file = study.model.display().to_string();
     let RecordedRun { report, error: failure, .. } =
         record_run(model, &settings, &model_file, (&csv_path, &summary_path), &mut |_| {}, &|| None)?;

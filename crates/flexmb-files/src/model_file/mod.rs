@@ -190,7 +190,8 @@ pub fn parse_model_in(text: &str, file_name: &str, base_dir: &Path) -> Result<Lo
     parse_model_with(text, file_name, base_dir, &LoadOptions::default())
 }
 
-fn parse_model_with(
+/// [`parse_model_in`] with some of the file's values replaced and a memory limit for the mode analysis.
+pub fn parse_model_with(
     text: &str,
     file_name: &str,
     base_dir: &Path,
