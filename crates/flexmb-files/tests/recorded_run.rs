@@ -95,3 +95,25 @@ fn too_many_paraview_frames_are_refused_before_any_result_file_is_written() {
     assert!(!outputs.csv.exists() && !outputs.summary.exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn the_memory_limit_a_caller_gives_bounds_the_reduction_of_a_flexible_body() {
+    // The flexible pendulum and its FE model in a fresh directory, so that the body is reduced now.
+    let dir = scratch("memory");
+    let models = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../models");
+    std::fs::create_dir_all(dir.join("fe")).unwrap();
+    std::fs::copy(models.join("fe/pendulum_beam.toml"), dir.join("fe/pendulum_beam.toml")).unwrap();
+    std::fs::copy(models.join("flexible_pendulum.toml"), dir.join("flexible_pendulum.toml")).unwrap();
+    let path = dir.join("flexible_pendulum.toml");
+
+    let small = LoadOptions { memory_limit: Some(1024), ..Default::default() };
+    let e = load_model_with(&path, &small).unwrap_err().to_string();
+    assert!(e.contains("flexible_body[0].fe_model: cannot reduce the FE model"), "{e}");
+    assert!(e.contains("the mesh is too large for the mode analysis: 20 elements and 21 nodes"), "{e}");
+    assert!(!dir.join(".flexmb-cache").exists() && !dir.join("fe/.flexmb-cache").exists(), "nothing reduced, nothing cached");
+
+    let loaded = load_model_with(&path, &LoadOptions { memory_limit: None, ..Default::default() }).unwrap();
+    assert_eq!(loaded.flexible_bodies.len(), 1);
+    assert_eq!(loaded.flexible_bodies[0].mode_set, "4N");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
