@@ -6,7 +6,7 @@ use flexmb::body::ModalBody;
 use flexmb::model::BodyId;
 use flexmb::{Data, Model};
 
-use crate::model_file::{FlexibleBodyOrigin, LoadedModel};
+use flexmb_files::model_file::{FlexibleBodyOrigin, LoadedModel};
 
 /// Result of checking a model.
 pub struct CheckReport {
@@ -123,7 +123,7 @@ fn hz(f: f64) -> String {
 pub fn describe_flexible_bodies(loaded: &LoadedModel) -> String {
     let mut s = String::new();
     for info in &loaded.flexible_bodies {
-        let basis = crate::model_file::build::body_cache::basis_name(info.basis);
+        let basis = flexmb_files::model_file::basis_name(info.basis);
         let what = format!("flexible body '{}' ({} {basis})", info.name, info.mode_set);
         let line = match &info.origin {
             FlexibleBodyOrigin::Reduced { fe_model, cache: Some(cache), seconds } => {

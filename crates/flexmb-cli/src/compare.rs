@@ -8,8 +8,9 @@ use std::path::Path;
 use flexmb::analysis::{output_columns, simulate, OutputColumn, SimulationSettings};
 use flexmb::integrate::Method;
 
-use crate::integrator_choice::parse_method;
-use crate::model_file::load_model;
+use flexmb_files::integrator_choice::parse_method;
+use flexmb_files::model_file::load_model_with;
+use flexmb_files::SimulationDefaults;
 use crate::run::CliError;
 
 /// What `flexmb compare` was asked to do.
@@ -74,11 +75,11 @@ fn error_against(run: &Run, reference: &Run, columns: &[OutputColumn]) -> (f64, 
 
 /// Runs the model at `path` with each integrator and a reference; returns the table.
 pub fn compare_model(path: &Path, options: &CompareOptions) -> Result<String, CliError> {
-    let loaded = load_model(path).map_err(|e| CliError(e.to_string()))?;
+    let loaded = load_model_with(path, &crate::limits::load_options()).map_err(|e| CliError(e.to_string()))?;
     let model = &loaded.model;
     let d = loaded.simulation;
     let t_end = options.t_end.unwrap_or(d.t_end);
-    crate::output_limits::check_output_rows(t_end, d.output_step, d.max_output_rows, false)
+    flexmb_files::output_limits::check_output_rows(t_end, d.output_step, d.max_output_rows, false)
         .map_err(|e| CliError(format!("{}: {e}", path.display())))?;
     let (rtol, atol) = (options.rtol.unwrap_or(d.rtol), options.atol.unwrap_or(d.atol));
     let methods: Vec<(String, Method)> = options
@@ -94,14 +95,7 @@ pub fn compare_model(path: &Path, options: &CompareOptions) -> Result<String, Cl
         )));
     }
     let assembly = crate::limits::assembly_settings(&d)?;
-    let settings = |method: Method, rtol: f64, atol: f64| SimulationSettings {
-        t_end,
-        output_step: d.output_step,
-        integrator: d.integrator(model, rtol, atol),
-        assembly,
-        method,
-        physics_limits: d.physics_limits,
-    };
+    let settings = |method: Method, rtol: f64, atol: f64| SimulationDefaults { t_end, rtol, atol, method, ..d }.settings(model, assembly);
     // The reference: the BDF at a thousandth of the tolerances and orders up to 5 (its steps are then
     // small enough to resolve every retained mode, so the high orders are accurate and stable).
     let reference_tolerance = (rtol * 1e-3).max(1e-11);

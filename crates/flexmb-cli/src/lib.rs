@@ -1,23 +1,15 @@
-//! flexmb command-line layer: model files, FE model files, simulation runs, mode analysis, results
-//! (CSV, JSON, VTK), benchmarks.
+//! The `flexmb` program's commands over the library crates: runs with progress and printed reports,
+//! checks, mode analysis, comparisons and studies, plots and spectra of results, benchmarks. File
+//! formats (model files, FE model files, flexible-body files, results) are in `flexmb_files`.
 
 pub mod bench;
 pub mod check;
 pub mod compare;
-pub mod fe_model_file;
-pub mod flexible_body;
-pub mod integrator_choice;
 pub mod interrupt;
 pub mod limits;
-pub mod model_file;
 pub mod modes;
-pub mod output_limits;
 pub mod plot;
-pub mod results;
 pub mod run;
-pub mod shape;
 pub mod spectrum;
 pub mod study;
-pub mod vtk;
 
-pub use model_file::{load_model, parse_model, LoadedModel, ModelFileError, SimulationDefaults};

@@ -1,13 +1,15 @@
 //! Limits a user can set for the machine a command runs on, through environment variables:
 //! `FLEXMB_MEMORY_LIMIT`, the memory the dense initial-condition analyses and the FE mode analysis
 //! may use (default: what the machine has available). (`FLEXMB_MAX_FILE_SIZE`, the largest input
-//! file, is read where files are read: `flexmb_fem::input`.)
+//! file, is read where files are read: `flexmb_fem::input`.) The program reads the variable; the
+//! libraries take the value.
 
 use flexmb::analysis::{AssemblySettings, MemoryLimit};
 use flexmb_fem::input::parse_size;
 
 use crate::run::CliError;
-use crate::SimulationDefaults;
+use flexmb_files::model_file::LoadOptions;
+use flexmb_files::SimulationDefaults;
 
 /// The environment variable that caps the memory of the dense analyses.
 pub const MEMORY_LIMIT_VARIABLE: &str = "FLEXMB_MEMORY_LIMIT";
@@ -34,5 +36,11 @@ pub fn memory_limit_bytes() -> Option<u64> {
 
 /// The assembly settings of a model's `[simulation]` with the memory limit of this machine.
 pub fn assembly_settings(defaults: &SimulationDefaults) -> Result<AssemblySettings, CliError> {
-    Ok(AssemblySettings { memory_limit: memory_limit()?, ..defaults.assembly() })
+    Ok(defaults.with_memory_limit(memory_limit()?))
+}
+
+/// How the commands load model files: the file as it is, with the memory limit of this machine for
+/// the mode analysis of its flexible bodies.
+pub fn load_options() -> LoadOptions {
+    LoadOptions { memory_limit: memory_limit_bytes(), ..Default::default() }
 }

@@ -275,7 +275,7 @@ fn main() -> ExitCode {
                 Err(e) => Err(e),
             }
         }
-        Command::Check { model } => flexmb_cli::load_model(&model)
+        Command::Check { model } => flexmb_files::load_model_with(&model, &flexmb_cli::limits::load_options())
             .map_err(|e| e.to_string())
             .and_then(|loaded| {
                 print!("{}", describe_flexible_bodies(&loaded));

@@ -9,7 +9,7 @@ use flexmb_fem::modes::{EigenSettings, EigenSolver};
 use flexmb_fem::reduction::{reduce, Basis, ModeKind, ModeSet, Reduction, ReductionSettings};
 use flexmb_fem::{ElementKind, MassModel};
 
-use crate::fe_model_file::{load_fe_model, LoadedFeModel};
+use flexmb_files::fe_model_file::{load_fe_model, LoadedFeModel};
 use crate::run::CliError;
 
 /// What `flexmb modes` was asked to do.
@@ -64,24 +64,24 @@ pub fn run_modes(path: &Path, options: &ModesOptions) -> Result<String, CliError
     let mut report = describe(path, &loaded, &reduction, seconds);
     let _ = writeln!(report, "wrote {}", out.display());
     if let Some(dir) = &options.vtk {
-        let file = crate::vtk::write_mode_shapes(&reduction.body, dir).map_err(CliError)?;
+        let file = flexmb_files::vtk::write_mode_shapes(&reduction.body, dir).map_err(CliError)?;
         let _ = writeln!(report, "wrote {} (mode shapes for ParaView: Warp By Vector on a mode's translation)", file.display());
-        let animations = crate::vtk::write_mode_animations(&reduction.body, dir).map_err(CliError)?;
+        let animations = flexmb_files::vtk::write_mode_animations(&reduction.body, dir).map_err(CliError)?;
         report.push_str(&describe_animations(&animations));
     }
     Ok(report)
 }
 
 /// One line per mode animation: its `.pvd` file and scale.
-fn describe_animations(animations: &[crate::vtk::ModeAnimation]) -> String {
+fn describe_animations(animations: &[flexmb_files::vtk::ModeAnimation]) -> String {
     let mut s = format!(
         "mode animations for ParaView ({} frames over one period, the largest displacement {}% of the body's size):\n",
-        crate::vtk::FRAMES_PER_PERIOD,
-        100.0 * crate::vtk::AMPLITUDE_FRACTION
+        flexmb_files::vtk::FRAMES_PER_PERIOD,
+        100.0 * flexmb_files::vtk::AMPLITUDE_FRACTION
     );
     for a in animations {
         let what = match a.rotation_only {
-            true => format!(", rotation only: the largest rotation {} rad", crate::vtk::AMPLITUDE_FRACTION),
+            true => format!(", rotation only: the largest rotation {} rad", flexmb_files::vtk::AMPLITUDE_FRACTION),
             false => String::new(),
         };
         let _ = writeln!(s, "  {}: {} (displacement = {:.4e} x the mode shape{what})", a.label, a.pvd.display(), a.scale);

@@ -2,15 +2,16 @@
 
 use std::path::{Path, PathBuf};
 
-use flexmb::analysis::SimulationSettings;
+use flexmb_files::integrator_choice::parse_method;
+use flexmb_files::model_file::load_model_with;
+use flexmb_files::output_limits::check_output_rows;
+use flexmb_files::results::{summary_text, ParaViewSeries};
+use flexmb_files::vtk::SeriesTimes;
+use flexmb_files::{record_model_run, RecordedRun, ResultFileError, RunOutputs};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::check::{check_model, describe, describe_flexible_bodies};
 use crate::interrupt::{Signal, StopSignal};
-use crate::model_file::load_model;
-use crate::output_limits::check_output_rows;
-use crate::results::{record_run, summary_text, RecordedRun};
-use crate::vtk::{RunSeries, SeriesTimes};
 
 /// Command-line overrides of the model file's `[simulation]` defaults.
 #[derive(Clone, Debug, Default)]
@@ -50,6 +51,12 @@ pub struct RunFiles {
 #[error("{0}")]
 pub struct CliError(pub String);
 
+impl From<ResultFileError> for CliError {
+    fn from(e: ResultFileError) -> Self {
+        CliError(e.0)
+    }
+}
+
 fn positive(name: &str, x: f64) -> Result<f64, CliError> {
     if x > 0.0 && x.is_finite() {
         Ok(x)
@@ -58,22 +65,23 @@ fn positive(name: &str, x: f64) -> Result<f64, CliError> {
     }
 }
 
-/// Runs the model at `path`; prints the check and the end-of-run summary unless quiet.
+/// Runs the model at `path`; prints the check and the end-of-run summary unless quiet. The library
+/// calls, in order: [`load_model_with`], [`SimulationDefaults::settings`](flexmb_files::SimulationDefaults::settings),
+/// [`check_model`] (the engine's assembly and velocity analysis), [`record_model_run`].
 pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError> {
-    let loaded = load_model(path).map_err(|e| CliError(e.to_string()))?;
+    let loaded = load_model_with(path, &crate::limits::load_options()).map_err(|e| CliError(e.to_string()))?;
     let model = &loaded.model;
-    let d = loaded.simulation;
-    let t_end = positive("--t-end", options.t_end.unwrap_or(d.t_end))?;
-    let output_step = positive("--output-step", options.output_step.unwrap_or(d.output_step))?;
-    let rtol = positive("--rtol", options.rtol.unwrap_or(d.rtol))?;
-    let atol = positive("--atol", options.atol.unwrap_or(d.atol))?;
+    let mut d = loaded.simulation;
+    d.t_end = positive("--t-end", options.t_end.unwrap_or(d.t_end))?;
+    d.output_step = positive("--output-step", options.output_step.unwrap_or(d.output_step))?;
+    d.rtol = positive("--rtol", options.rtol.unwrap_or(d.rtol))?;
+    d.atol = positive("--atol", options.atol.unwrap_or(d.atol))?;
+    let (t_end, output_step) = (d.t_end, d.output_step);
     let max_rows = options.max_output_rows.unwrap_or(d.max_output_rows);
     check_output_rows(t_end, output_step, max_rows, true).map_err(|e| CliError(format!("{}: {e}", path.display())))?;
-    let method = match &options.integrator {
-        Some(name) => crate::integrator_choice::parse_method(name, options.spectral_radius.unwrap_or(0.9))
-            .map_err(|e| CliError(format!("--integrator: {e}")))?,
-        None => d.method,
-    };
+    if let Some(name) = &options.integrator {
+        d.method = parse_method(name, options.spectral_radius.unwrap_or(0.9)).map_err(|e| CliError(format!("--integrator: {e}")))?;
+    }
 
     if !options.quiet {
         print!("{}", describe_flexible_bodies(&loaded));
@@ -87,26 +95,15 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
     std::fs::create_dir_all(&options.out_dir)
         .map_err(|e| CliError(format!("cannot create output directory {}: {e}", options.out_dir.display())))?;
     let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("model");
-    let csv_path = options.out_dir.join(format!("{stem}.csv"));
-    let summary_path = options.out_dir.join(format!("{stem}.json"));
-    let mut vtk = options
-        .vtk_dir
-        .as_deref()
-        .map(|dir| {
-            let times = SeriesTimes { step: options.vtk_step.or(d.vtk_step), output_step, t_end };
-            RunSeries::create(dir, stem, &loaded, times, options.max_vtk_frames.unwrap_or(d.max_vtk_frames))
-        })
-        .transpose()
-        .map_err(CliError)?;
+    let mut outputs = RunOutputs::in_directory(&options.out_dir, stem);
+    outputs.paraview = options.vtk_dir.as_ref().map(|dir| ParaViewSeries {
+        dir: dir.clone(),
+        name: stem.to_string(),
+        times: SeriesTimes { step: options.vtk_step.or(d.vtk_step), output_step, t_end },
+        max_frames: options.max_vtk_frames.unwrap_or(d.max_vtk_frames),
+    });
 
-    let settings = SimulationSettings {
-        t_end,
-        output_step,
-        integrator: d.integrator(model, rtol, atol),
-        assembly,
-        method,
-        physics_limits: d.physics_limits,
-    };
+    let settings = d.settings(model, assembly);
     let bar = if options.quiet { ProgressBar::hidden() } else { ProgressBar::new(1000) };
     bar.set_style(
         ProgressStyle::with_template("{bar:40} t = {msg} s  [{elapsed_precise}]").unwrap_or_else(|_| ProgressStyle::default_bar()),
@@ -119,19 +116,14 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
         .map_err(|e| CliError(format!("cannot catch SIGINT and SIGTERM: {e}")))?;
     let received = || stop.as_ref().and_then(StopSignal::received);
     let observe = &mut |frame: &flexmb::analysis::OutputFrame| {
-        if let Some(series) = vtk.as_mut() {
-            series.observe(frame);
-        }
         bar.set_position((frame.t / t_end * 1000.0) as u64);
         bar.set_message(format!("{:.4}", frame.t));
     };
-    let run = record_run(model, &settings, &file_name, (&csv_path, &summary_path), observe, &|| {
-        received().map(|s| s.name().to_string())
-    });
+    let run = record_model_run(&loaded, &settings, &file_name, &outputs, observe, &|| received().map(|s| s.name().to_string()));
     bar.finish_and_clear();
-    let RecordedRun { report, error, rows } = run?;
-    let vtk_written = vtk.map(RunSeries::finish).transpose().map_err(CliError)?;
+    let RecordedRun { report, error, rows, paraview } = run?;
     let interrupted = report.interrupted.as_ref().and(received());
+    let RunOutputs { csv: csv_path, summary: summary_path, .. } = outputs;
     if !options.quiet {
         match (&error, &report.interrupted) {
             (Some(_), _) => println!("run stopped early:"),
@@ -140,7 +132,7 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
         }
         println!("{}", summary_text(&report));
         println!("results: {} ({rows} rows), {}", csv_path.display(), summary_path.display());
-        if let Some(s) = &vtk_written {
+        if let Some(s) = &paraview {
             println!("ParaView: {} ({} frames of {} blocks)", s.pvd.display(), s.frames, s.blocks);
         }
     }

@@ -3,8 +3,8 @@
 
 use std::path::Path;
 
-use flexmb_cli::model_file::{parse_model, ModelFileError};
-use flexmb_cli::shape::Shape;
+use flexmb_files::model_file::{parse_model, ModelFileError};
+use flexmb_files::shape::Shape;
 
 /// A model of one body whose `shape` (line 6) is `shape`.
 fn body_with(shape: &str) -> String {
@@ -223,7 +223,7 @@ fn keys_that_do_not_apply_are_refused() {
 #[test]
 fn the_shipped_slider_crank_draws_its_links_as_boxes() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../models/slider_crank.toml");
-    let loaded = flexmb_cli::load_model(&path).unwrap_or_else(|e| panic!("{e}"));
+    let loaded = flexmb_files::load_model(&path).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(loaded.shapes.len(), 3);
     assert!(loaded.shapes.iter().all(|s| matches!(&s.shape, Shape::Surface(m) if m.points.len() == 24)));
 }

@@ -3,8 +3,8 @@
 
 use std::path::{Path, PathBuf};
 
-use flexmb_cli::fe_model_file::{load_fe_model, parse_fe_model, LoadedFeModel};
-use flexmb_cli::model_file::{ErrorKind, ModelFileError};
+use flexmb_files::fe_model_file::{load_fe_model, parse_fe_model, LoadedFeModel};
+use flexmb_files::model_file::{ErrorKind, ModelFileError};
 use flexmb_fem::reduction::{reduce, Basis, ModeSet, ReductionSettings};
 use flexmb_fem::{DofSet, ElementKind, StaticLoadKind};
 use nalgebra::Vector3;

@@ -14,7 +14,7 @@ use flexmb::integrate::BdfConfig;
 use flexmb::joint::{Joint, JointKind};
 use flexmb::math::{Mat3, Vec3};
 use flexmb::model::{BodyRef, Model, ModelBuilder, OutputKind};
-use flexmb_cli::flexible_body::modal_body;
+use flexmb_files::flexible_body::modal_body;
 use flexmb_fem::reduction::{reduce, Basis, ReductionSettings};
 use flexmb_fem::{
     BeamSection, DofSet, FeModel, MassModel, Material, Mesh, ModelOptions, StaticLoad, StaticLoadKind, Support,
@@ -119,7 +119,7 @@ fn pendulum_with(elements: usize, mass: MassModel, set: Option<&str>) -> Vec<[f6
     let mut modal = modal_body(&reduced.body, &ModalDamping::Ratios(vec![0.01])).unwrap();
     if set.is_none() {
         // No modes: the same FE mass, rigid.
-        modal = flexmb_cli::flexible_body::modal_body(&{
+        modal = flexmb_files::flexible_body::modal_body(&{
             let mut body = reduced.body.clone();
             body.modes.clear();
             body.shapes.clear();

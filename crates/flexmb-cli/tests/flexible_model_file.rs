@@ -9,9 +9,9 @@ use flexmb::analysis::{output_columns, simulate, SimulationSettings};
 use flexmb::body::ModalDamping;
 use flexmb::integrate::BdfConfig;
 use flexmb::model::{BodyId, MarkerId};
-use flexmb_cli::fe_model_file::load_fe_model;
-use flexmb_cli::flexible_body::modal_body;
-use flexmb_cli::model_file::{load_model, ErrorKind, FlexibleBodyOrigin, LoadedModel, ModelFileError, CACHE_DIR};
+use flexmb_files::fe_model_file::load_fe_model;
+use flexmb_files::flexible_body::modal_body;
+use flexmb_files::model_file::{load_model, ErrorKind, FlexibleBodyOrigin, LoadedModel, ModelFileError, CACHE_DIR};
 use flexmb_fem::reduction::{reduce, Basis, ReductionSettings};
 
 fn repository() -> PathBuf {

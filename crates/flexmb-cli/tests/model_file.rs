@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use flexmb_cli::model_file::{load_model, parse_model, ErrorKind, ModelFileError};
+use flexmb_files::model_file::{load_model, parse_model, ErrorKind, ModelFileError};
 
 fn models_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../models")
@@ -81,7 +81,7 @@ body = "ground"
 fn a_minimal_model_builds_with_defaults() {
     let loaded = parse_model(BODY, "dir/minimal.toml").unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(loaded.model.name(), "minimal");
-    assert_eq!(loaded.simulation, flexmb_cli::SimulationDefaults::default());
+    assert_eq!(loaded.simulation, flexmb_files::SimulationDefaults::default());
     assert_eq!(loaded.simulation.t_end, 1.0);
     assert_eq!(loaded.model.markers().len(), 2);
 }
@@ -434,6 +434,6 @@ fn an_unknown_integrator_and_a_spectral_radius_out_of_range_are_named() {
     assert_error(&text, 2, "simulation.integrator", &["unknown integrator `eulr`", "bdf"]);
     let text = format!("[simulation]\nspectral_radius = 1.5\n{BODY}");
     assert_error(&text, 2, "simulation.spectral_radius", &["between 0 and 1, got 1.5"]);
-    let loaded = flexmb_cli::parse_model(&format!("[simulation]\nintegrator = \"bdf\"\n{BODY}"), "models/ok.toml").unwrap();
+    let loaded = flexmb_files::parse_model(&format!("[simulation]\nintegrator = \"bdf\"\n{BODY}"), "models/ok.toml").unwrap();
     assert_eq!(loaded.simulation.method, flexmb::integrate::Method::Bdf);
 }

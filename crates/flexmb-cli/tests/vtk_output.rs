@@ -513,9 +513,9 @@ fn each_mode_of_the_cantilever_plays_as_an_animation() {
 fn the_model_files_frame_interval_must_be_positive() {
     let text =
         "[simulation]\noutput_step = 0.01\nvtk_step = -0.05\n[model]\n[[body]]\nname = \"b\"\nmass = 1\ninertia = [1, 1, 1]\n";
-    let e = flexmb_cli::parse_model(text, "models/bad.toml").expect_err("an error");
+    let e = flexmb_files::parse_model(text, "models/bad.toml").expect_err("an error");
     assert_eq!((e.line, e.key_path.as_str()), (Some(3), "simulation.vtk_step"));
     assert!(e.to_string().contains("vtk_step must be positive, got -0.05"), "{e}");
-    let loaded = flexmb_cli::parse_model(&text.replace("-0.05", "0.05"), "models/good.toml").unwrap();
+    let loaded = flexmb_files::parse_model(&text.replace("-0.05", "0.05"), "models/good.toml").unwrap();
     assert_eq!(loaded.simulation.vtk_step, Some(0.05));
 }

@@ -9,7 +9,8 @@ use flexmb::analysis::SimulationSettings;
 use flexmb::integrate::Method;
 use flexmb::Model;
 
-use crate::model_file::{load_model_with, ModelOverrides};
+use flexmb_files::model_file::{load_model_with, LoadOptions, ModelOverrides};
+use flexmb_files::SimulationDefaults;
 
 /// The seed's CPU time for the 4N5S door over 2 s (s).
 pub const SEED_DOOR_4N5S_CPU: f64 = 7281.0;
@@ -20,16 +21,10 @@ fn shipped(path: &str) -> PathBuf {
 
 /// A shipped model with the BDF and its file's settings for `t_end`.
 fn load(path: &str, overrides: &ModelOverrides, t_end: f64) -> Result<(Model, SimulationSettings), String> {
-    let loaded = load_model_with(&shipped(path), overrides).map_err(|e| e.to_string())?;
-    let d = loaded.simulation;
-    let settings = SimulationSettings {
-        t_end,
-        output_step: d.output_step,
-        integrator: d.integrator(&loaded.model, d.rtol, d.atol),
-        assembly: d.assembly(),
-        method: Method::Bdf,
-        physics_limits: d.physics_limits,
-    };
+    let options = LoadOptions { overrides: overrides.clone(), ..crate::limits::load_options() };
+    let loaded = load_model_with(&shipped(path), &options).map_err(|e| e.to_string())?;
+    let d = SimulationDefaults { t_end, method: Method::Bdf, ..loaded.simulation };
+    let settings = d.settings(&loaded.model, d.assembly());
     Ok((loaded.model, settings))
 }
 

@@ -21,7 +21,7 @@ use flexmb::math::{EulerParameters, Mat3, Vec3};
 use flexmb::model::{BodyRef, ModelBuilder};
 use flexmb::Model;
 
-use crate::model_file::parse_model;
+use flexmb_files::model_file::parse_model;
 
 /// A benchmark case.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]

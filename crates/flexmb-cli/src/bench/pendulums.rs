@@ -10,7 +10,7 @@ use flexmb::math::{Mat3, Vec3};
 use flexmb::model::{BodyId, BodyRef, ModelBuilder};
 use flexmb::Model;
 
-use crate::model_file::parse_model_in;
+use flexmb_files::model_file::parse_model_with;
 
 /// The shipped model file (its FE model is read relative to it, so the case runs from a checkout).
 fn model_path() -> PathBuf {
@@ -26,7 +26,7 @@ pub fn flexible_pendulum(modes: Option<&str>) -> Result<Model, String> {
         None => text,
     };
     let base = path.parent().unwrap_or(Path::new("."));
-    parse_model_in(&text, &path.display().to_string(), base).map(|l| l.model).map_err(|e| e.to_string())
+    parse_model_with(&text, &path.display().to_string(), base, &crate::limits::load_options()).map(|l| l.model).map_err(|e| e.to_string())
 }
 
 /// The same strip made rigid: one rigid body with the FE model's mass properties on the same hinge.

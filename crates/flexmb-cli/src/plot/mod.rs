@@ -7,7 +7,6 @@
 //! carries its own unit.
 
 mod axis;
-pub mod csv_table;
 pub mod figure;
 mod font;
 mod legend;
@@ -15,7 +14,7 @@ mod run_outputs;
 
 use std::path::{Path, PathBuf};
 
-pub use csv_table::ResultTable;
+pub use flexmb_files::ResultTable;
 pub use figure::{render, render_rgb, Annotation, Figure, ImageFormat, Series, YScale};
 pub use run_outputs::plot_run_outputs;
 

@@ -2,20 +2,19 @@
 //! with several integrators; a table with the seed's columns (type, T_end, CPU, RMS step size) plus
 //! steps and rejected steps, and plots that overlay one output column of every case.
 
-mod study_file;
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use flexmb::analysis::SimulationSettings;
 
 use crate::check::check_model;
-use crate::integrator_choice::parse_study_integrator;
-use crate::model_file::load_model_with;
-use crate::results::{record_run, RecordedRun};
+use flexmb_files::integrator_choice::parse_study_integrator;
+use flexmb_files::model_file::{load_model_with, LoadOptions};
+use flexmb_files::SimulationDefaults;
+use flexmb_files::results::{record_run, RecordedRun};
 use crate::run::CliError;
 
-pub use study_file::{load_study, parse_study, Case, Published, Study};
+pub use flexmb_files::study_file::{load_study, parse_study, Case, Published, Study};
 
 /// One run of a study: a case with an integrator.
 #[derive(Clone, Debug)]
@@ -81,29 +80,21 @@ pub fn run_study(path: &Path, out_dir: Option<&Path>, t_end: Option<f64>, quiet:
 }
 
 fn run_case(study: &Study, case: &Case, integrator: &str, out_dir: &Path) -> Result<StudyRun, CliError> {
-    let loaded = load_model_with(&study.model, &case.overrides).map_err(|e| CliError(format!("{}: {e}", case.location)))?;
+    let options = LoadOptions { overrides: case.overrides.clone(), ..crate::limits::load_options() };
+    let loaded = load_model_with(&study.model, &options).map_err(|e| CliError(format!("{}: {e}", case.location)))?;
     let model = &loaded.model;
     let d = loaded.simulation;
     let (t_end, rtol, atol) = (study.t_end.unwrap_or(d.t_end), study.rtol.unwrap_or(d.rtol), study.atol.unwrap_or(d.atol));
     let (method, max_order) = parse_study_integrator(integrator).map_err(CliError)?;
-    crate::output_limits::check_output_rows(t_end, d.output_step, d.max_output_rows, false)
+    flexmb_files::output_limits::check_output_rows(t_end, d.output_step, d.max_output_rows, false)
         .map_err(|e| CliError(format!("{}: {}: {e}", case.location, study.model.display())))?;
     let assembly = crate::limits::assembly_settings(&d)?;
     check_model(model, assembly).map_err(|e| CliError(format!("{}: {}: {e}", case.location, study.model.display())))?;
     let stem = format!("{}-{}", case.name, integrator.replace(':', "-order"));
     let csv_path = out_dir.join(format!("{stem}.csv"));
     let summary_path = out_dir.join(format!("{stem}.json"));
-    let settings = SimulationSettings {
-        t_end,
-        output_step: d.output_step,
-        integrator: flexmb::integrate::BdfConfig {
-            max_order: max_order.unwrap_or(d.integrator(model, rtol, atol).max_order),
-            ..d.integrator(model, rtol, atol)
-        },
-        assembly,
-        method,
-        physics_limits: d.physics_limits,
-    };
+    let max_order = max_order.or(d.max_order);
+    let settings = SimulationDefaults { t_end, rtol, atol, method, max_order, ..d }.settings(model, assembly);
     let model_file = study.model.display().to_string();
     let RecordedRun { report, error: failure, .. } =
         record_run(model, &settings, &model_file, (&csv_path, &summary_path), &mut |_| {}, &|| None)?;

@@ -16,8 +16,11 @@ const TRAILER: &str = "  </Collection>\n</VTKFile>\n";
 /// One file of the series.
 #[derive(Clone, Copy, Debug)]
 pub struct PvdEntry<'a> {
+    /// The frame's time (s).
     pub time: f64,
+    /// The block's index within the frame.
     pub part: usize,
+    /// The block's name, shown by ParaView.
     pub name: &'a str,
     /// Relative to the `.pvd` file's directory, with `/` separators.
     pub file: &'a str,
@@ -61,6 +64,7 @@ impl PvdFile {
         Ok(())
     }
 
+    /// The `.pvd` file.
     pub fn path(&self) -> &Path {
         &self.path
     }

@@ -28,12 +28,13 @@ pub(crate) struct Obtained {
 }
 
 /// The reduced body of `loaded` (read from `fe_path`) for `set` and `basis`: from the cache if it holds
-/// a valid one, else reduced now (and cached if possible).
+/// a valid one, else reduced now (and cached if possible) with at most `memory_limit` bytes.
 pub(crate) fn reduced_body(
     loaded: &LoadedFeModel,
     fe_path: &Path,
     set: &ModeSet,
     basis: Basis,
+    memory_limit: Option<u64>,
 ) -> Result<Obtained, FemError> {
     let dir = fe_path.parent().unwrap_or(Path::new("")).join(CACHE_DIR);
     let stem = fe_path.file_stem().and_then(|s| s.to_str()).unwrap_or("fe_model");
@@ -49,7 +50,7 @@ pub(crate) fn reduced_body(
         }
     }
     let started = Instant::now();
-    let eigen = EigenSettings { memory_limit: crate::limits::memory_limit_bytes(), ..Default::default() };
+    let eigen = EigenSettings { memory_limit, ..Default::default() };
     let settings = ReductionSettings { mode_set: set.clone(), basis, eigen };
     let reduction = reduce(&loaded.model, &loaded.name, &settings)?;
     let seconds = started.elapsed().as_secs_f64();
@@ -59,7 +60,7 @@ pub(crate) fn reduced_body(
 }
 
 /// `raw` or `orthonormal`, as in files.
-pub(crate) fn basis_name(basis: Basis) -> &'static str {
+pub fn basis_name(basis: Basis) -> &'static str {
     match basis {
         Basis::Raw => "raw",
         Basis::Orthonormal => "orthonormal",

@@ -17,7 +17,7 @@ pub(crate) mod value;
 use std::path::Path;
 
 
-pub use build::body_cache::CACHE_DIR;
+pub use build::body_cache::{basis_name, CACHE_DIR};
 pub use build::flexible_bodies::{FlexibleBodyInfo, FlexibleBodyOrigin};
 pub use error::{ErrorKind, ModelFileError};
 pub use overrides::ModelOverrides;
@@ -28,7 +28,9 @@ use source::Source;
 /// A model read from a file, with the file's defaults for simulation runs.
 #[derive(Clone, Debug)]
 pub struct LoadedModel {
+    /// The model, built and validated by the engine.
     pub model: flexmb::Model,
+    /// The file's `[simulation]` values, for runs.
     pub simulation: SimulationDefaults,
     /// The flexible bodies, in the order of their `[[flexible_body]]` tables: mode set, frequencies,
     /// and whether each was reduced now, read from the cache or read from a flexible-body file.
@@ -95,23 +97,84 @@ impl SimulationDefaults {
         flexmb::integrate::BdfConfig { rtol, atol, max_order: self.max_order.unwrap_or(base.max_order), ..base }
     }
 
-    /// The assembly settings these defaults ask for.
+    /// The assembly settings these defaults ask for (with the memory available on this machine as
+    /// the limit of the dense analyses; see [`with_memory_limit`](Self::with_memory_limit)).
     pub fn assembly(&self) -> flexmb::analysis::AssemblySettings {
         flexmb::analysis::AssemblySettings { modal: self.modal_assembly, ..Default::default() }
+    }
+
+    /// The assembly settings these defaults ask for, with `memory_limit` for the dense analyses.
+    pub fn with_memory_limit(&self, memory_limit: flexmb::analysis::MemoryLimit) -> flexmb::analysis::AssemblySettings {
+        flexmb::analysis::AssemblySettings { memory_limit, ..self.assembly() }
+    }
+
+    /// The simulation settings these defaults ask for: end time, output step, method, tolerances and
+    /// order limit, physics limits, with `assembly` for the initial conditions.
+    pub fn settings(
+        &self,
+        model: &flexmb::Model,
+        assembly: flexmb::analysis::AssemblySettings,
+    ) -> flexmb::analysis::SimulationSettings {
+        flexmb::analysis::SimulationSettings {
+            t_end: self.t_end,
+            output_step: self.output_step,
+            integrator: self.integrator(model, self.rtol, self.atol),
+            assembly,
+            method: self.method,
+            physics_limits: self.physics_limits,
+        }
+    }
+}
+
+/// How to load a model file beyond what it says: values that replace the file's (a study's case) and
+/// the memory the FE mode analysis of its flexible bodies may use.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LoadOptions {
+    /// Values that replace those of the file: parameters, mode sets.
+    pub overrides: ModelOverrides,
+    /// Most bytes the mode analysis of a flexible body reduced from its FE model may use; `None`: no
+    /// limit. Default: the memory available on this machine
+    /// ([`MemoryLimit::Available`](flexmb::analysis::MemoryLimit)).
+    pub memory_limit: Option<u64>,
+}
+
+impl Default for LoadOptions {
+    fn default() -> Self {
+        Self { overrides: ModelOverrides::default(), memory_limit: flexmb::analysis::MemoryLimit::Available.bytes() }
     }
 }
 
 /// Reads and builds the model file at `path`.
+///
+/// ```
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../models/pendulum.toml");
+/// let loaded = flexmb_files::load_model(std::path::Path::new(path))?;
+/// assert_eq!(loaded.model.bodies().len(), 1);
+/// assert_eq!(loaded.simulation.t_end, 5.0);
+/// # Ok::<(), flexmb_files::ModelFileError>(())
+/// ```
 pub fn load_model(path: &Path) -> Result<LoadedModel, ModelFileError> {
-    load_model_with(path, &ModelOverrides::default())
+    load_model_with(path, &LoadOptions::default())
 }
 
-/// [`load_model`] with some of the file's values replaced (a study's case).
-pub fn load_model_with(path: &Path, overrides: &ModelOverrides) -> Result<LoadedModel, ModelFileError> {
+/// [`load_model`] with some of the file's values replaced and a memory limit for the mode analysis.
+///
+/// ```
+/// use flexmb_files::model_file::{LoadOptions, ModelOverrides};
+///
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../models/pendulum.toml");
+/// let overrides = ModelOverrides { parameters: vec![("L".into(), 2.0)], ..Default::default() };
+/// let options = LoadOptions { overrides, ..Default::default() };
+/// let loaded = flexmb_files::load_model_with(std::path::Path::new(path), &options)?;
+/// let settings = loaded.simulation.settings(&loaded.model, loaded.simulation.assembly());
+/// assert_eq!(settings.t_end, loaded.simulation.t_end);
+/// # Ok::<(), flexmb_files::ModelFileError>(())
+/// ```
+pub fn load_model_with(path: &Path, options: &LoadOptions) -> Result<LoadedModel, ModelFileError> {
     let file = path.display().to_string();
     let text = source::read_text_file(path, "model")?;
     let base_dir = path.parent().unwrap_or(Path::new(""));
-    parse_model_with(&text, &file, base_dir, overrides)
+    parse_model_with(&text, &file, base_dir, options)
 }
 
 /// Builds a model from the text of a model file; `file_name` is used in error messages, its stem is
@@ -124,18 +187,19 @@ pub fn parse_model(text: &str, file_name: &str) -> Result<LoadedModel, ModelFile
 /// [`parse_model`] with the paths of flexible bodies' files (`fe_model`, `body_file`) relative to
 /// `base_dir`.
 pub fn parse_model_in(text: &str, file_name: &str, base_dir: &Path) -> Result<LoadedModel, ModelFileError> {
-    parse_model_with(text, file_name, base_dir, &ModelOverrides::default())
+    parse_model_with(text, file_name, base_dir, &LoadOptions::default())
 }
 
-fn parse_model_with(
+/// [`parse_model_in`] with some of the file's values replaced and a memory limit for the mode analysis.
+pub fn parse_model_with(
     text: &str,
     file_name: &str,
     base_dir: &Path,
-    overrides: &ModelOverrides,
+    options: &LoadOptions,
 ) -> Result<LoadedModel, ModelFileError> {
     let source = Source::new(file_name, text);
     let mut file: ModelFile = toml_errors::deserialize_located(&source)?;
-    overrides.apply(&mut file).map_err(|message| ModelFileError {
+    options.overrides.apply(&mut file).map_err(|message| ModelFileError {
         kind: ErrorKind::Invalid,
         file: file_name.to_string(),
         line: None,
@@ -143,5 +207,5 @@ fn parse_model_with(
         message,
     })?;
     let default_name = Path::new(file_name).file_stem().and_then(|s| s.to_str()).unwrap_or("model");
-    build::build(&file, &source, default_name, base_dir)
+    build::build(&file, &source, default_name, base_dir, options.memory_limit)
 }

@@ -41,7 +41,9 @@ use schema::FeModelFile;
 pub struct LoadedFeModel {
     /// `[fe_model] name`, or the file name without extension.
     pub name: String,
+    /// The finite-element model: mesh, materials, sections, supports, static loads, options.
     pub model: flexmb_fem::FeModel,
+    /// The `[modes]` defaults.
     pub defaults: ModesDefaults,
     /// Things worth knowing that do not stop the model from being built (a definition nothing uses,
     /// a skipped keyword of the mesh file), each `file:line: …`.
@@ -55,12 +57,34 @@ pub struct LoadedFeModel {
 /// `[modes]`: what `flexmb modes` uses unless told otherwise; `None` where the file says nothing.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ModesDefaults {
+    /// `set`: the mode set, e.g. `4N2S`.
     pub mode_set: Option<ModeSet>,
+    /// `basis`: raw or mass-orthonormalized modes.
     pub basis: Option<Basis>,
 }
 
 /// Reads and builds the FE model file at `path`: a TOML FE model file, or an `.inp` deck directly
 /// (then the model is the deck's, named after the file, without `[modes]` defaults).
+///
+/// Reduced to its `[modes]` set, written as a flexible-body file and made the engine's modal body:
+///
+/// ```
+/// use flexmb_fem::reduction::{reduce, ReductionSettings};
+///
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../models/fe/cantilever.toml");
+/// let loaded = flexmb_files::fe_model_file::load_fe_model(std::path::Path::new(path))?;
+/// let mode_set = loaded.defaults.mode_set.clone().ok_or("no [modes] set")?;
+/// let basis = loaded.defaults.basis.unwrap_or_default();
+/// let settings = ReductionSettings { mode_set, basis, eigen: Default::default() };
+/// let reduction = reduce(&loaded.model, &loaded.name, &settings)?;
+/// assert_eq!(reduction.body.mode_count(), 6); // 4N2S
+/// let file = std::env::temp_dir().join(format!("flexmb-files-doctest-{}.json", std::process::id()));
+/// reduction.body.write(&file)?;
+/// let modal = flexmb_files::flexible_body::modal_body(&reduction.body, &flexmb::body::ModalDamping::None)?;
+/// assert_eq!(modal.mode_labels.len(), 6);
+/// std::fs::remove_file(&file)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn load_fe_model(path: &Path) -> Result<LoadedFeModel, ModelFileError> {
     let file = path.display().to_string();
     let stem = file_stem(&file);

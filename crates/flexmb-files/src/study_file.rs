@@ -53,26 +53,33 @@ struct PublishedSection {
 /// A study, ready to run.
 #[derive(Clone, Debug)]
 pub struct Study {
+    /// `name`: names the output directory and the table.
     pub name: String,
     /// The model file, relative to the working directory.
     pub model: PathBuf,
     /// Integrators by name (`bdf`, `adams`, `gen-alpha`, or `bdf:K` for the BDF with orders up to `K`),
     /// in table order; the first one's runs are plotted.
     pub integrators: Vec<String>,
+    /// End time of every run (s); `None`: the model file's.
     pub t_end: Option<f64>,
+    /// Relative tolerance of every run; `None`: the model file's.
     pub rtol: Option<f64>,
+    /// Absolute tolerance of every run; `None`: the model file's.
     pub atol: Option<f64>,
     /// Output columns to plot, one plot each with a curve per case.
     pub plot: Vec<String>,
+    /// The variants, in table order.
     pub cases: Vec<Case>,
 }
 
 /// One variant of the model.
 #[derive(Clone, Debug)]
 pub struct Case {
+    /// The case's name, in tables, legends and file names.
     pub name: String,
     /// Where the case is written, `FILE:LINE: case[k]`, for messages about it.
     pub location: String,
+    /// Its mode sets and parameter values.
     pub overrides: ModelOverrides,
     /// Figures published for this case (e.g. the seed's table), shown beside the run's.
     pub published: Option<Published>,
@@ -81,8 +88,11 @@ pub struct Case {
 /// A published run's end time, CPU time and RMS step size, for comparison.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Published {
+    /// End time (s).
     pub t_end: Option<f64>,
+    /// CPU time (s).
     pub cpu: Option<f64>,
+    /// RMS step size (s).
     pub rms_step: Option<f64>,
 }
 

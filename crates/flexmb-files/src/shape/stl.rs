@@ -4,6 +4,10 @@
 //! normal and three vertices (12 × f32, little-endian) and a 2-byte attribute. An ASCII file is
 //! `solid … facet normal … outer loop vertex x y z … endloop endfacet … endsolid`. Some binary files
 //! also begin with `solid`, so the size decides: a file of exactly `84 + 50 n` bytes is binary.
+//!
+//! Hand-written rather than `stl_io`: that crate says neither the line of a bad ASCII facet nor what
+//! it found there in words a user can act on, reads ASCII coordinates as `f32` (these are `f64`),
+//! and takes any file beginning with `solid ` for ASCII, so a binary file with such a header fails.
 
 use flexmb::math::Vec3;
 

@@ -22,6 +22,7 @@ pub enum ErrorKind {
 /// tables are indexed from 0 in the key path (`joint[3]` is the fourth `[[joint]]`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ModelFileError {
+    /// What kind of problem: unreadable, not TOML, invalid values, …
     pub kind: ErrorKind,
     /// The file name as given to [`load_model`](super::load_model) or [`parse_model`](super::parse_model).
     pub file: String,

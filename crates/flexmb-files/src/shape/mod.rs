@@ -17,7 +17,9 @@ pub use primitives::{cuboid, cylinder, sphere, CYLINDER_SEGMENTS, SPHERE_BANDS, 
 /// quadrilateral, more a polygon (surface cells in counter-clockwise order seen from outside).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SurfaceMesh {
+    /// The points, in the frame the shape was given in.
     pub points: Vec<Vec3>,
+    /// The cells: point indices, see above.
     pub cells: Vec<Vec<usize>>,
 }
 
@@ -39,7 +41,10 @@ pub enum Shape {
     Surface(SurfaceMesh),
     /// Three lines of length `size` from the body frame's origin along its x, y and z axes (no `shape`,
     /// or `shape = { frame = size }`).
-    Frame { size: f64 },
+    Frame {
+        /// The axes' length (m).
+        size: f64,
+    },
 }
 
 impl Shape {
@@ -55,7 +60,9 @@ impl Shape {
 /// The shape of one `[[body]]`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BodyShape {
+    /// The body drawn.
     pub body: BodyId,
+    /// What is drawn for it.
     pub shape: Shape,
 }
 
@@ -81,7 +88,9 @@ pub fn frame_size(mass: f64, inertia: &Mat3) -> f64 {
 /// A problem in a mesh file: the 1-based line (of an ASCII file) and what is wrong.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MeshFileError {
+    /// The 1-based line of an ASCII file, if the problem is on one.
     pub line: Option<usize>,
+    /// What is wrong.
     pub message: String,
 }
 

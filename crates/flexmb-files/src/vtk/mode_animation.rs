@@ -31,6 +31,7 @@ const ROTATION_ONLY: f64 = 1e-6;
 pub struct ModeAnimation {
     /// The mode's label (`N1`, `O2`, …).
     pub label: String,
+    /// The animation's `.pvd` file.
     pub pvd: PathBuf,
     /// `c`: the displacement is `c sin(2π k/N)` times the mode's translation.
     pub scale: f64,

@@ -59,12 +59,14 @@ impl Default for Names {
 }
 
 /// Builds the model a parsed file describes; `default_name` is used when `[model]` has no name, and
-/// the paths of flexible bodies' files are relative to `base_dir`.
+/// the paths of flexible bodies' files are relative to `base_dir`; the mode analysis of a flexible body
+/// reduced now may use `memory_limit` bytes.
 pub(crate) fn build(
     file: &ModelFile,
     source: &Source,
     default_name: &str,
     base_dir: &Path,
+    memory_limit: Option<u64>,
 ) -> Result<LoadedModel, ModelFileError> {
     let parameters = parameters::evaluate(&file.parameters, source)?;
     let declared_measures = file.measure.iter().map(|m| m.get_ref().name.get_ref().clone()).collect();
@@ -75,7 +77,7 @@ pub(crate) fn build(
     let mut names = Names::default();
     let shapes = bodies::add_bodies(&ctx, &file.body, base_dir, &mut builder, &mut names.bodies)?;
     let mut flexible = FlexibleNodes::default();
-    let tables = FlexibleTables { sections: &file.flexible_body, base_dir };
+    let tables = FlexibleTables { sections: &file.flexible_body, base_dir, memory_limit };
     let flexible_bodies =
         flexible_bodies::add_flexible_bodies(&ctx, &tables, &mut builder, &mut names.bodies, &mut flexible)?;
     markers::add_markers(&ctx, &file.marker, &names.bodies, &flexible, &mut builder, &mut names.markers)?;

@@ -36,7 +36,9 @@ pub struct RunSeries<'a> {
 /// What a finished series wrote.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SeriesWritten {
+    /// The `.pvd` file.
     pub pvd: PathBuf,
+    /// Frames written.
     pub frames: usize,
     /// Blocks per frame: bodies and joints.
     pub blocks: usize,
@@ -47,6 +49,7 @@ pub struct SeriesWritten {
 pub struct SeriesTimes {
     /// Interval between frames (s; `None`: the output step), a whole multiple of `output_step`.
     pub step: Option<f64>,
+    /// Interval between output times (s).
     pub output_step: f64,
     /// The run's end time (s).
     pub t_end: f64,

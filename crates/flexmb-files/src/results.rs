@@ -2,7 +2,6 @@
 //! keeps everything computed so far), and a JSON summary with the solver statistics.
 
 use std::fs::File;
-use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 use flexmb::analysis::{
@@ -12,41 +11,43 @@ use flexmb::analysis::{
 use flexmb::Model;
 use serde_json::{json, Value};
 
-use crate::run::CliError;
+use crate::model_file::LoadedModel;
+use crate::vtk::{RunSeries, SeriesTimes, SeriesWritten};
 
-/// Streams output frames into a CSV file with a header `t,<column>,…`.
+/// A result file that could not be written or read, with the message that names it.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct ResultFileError(pub String);
+
+/// Streams output frames into a CSV file with a header `t,<column>,…`, a row per frame, every value
+/// in scientific notation with 10 decimals, each row flushed as it is written.
 pub struct CsvWriter {
     path: PathBuf,
-    out: BufWriter<File>,
+    out: csv::Writer<File>,
     rows: usize,
 }
 
 impl CsvWriter {
+    /// Creates the file at `path` and writes the header: `t` and the columns' names.
     pub fn create(path: &Path, columns: &[OutputColumn]) -> std::io::Result<Self> {
-        let mut out = BufWriter::new(File::create(path)?);
-        write!(out, "t")?;
-        for c in columns {
-            write!(out, ",{}", c.name)?;
-        }
-        writeln!(out)?;
+        let mut out = csv::Writer::from_writer(File::create(path)?);
+        out.write_record(std::iter::once("t").chain(columns.iter().map(|c| c.name.as_str())))?;
         Ok(Self { path: path.to_path_buf(), out, rows: 0 })
     }
 
     /// Appends one row and flushes it to the file.
     pub fn write_row(&mut self, t: f64, values: &[f64]) -> std::io::Result<()> {
-        write!(self.out, "{t:.10e}")?;
-        for v in values {
-            write!(self.out, ",{v:.10e}")?;
-        }
-        writeln!(self.out)?;
+        self.out.write_record(std::iter::once(&t).chain(values).map(|v| format!("{v:.10e}")))?;
         self.rows += 1;
         self.out.flush()
     }
 
+    /// The rows written so far, the header not counted.
     pub fn rows(&self) -> usize {
         self.rows
     }
 
+    /// The file written.
     pub fn path(&self) -> &Path {
         &self.path
     }
@@ -54,13 +55,21 @@ impl CsvWriter {
 
 /// What a run was asked to do, for the summary.
 pub struct RunRequest<'a> {
+    /// The model file, as named in messages.
     pub model_file: &'a str,
+    /// The model's name.
     pub model_name: &'a str,
+    /// End time (s).
     pub t_end: f64,
+    /// Interval between output times (s).
     pub output_step: f64,
+    /// Relative error tolerance.
     pub rtol: f64,
+    /// Absolute error tolerance.
     pub atol: f64,
+    /// The integrator's name.
     pub integrator: &'a str,
+    /// The physics watchdog's thresholds.
     pub limits: PhysicsLimits,
 }
 
@@ -237,9 +246,96 @@ pub fn balance_error(report: &SimulationReport) -> f64 {
 
 /// A run recorded to files: its report, the failure if it stopped early, and the rows written.
 pub struct RecordedRun {
+    /// The engine's report: statistics, constraint residuals, energy, warnings, interruption.
     pub report: SimulationReport,
+    /// The simulation's failure, if it stopped early (the files hold what it computed before).
     pub error: Option<String>,
+    /// Rows written to the CSV.
     pub rows: usize,
+    /// The ParaView series written, if one was asked for (only [`record_model_run`] writes one).
+    pub paraview: Option<SeriesWritten>,
+}
+
+/// Where a run's results go: the CSV of its outputs, its JSON summary, and optionally a ParaView
+/// series.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunOutputs {
+    /// The result CSV: a header `t,<column>,…` and a row per output time.
+    pub csv: PathBuf,
+    /// The JSON summary: settings, statistics, residuals, energy, columns and their units.
+    pub summary: PathBuf,
+    /// A ParaView time series of the bodies and joints, if wanted.
+    pub paraview: Option<ParaViewSeries>,
+}
+
+/// A ParaView time series to write as a run proceeds: `dir/name.pvd` and its files in `dir/name/`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ParaViewSeries {
+    /// The directory of the `.pvd` file.
+    pub dir: PathBuf,
+    /// The series' name: the `.pvd` file's stem and the folder of its `.vtu` files.
+    pub name: String,
+    /// When frames are taken.
+    pub times: SeriesTimes,
+    /// Most frames the series may have; more is an error before the run starts.
+    pub max_frames: u64,
+}
+
+impl RunOutputs {
+    /// `dir/name.csv` and `dir/name.json`, as `flexmb run` names them; no ParaView series.
+    pub fn in_directory(dir: &Path, name: &str) -> Self {
+        Self { csv: dir.join(format!("{name}.csv")), summary: dir.join(format!("{name}.json")), paraview: None }
+    }
+}
+
+/// Simulates a loaded model as `flexmb run` does: its outputs go to `outputs.csv` as they come, its
+/// summary to `outputs.summary` at the end, and a ParaView series frame by frame if
+/// `outputs.paraview` asks for one; `observe` sees every output frame, and `interrupt` is asked
+/// after every step whether to stop (see [`record_run`]). The directories must exist.
+///
+/// ```
+/// use flexmb_files::{load_model, record_model_run, RunOutputs};
+///
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../models/pendulum.toml");
+/// let loaded = load_model(std::path::Path::new(path))?;
+/// let mut defaults = loaded.simulation;
+/// defaults.t_end = 0.1;
+/// let settings = defaults.settings(&loaded.model, defaults.assembly());
+/// let dir = std::env::temp_dir().join(format!("flexmb-files-doctest-{}", std::process::id()));
+/// std::fs::create_dir_all(&dir)?;
+/// let outputs = RunOutputs::in_directory(&dir, "pendulum");
+/// let mut frames = 0;
+/// let run = record_model_run(&loaded, &settings, path, &outputs, &mut |_frame| frames += 1, &|| None)?;
+/// assert!(run.error.is_none());
+/// assert_eq!((run.rows, frames), (11, 11));
+/// let table = flexmb_files::ResultTable::read(&outputs.csv)?;
+/// assert_eq!(table.column("t")?.len(), 11);
+/// std::fs::remove_dir_all(&dir)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn record_model_run(
+    loaded: &LoadedModel,
+    settings: &SimulationSettings,
+    model_file: &str,
+    outputs: &RunOutputs,
+    observe: &mut dyn FnMut(&OutputFrame),
+    interrupt: &dyn Fn() -> Option<String>,
+) -> Result<RecordedRun, ResultFileError> {
+    let mut series = outputs
+        .paraview
+        .as_ref()
+        .map(|p| RunSeries::create(&p.dir, &p.name, loaded, p.times, p.max_frames))
+        .transpose()
+        .map_err(ResultFileError)?;
+    let observe = &mut |frame: &OutputFrame| {
+        if let Some(series) = series.as_mut() {
+            series.observe(frame);
+        }
+        observe(frame);
+    };
+    let run = record_run(&loaded.model, settings, model_file, (&outputs.csv, &outputs.summary), observe, interrupt)?;
+    let paraview = series.map(RunSeries::finish).transpose().map_err(ResultFileError)?;
+    Ok(RecordedRun { paraview, ..run })
 }
 
 /// Simulates `model`, writing every output frame to `csv` as it comes (a run that fails keeps what
@@ -253,9 +349,9 @@ pub fn record_run(
     (csv_path, summary_path): (&Path, &Path),
     observe: &mut dyn FnMut(&OutputFrame),
     interrupt: &dyn Fn() -> Option<String>,
-) -> Result<RecordedRun, CliError> {
+) -> Result<RecordedRun, ResultFileError> {
     let columns = output_columns(model);
-    let mut csv = CsvWriter::create(csv_path, &columns).map_err(|e| CliError(format!("cannot write {}: {e}", csv_path.display())))?;
+    let mut csv = CsvWriter::create(csv_path, &columns).map_err(|e| ResultFileError(format!("cannot write {}: {e}", csv_path.display())))?;
     let mut write_error: Option<std::io::Error> = None;
     let result = simulate_interruptible(
         model,
@@ -269,7 +365,7 @@ pub fn record_run(
         interrupt,
     );
     if let Some(e) = write_error {
-        return Err(CliError(format!("cannot write {}: {e}", csv_path.display())));
+        return Err(ResultFileError(format!("cannot write {}: {e}", csv_path.display())));
     }
     let (report, error) = match result {
         Ok(r) => (r, None),
@@ -286,7 +382,7 @@ pub fn record_run(
         limits: settings.physics_limits,
     };
     let summary = summary_json(&request, &report, &columns, csv_path, error.as_deref());
-    let text = serde_json::to_string_pretty(&summary).map_err(|e| CliError(e.to_string()))?;
-    std::fs::write(summary_path, text + "\n").map_err(|e| CliError(format!("cannot write {}: {e}", summary_path.display())))?;
-    Ok(RecordedRun { report, error, rows: csv.rows() })
+    let text = serde_json::to_string_pretty(&summary).map_err(|e| ResultFileError(e.to_string()))?;
+    std::fs::write(summary_path, text + "\n").map_err(|e| ResultFileError(format!("cannot write {}: {e}", summary_path.display())))?;
+    Ok(RecordedRun { report, error, rows: csv.rows(), paraview: None })
 }

@@ -30,12 +30,27 @@ use crate::model_file::schema::{DampingSection, FlexibleBodySection, Name, Vecto
 #[derive(Clone, Debug, PartialEq)]
 pub enum FlexibleBodyOrigin {
     /// Read from a flexible-body file (`body_file`).
-    BodyFile { path: PathBuf },
+    BodyFile {
+        /// The flexible-body file.
+        path: PathBuf,
+    },
     /// Reduced from the FE model file now, in `seconds`; `cache` is the file it was saved to (`None`
     /// if the cache directory could not be written).
-    Reduced { fe_model: PathBuf, cache: Option<PathBuf>, seconds: f64 },
+    Reduced {
+        /// The FE model file.
+        fe_model: PathBuf,
+        /// The cached flexible-body file written, if one could be.
+        cache: Option<PathBuf>,
+        /// The time the reduction took (s).
+        seconds: f64,
+    },
     /// Read from the cache of an earlier reduction of the same FE model file, mode set and basis.
-    Cached { fe_model: PathBuf, cache: PathBuf },
+    Cached {
+        /// The FE model file.
+        fe_model: PathBuf,
+        /// The cached flexible-body file read.
+        cache: PathBuf,
+    },
 }
 
 /// A flexible body of a model file, as loaded: for reports.
@@ -43,9 +58,11 @@ pub enum FlexibleBodyOrigin {
 pub struct FlexibleBodyInfo {
     /// The body's name in the model.
     pub name: String,
+    /// The body in the model.
     pub body: BodyId,
     /// The mode set, e.g. `4N2S`.
     pub mode_set: String,
+    /// The basis: raw or mass-orthonormalized modes.
     pub basis: Basis,
     /// The mode labels (`N1`, `S1`, `O1`, …), in basis order.
     pub mode_labels: Vec<String>,
@@ -53,6 +70,7 @@ pub struct FlexibleBodyInfo {
     pub frequencies_hz: Vec<f64>,
     /// Number of nodes.
     pub nodes: usize,
+    /// Where the reduced body came from.
     pub origin: FlexibleBodyOrigin,
     /// The FE model file's warnings, and the reduction's if it was reduced now.
     pub warnings: Vec<String>,
@@ -65,6 +83,8 @@ pub(crate) struct FlexibleTables<'a> {
     pub sections: &'a [Spanned<FlexibleBodySection>],
     /// The model file's directory: `fe_model` and `body_file` paths are relative to it.
     pub base_dir: &'a Path,
+    /// Most bytes the mode analysis of a body reduced now may use; `None`: no limit.
+    pub memory_limit: Option<u64>,
 }
 
 pub(crate) fn add_flexible_bodies(
@@ -86,7 +106,7 @@ pub(crate) fn add_flexible_bodies(
                 "`ground` is the inertial frame and cannot name a body",
             ));
         }
-        let table = Table { ctx, f, element: &element, span: section.span() };
+        let table = Table { ctx, f, element: &element, span: section.span(), memory_limit: tables.memory_limit };
         let obtained = table.obtain(tables.base_dir)?;
         let modal = table.modal(&obtained.body)?;
         let keys = InitialKeys {
@@ -142,6 +162,8 @@ struct Table<'a> {
     element: &'a KeyPath,
     /// The table's span (its header line).
     span: Range<usize>,
+    /// Most bytes the mode analysis may use.
+    memory_limit: Option<u64>,
 }
 
 impl Table<'_> {
@@ -202,7 +224,7 @@ impl Table<'_> {
             )?,
             None => loaded.defaults.basis.unwrap_or_default(),
         };
-        let obtained = reduced_body(&loaded, &path, &set, basis).map_err(|e| {
+        let obtained = reduced_body(&loaded, &path, &set, basis, self.memory_limit).map_err(|e| {
             let (span, key) = match &self.f.modes {
                 Some(modes) => (modes.span(), self.key("modes")),
                 None => (fe_model.span(), key.clone()),

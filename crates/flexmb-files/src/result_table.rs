@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::model_file::suggest::did_you_mean;
-use crate::run::CliError;
+use crate::results::ResultFileError;
 
 /// The columns of one result CSV, by name, with their units.
 #[derive(Clone, Debug)]
@@ -20,22 +20,48 @@ pub struct ResultTable {
 
 impl ResultTable {
     /// Reads `path` (header `t,<column>,…`, one row per output time) and the units of its summary.
-    pub fn read(path: &Path) -> Result<Self, CliError> {
+    ///
+    /// ```
+    /// let path = std::env::temp_dir().join(format!("flexmb-files-table-{}.csv", std::process::id()));
+    /// std::fs::write(&path, "t,x\n0,1.5\n0.1,2.5\n")?;
+    /// let table = flexmb_files::ResultTable::read(&path)?;
+    /// assert_eq!(table.names(), ["t", "x"]);
+    /// assert_eq!(table.column("x")?, [1.5, 2.5]);
+    /// assert_eq!(table.unit("t"), Some("s"));
+    /// std::fs::remove_file(&path)?;
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn read(path: &Path) -> Result<Self, ResultFileError> {
         let text = flexmb_fem::input::read_text(path)
-            .map_err(|e| CliError(format!("cannot read {}: {e}", path.display())))?;
-        let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty());
-        let Some((_, header)) = lines.next() else {
-            return Err(CliError(format!("{} is empty: no header and no rows", path.display())));
+            .map_err(|e| ResultFileError(format!("cannot read {}: {e}", path.display())))?;
+        let mut records = csv::ReaderBuilder::new()
+            .has_headers(false)
+            .flexible(true)
+            .trim(csv::Trim::All)
+            .from_reader(text.as_bytes())
+            .into_records()
+            .filter(|r| r.as_ref().map_or(true, |r| !(r.len() == 1 && r[0].is_empty())));
+        let read_error = |e: csv::Error| ResultFileError(format!("cannot read {}: {e}", path.display()));
+        let Some(header) = records.next().transpose().map_err(read_error)? else {
+            return Err(ResultFileError(format!("{} is empty: no header and no rows", path.display())));
         };
-        let names: Vec<String> = header.split(',').map(|n| n.trim().to_string()).collect();
+        let names: Vec<String> = header.iter().map(str::to_string).collect();
         let mut columns = vec![Vec::new(); names.len()];
         let mut row_lines = Vec::new();
-        for (index, line) in lines {
-            push_row(path, index + 1, line, &names, &mut columns)?;
-            row_lines.push(index + 1);
+        // The csv reader counts no blank lines, and a record's position is where the blank lines
+        // before it begin: the line is counted from the byte where the record's text begins.
+        let (mut line, mut counted) = (1, 0);
+        for record in records {
+            let record = record.map_err(read_error)?;
+            let position = record.position().map_or(counted, |p| p.byte() as usize);
+            let start = position + text.as_bytes()[position..].iter().take_while(|b| matches!(b, b'\n' | b'\r')).count();
+            line += text.as_bytes()[counted..start].iter().filter(|&&b| b == b'\n').count();
+            counted = start;
+            push_row(path, line, &record, &names, &mut columns)?;
+            row_lines.push(line);
         }
         if columns[0].is_empty() {
-            return Err(CliError(format!("{} has a header but no rows", path.display())));
+            return Err(ResultFileError(format!("{} has a header but no rows", path.display())));
         }
         let units = summary_units(path, &names);
         Ok(Self { path: path.to_path_buf(), names, units, columns, lines: row_lines })
@@ -55,6 +81,7 @@ impl ResultTable {
         table
     }
 
+    /// The file read.
     pub fn path(&self) -> &Path {
         &self.path
     }
@@ -64,26 +91,28 @@ impl ResultTable {
         self.path.file_stem().and_then(|s| s.to_str()).unwrap_or("results")
     }
 
+    /// The columns' names, in the file's order (`t` first in files `flexmb run` writes).
     pub fn names(&self) -> &[String] {
         &self.names
     }
 
+    /// The number of rows.
     pub fn rows(&self) -> usize {
         self.columns.first().map_or(0, Vec::len)
     }
 
     /// The values of a column, or an error listing the columns there are.
-    pub fn column(&self, name: &str) -> Result<&[f64], CliError> {
+    pub fn column(&self, name: &str) -> Result<&[f64], ResultFileError> {
         self.index(name).map(|i| self.columns[i].as_slice())
     }
 
     /// The values of a column, which must all be finite: a NaN or an infinity is an error at its
     /// line, saying that `purpose` ("a plot", "a spectrum") needs finite values.
-    pub fn finite_column(&self, name: &str, purpose: &str) -> Result<&[f64], CliError> {
+    pub fn finite_column(&self, name: &str, purpose: &str) -> Result<&[f64], ResultFileError> {
         let values = self.column(name)?;
         match values.iter().position(|v| !v.is_finite()) {
             None => Ok(values),
-            Some(row) => Err(CliError(format!(
+            Some(row) => Err(ResultFileError(format!(
                 "{}: column `{name}` holds {}; {purpose} needs finite values",
                 self.location(row),
                 values[row]
@@ -101,9 +130,9 @@ impl ResultTable {
         self.index(name).ok().and_then(|i| self.units[i].as_deref())
     }
 
-    fn index(&self, name: &str) -> Result<usize, CliError> {
+    fn index(&self, name: &str) -> Result<usize, ResultFileError> {
         self.names.iter().position(|n| n == name).ok_or_else(|| {
-            CliError(format!(
+            ResultFileError(format!(
                 "{} has no column `{name}`{}\navailable columns: {}",
                 self.path.display(),
                 did_you_mean(name, self.names.iter().map(String::as_str)),
@@ -117,13 +146,12 @@ impl ResultTable {
 fn push_row(
     path: &Path,
     line_number: usize,
-    line: &str,
+    fields: &csv::StringRecord,
     names: &[String],
     columns: &mut [Vec<f64>],
-) -> Result<(), CliError> {
-    let fields: Vec<&str> = line.split(',').collect();
+) -> Result<(), ResultFileError> {
     if fields.len() != names.len() {
-        return Err(CliError(format!(
+        return Err(ResultFileError(format!(
             "{}:{line_number}: {} values, but the header has {} columns",
             path.display(),
             fields.len(),
@@ -131,8 +159,8 @@ fn push_row(
         )));
     }
     for ((field, name), column) in fields.iter().zip(names).zip(columns.iter_mut()) {
-        let value = field.trim().parse::<f64>().map_err(|_| {
-            CliError(format!("{}:{line_number}: column `{name}`: `{}` is not a number", path.display(), field.trim()))
+        let value = field.parse::<f64>().map_err(|_| {
+            ResultFileError(format!("{}:{line_number}: column `{name}`: `{field}` is not a number", path.display()))
         })?;
         column.push(value);
     }

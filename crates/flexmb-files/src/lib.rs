@@ -1,0 +1,32 @@
+#![warn(missing_docs)]
+
+//! flexmb's files: what a program or a binding calls to load a mechanism, run it and keep its results.
+//!
+//! - [`model_file`]: model files (TOML, `docs/model-file.md`) with parameter overrides, built into a
+//!   [`flexmb::Model`] plus its `[simulation]` settings ([`load_model`], [`load_model_with`]);
+//! - [`fe_model_file`]: FE model files (`docs/fe-model-file.md`) for the preprocessor, and
+//!   [`flexible_body`], the reduced flexible body turned into the engine's modal body;
+//! - [`results`]: a run recorded to a result CSV and a JSON summary ([`record_model_run`]), and
+//!   [`result_table`], a result CSV read back into named columns;
+//! - [`vtk`]: ParaView files of a run and of mode shapes; [`shape`]: what they draw for rigid bodies;
+//! - [`study_file`]: study files (a model in several variants, each with several integrators);
+//! - [`output_limits`]: how many rows and frames a run may write; [`integrator_choice`]: integrators by
+//!   name.
+//!
+//! The `flexmb` program is a thin layer over these calls: `flexmb run` is [`load_model`], the engine's
+//! assembly check, [`record_model_run`], and printing.
+
+pub mod fe_model_file;
+pub mod flexible_body;
+pub mod integrator_choice;
+pub mod model_file;
+pub mod output_limits;
+pub mod result_table;
+pub mod results;
+pub mod shape;
+pub mod study_file;
+pub mod vtk;
+
+pub use model_file::{load_model, load_model_with, parse_model, LoadOptions, LoadedModel, ModelFileError, SimulationDefaults};
+pub use result_table::ResultTable;
+pub use results::{record_model_run, RecordedRun, ResultFileError, RunOutputs};
