@@ -28,7 +28,7 @@ fn fixed_body() -> Model {
         EulerParameters(p.normalize()),
         None,
         None,
-    ));
+    )).unwrap();
     let on_ground = marker_with_axes(
         &mut b,
         "k0",

@@ -42,7 +42,7 @@ fn free_body() -> Model {
         EulerParameters::from_axis_angle(&Vec3::new(1.0, 2.0, 0.5), 0.7),
         Some(Vec3::new(0.4, 0.1, -0.3)),
         Some(Vec3::new(2.0, -3.5, 4.0)),
-    ));
+    )).unwrap();
     b.build().unwrap()
 }
 
