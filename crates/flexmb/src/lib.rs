@@ -15,11 +15,17 @@
 //! M. W. Reichelt, *The MATLAB ODE Suite* (1997); C. W. Gear, B. Leimkuhler, G. K. Gupta, *Automatic
 //! integration of Euler–Lagrange equations with constraints* (1985).
 
+#![warn(missing_docs)]
+
+// Documented in branch issue15-engine; the lead removes this allow at merge.
+#[allow(missing_docs)]
 pub mod analysis;
 pub mod body;
 mod data;
 pub mod force;
 pub mod function;
+// Documented in branch issue15-engine; the lead removes this allow at merge.
+#[allow(missing_docs)]
 pub mod integrate;
 pub mod joint;
 pub mod linalg;

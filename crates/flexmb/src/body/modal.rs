@@ -124,8 +124,11 @@ impl ModalInvariants {
 pub struct ModalNode {
     /// The node's label in the FE model, for messages and outputs.
     pub label: u64,
+    /// Undeformed position `s̄ᵢ` in the body frame (m).
     pub position: Vec3,
+    /// Translational mode matrix `Ψᵢ` (3×m): the node's displacement per unit modal coordinate.
     pub psi: Matrix3xX<f64>,
+    /// Rotational mode matrix `Θᵢ` (3×m): the node's small rotation per unit modal coordinate.
     pub theta: Matrix3xX<f64>,
 }
 
@@ -138,12 +141,18 @@ pub enum ModalDamping {
     /// mode): `D = M X diag(2 ζⱼ ωⱼ) Xᵀ M` with `X` the mass-normalized eigenvectors of `(K, M)`.
     Ratios(Vec<f64>),
     /// Rayleigh damping `D = α M + β K`.
-    Rayleigh { alpha: f64, beta: f64 },
+    Rayleigh {
+        /// The mass factor α (1/s).
+        alpha: f64,
+        /// The stiffness factor β (s).
+        beta: f64,
+    },
 }
 
 /// A flexible body's modal description.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ModalBody {
+    /// The inertia invariants of its FE model.
     pub invariants: ModalInvariants,
     /// Modal stiffness `K_aa` (m×m).
     pub stiffness: DMatrix<f64>,
