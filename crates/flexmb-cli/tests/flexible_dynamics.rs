@@ -36,7 +36,7 @@ fn beam(length: f64, n: usize, w: f64, h: f64) -> FeModel {
         }],
         ..Default::default()
     };
-    mesh.add_beam_line(Vec3::zeros(), Vec3::new(length, 0.0, 0.0), n, 0);
+    mesh.add_beam_line(Vec3::zeros(), Vec3::new(length, 0.0, 0.0), n, 0).unwrap();
     FeModel { mesh, options: ModelOptions { rotary_inertia: true, ..Default::default() }, ..Default::default() }
 }
 

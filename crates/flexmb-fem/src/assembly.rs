@@ -85,17 +85,21 @@ pub struct AssembledModel {
     pub nodal_masses: Vec<NodalMass>,
 }
 
-/// The supported dofs of every node.
+/// The supported dofs of every node. A support at a node the mesh does not have is left out here;
+/// [`FeModel::check_references`] reports it.
 pub fn supported_dofs(model: &FeModel) -> Vec<DofSet> {
     let mut supported = vec![DofSet::EMPTY; model.mesh.nodes.len()];
     for s in &model.supports {
-        supported[s.node] = supported[s.node].union(s.dofs);
+        if let Some(set) = supported.get_mut(s.node) {
+            *set = set.union(s.dofs);
+        }
     }
     supported
 }
 
 /// Assembles the stiffness and lumped mass of `model`.
 pub fn assemble(model: &FeModel) -> Result<AssembledModel, FemError> {
+    model.check_references()?;
     let mesh = &model.mesh;
     let n_nodes = mesh.nodes.len();
     let dofs = DofMap::new(n_nodes, &supported_dofs(model));

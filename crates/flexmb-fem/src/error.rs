@@ -48,6 +48,26 @@ pub enum FemError {
     DenseTooLarge { dimension: usize, needed: u64, limit: u64 },
     #[error("the mode analysis's operator is not finite: the model's coordinates or properties overflow double precision")]
     NotFinite,
+    /// A mesh generator was asked for nothing (no elements along a line, no cells across a plate).
+    #[error("{generator}: {problem}")]
+    Generator {
+        /// `beam line` or `plate`.
+        generator: &'static str,
+        /// What was expected.
+        problem: &'static str,
+    },
+    /// A part of the model refers to a node, material or section the model does not have.
+    #[error("{part}: {kind} index {index} is beyond the model's {count}")]
+    UnknownIndex {
+        /// The part that refers to it: `element 12`, `beam section 'rod'`, `a support`, ….
+        part: String,
+        /// What the index should name: `node`, `material`, `beam section` or `shell section`.
+        kind: &'static str,
+        /// The index given.
+        index: usize,
+        /// How many the model has.
+        count: usize,
+    },
     #[error("linear algebra: {0}")]
     LinearAlgebra(String),
 }

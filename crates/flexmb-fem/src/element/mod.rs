@@ -46,6 +46,16 @@ pub struct NodalMass {
 pub enum ElementError {
     #[error("the element has {found} nodes; a {kind} needs {expected}")]
     NodeCount { kind: &'static str, expected: &'static str, found: usize },
+    /// The element refers to a node, section or material the mesh does not have.
+    #[error("{kind} index {index} is beyond the mesh's {count}")]
+    UnknownIndex {
+        /// `node`, `beam section`, `shell section` or `material`.
+        kind: &'static str,
+        /// The index given.
+        index: usize,
+        /// How many the mesh has.
+        count: usize,
+    },
     #[error("the beam has zero length (its two nodes coincide)")]
     ZeroLength,
     #[error("the beam's orientation vector is parallel to the beam axis")]
@@ -68,23 +78,32 @@ pub fn element_matrices(
     element: &Element,
     options: &ModelOptions,
 ) -> Result<ElementMatrices, ElementError> {
-    let points: Vec<_> = element.nodes.iter().map(|&n| mesh.nodes[n].position).collect();
+    let points = element
+        .nodes
+        .iter()
+        .map(|&n| lookup(&mesh.nodes, "node", n).map(|node| node.position))
+        .collect::<Result<Vec<_>, _>>()?;
     match element.kind {
         ElementKind::Beam { section } => {
-            let section = &mesh.beam_sections[section];
-            let material = &mesh.materials[section.material];
+            let section = lookup(&mesh.beam_sections, "beam section", section)?;
+            let material = lookup(&mesh.materials, "material", section.material)?;
             if points.len() != 2 {
                 return Err(ElementError::NodeCount { kind: "beam", expected: "2", found: points.len() });
             }
             beam::beam_matrices(&points[0], &points[1], section, material, options)
         }
         ElementKind::Shell { section } => {
-            let section = &mesh.shell_sections[section];
-            let material = &mesh.materials[section.material];
+            let section = lookup(&mesh.shell_sections, "shell section", section)?;
+            let material = lookup(&mesh.materials, "material", section.material)?;
             if points.len() != 3 && points.len() != 4 {
                 return Err(ElementError::NodeCount { kind: "shell", expected: "3 or 4", found: points.len() });
             }
             shell::shell_matrices(&points, section, material, options)
         }
     }
+}
+
+/// `items[index]`, or the error that says the mesh has no such `kind`.
+fn lookup<'a, T>(items: &'a [T], kind: &'static str, index: usize) -> Result<&'a T, ElementError> {
+    items.get(index).ok_or(ElementError::UnknownIndex { kind, index, count: items.len() })
 }

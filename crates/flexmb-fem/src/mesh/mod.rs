@@ -7,6 +7,7 @@
 
 mod dof;
 mod generate;
+mod references;
 
 use std::collections::BTreeMap;
 

@@ -66,6 +66,7 @@ pub fn reduce(model: &FeModel, name: &str, settings: &ReductionSettings) -> Resu
             ),
         });
     }
+    model.check_references()?;
     check_memory(model, &settings.eigen)?;
     let prepared = prepare(model)?;
     let (model, assembled, rigid) = (&prepared.model, &prepared.assembled, &prepared.rigid);
