@@ -17,6 +17,8 @@
 //! [`input`] holds the guards on what users give it, shared with the `flexmb` program: how input
 //! files are read (regular files, a size limit) and the windows of physical magnitudes.
 
+#![warn(missing_docs)]
+
 pub mod assembly;
 pub mod element;
 pub mod inp;

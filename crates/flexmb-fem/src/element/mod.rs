@@ -23,6 +23,7 @@ use crate::mesh::{Element, ElementKind, Mesh, ModelOptions};
 /// The stiffness matrix (symmetric, 6n × 6n) and the mass of one element.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ElementMatrices {
+    /// The stiffness in body-frame components (6n × 6n).
     pub stiffness: DMatrix<f64>,
     /// The lumped mass, one entry per node (always computed: the nodes' share of the mass).
     pub lumped_mass: Vec<NodalMass>,
@@ -44,8 +45,16 @@ pub struct NodalMass {
 /// Why an element's matrices cannot be formed.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum ElementError {
+    /// The element has the wrong number of nodes for its kind.
     #[error("the element has {found} nodes; a {kind} needs {expected}")]
-    NodeCount { kind: &'static str, expected: &'static str, found: usize },
+    NodeCount {
+        /// `beam` or `shell`.
+        kind: &'static str,
+        /// The numbers it may have.
+        expected: &'static str,
+        /// The number it has.
+        found: usize,
+    },
     /// The element refers to a node, section or material the mesh does not have.
     #[error("{kind} index {index} is beyond the mesh's {count}")]
     UnknownIndex {
@@ -56,20 +65,40 @@ pub enum ElementError {
         /// How many the mesh has.
         count: usize,
     },
+    /// A beam's two nodes coincide.
     #[error("the beam has zero length (its two nodes coincide)")]
     ZeroLength,
+    /// A beam's orientation vector does not fix its cross-section axes.
     #[error("the beam's orientation vector is parallel to the beam axis")]
     OrientationParallel,
+    /// A shell without area.
     #[error("the shell is degenerate (zero or negative area, or collinear nodes)")]
     DegenerateShape,
+    /// A quadrilateral shell whose nodes are not in one plane.
     #[error("the shell's nodes are not in one plane: warp {warp:.3e} relative to its size")]
-    Warped { warp: f64 },
+    Warped {
+        /// The distance from the mean plane relative to the element's size.
+        warp: f64,
+    },
+    /// A property that must be positive is not.
     #[error("{property} must be positive and finite, got {value}")]
-    InvalidProperty { property: &'static str, value: f64 },
+    InvalidProperty {
+        /// The property's name.
+        property: &'static str,
+        /// The value given.
+        value: f64,
+    },
     /// A property that may be zero or negative (density, Poisson's ratio, the drilling stiffness
     /// factor) is outside its range; `requirement` says what the range is.
     #[error("{property} must be {requirement}, got {value}")]
-    OutOfRange { property: &'static str, requirement: &'static str, value: f64 },
+    OutOfRange {
+        /// The property's name.
+        property: &'static str,
+        /// Its range, in words.
+        requirement: &'static str,
+        /// The value given.
+        value: f64,
+    },
 }
 
 /// The matrices of `element` of `mesh`.

@@ -7,11 +7,13 @@ use std::f64::consts::PI;
 /// Area, second moments and torsion constant of a cross-section (m², m⁴).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SectionProperties {
+    /// Area A (m²).
     pub area: f64,
     /// ∫ z² dA about the local y axis (Abaqus I₁₁).
     pub iy: f64,
     /// ∫ y² dA about the local z axis (Abaqus I₂₂).
     pub iz: f64,
+    /// Torsion constant J (m⁴).
     pub torsion_constant: f64,
 }
 

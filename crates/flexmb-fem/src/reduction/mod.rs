@@ -26,15 +26,18 @@ use crate::static_correction::{static_correction_modes, StaticModes};
 /// What to reduce to.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ReductionSettings {
+    /// The vibration and static correction modes of the basis, such as `4N2S`.
     pub mode_set: ModeSet,
     /// Default [`Basis::Orthonormal`].
     pub basis: Basis,
+    /// How the vibration modes are found.
     pub eigen: EigenSettings,
 }
 
 /// A reduced body and how it was obtained.
 #[derive(Clone, Debug)]
 pub struct Reduction {
+    /// The flexible body: nodes, modes, modal mass and stiffness, invariants.
     pub body: FlexibleBody,
     /// The FE vibration modes computed (at least as many as the basis has modes, for comparison).
     pub fe_modes: VibrationModes,
