@@ -38,7 +38,7 @@ pub enum ExpressionError {
         /// A hint on what may be meant, or empty.
         hint: String,
     },
-    /// More than [`MAX_VARIABLES`] names.
+    /// More names than an expression may have (16, `MAX_VARIABLES`).
     #[error("expression `{source_text}` names {count} variables; at most {MAX_VARIABLES} are allowed")]
     TooManyVariables {
         /// The expression's text.
