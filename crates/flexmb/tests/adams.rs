@@ -195,7 +195,7 @@ fn heavy_top() -> Model {
         Vec3::new(0.0, 0.0, TOP_R),
         Mat3::from_diagonal(&Vec3::new(3.5e-4, 3.5e-4, 6.25e-4)),
         Vec3::zeros(),
-        EulerParameters::from_axis_angle(&Vec3::y(), theta0),
+        EulerParameters::from_axis_angle(&Vec3::y(), theta0).unwrap(),
         Some(Vec3::zeros()),
         Some(200.0 * axis),
     )).unwrap();

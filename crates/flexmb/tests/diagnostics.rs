@@ -22,7 +22,7 @@ fn bar(name: &str, mass: f64, len: f64, position: Vec3, angle: f64, omega_z: Opt
         Vec3::new(len / 2.0, 0.0, 0.0),
         Mat3::from_diagonal(&Vec3::new(0.01 * t, t, t)),
         position,
-        EulerParameters::from_axis_angle(&Vec3::z(), angle),
+        EulerParameters::from_axis_angle(&Vec3::z(), angle).unwrap(),
         None,
         omega_z.map(|w| Vec3::new(0.0, 0.0, w)),
     )

@@ -49,7 +49,7 @@ fn spatial_chain() -> Model {
         let d = dirs[k].normalize();
         // Body x along d.
         let axis = Vec3::x().cross(&d);
-        let pose = EulerParameters::from_axis_angle(&axis, Vec3::x().dot(&d).acos());
+        let pose = EulerParameters::from_axis_angle(&axis, Vec3::x().dot(&d).acos()).unwrap();
         let body = b.add_body(link(&format!("link{k}"), mass[k], len[k], end, pose, omegas[k])).unwrap();
         let start = marker(&mut b, &format!("link{k}_start"), BodyRef::Body(body), Vec3::zeros());
         joint(&mut b, &format!("ball{k}"), JointKind::Spherical, top, start);
@@ -199,7 +199,7 @@ fn spring_damper_pendulum_loses_energy_monotonically_at_the_damper_rate() {
         Vec3::new(0.05, 0.02, -0.1),
         Mat3::from_diagonal(&Vec3::new(0.02, 0.03, 0.025)),
         Vec3::new(0.4, 0.1, -1.2),
-        EulerParameters::from_axis_angle(&Vec3::new(1.0, -1.0, 0.5), 0.4),
+        EulerParameters::from_axis_angle(&Vec3::new(1.0, -1.0, 0.5), 0.4).unwrap(),
         Some(Vec3::new(0.0, 1.2, 0.3)),
         Some(Vec3::new(1.0, 0.5, -2.0)),
     )).unwrap();

@@ -179,7 +179,7 @@ fn heavy_top(theta0: f64) -> (Model, f64) {
         Vec3::new(0.0, 0.0, r),
         Mat3::from_diagonal(&Vec3::new(a, a, i3)),
         Vec3::zeros(),
-        EulerParameters::from_axis_angle(&Vec3::y(), theta0),
+        EulerParameters::from_axis_angle(&Vec3::y(), theta0).unwrap(),
         Some(Vec3::zeros()),
         Some(spin * axis + precession * Vec3::z()),
     )).unwrap();

@@ -47,7 +47,7 @@ fn top(theta0: f64, phi_rate0: f64) -> Model {
         Vec3::new(0.0, 0.0, R),
         Mat3::from_diagonal(&Vec3::new(A, A, I3)),
         Vec3::zeros(),
-        EulerParameters::from_axis_angle(&Vec3::y(), theta0),
+        EulerParameters::from_axis_angle(&Vec3::y(), theta0).unwrap(),
         Some(Vec3::zeros()),
         Some(omega),
     )).unwrap();

@@ -13,7 +13,7 @@ use crate::model::{BodyRef, Model, ModelBuilder, OutputKind};
 /// path of the Jacobian pattern (joints, forces, measures) is exercised.
 pub fn double_pendulum_with_spring() -> Model {
     let mut b = ModelBuilder::new("test double pendulum").gravity(Vec3::new(0.0, -9.81, 0.0));
-    let tilt = EulerParameters::from_axis_angle(&Vec3::new(0.3, 0.2, 1.0), 0.7);
+    let tilt = EulerParameters::from_axis_angle(&Vec3::new(0.3, 0.2, 1.0), 0.7).unwrap();
     let link = |name: &str, position: Vec3| RigidBody {
         name: name.into(),
         mass: 1.3,
@@ -63,7 +63,7 @@ pub fn pendulum_with_stiff_slider_of(stiffness: f64) -> Model {
     let (l, mass) = (1.0, 1.0);
     let mut b = ModelBuilder::new("pendulum with a stiff slider").gravity(Vec3::new(0.0, -9.81, 0.0));
     let theta0 = 1.0_f64;
-    let pose = EulerParameters::from_axis_angle(&Vec3::z(), theta0);
+    let pose = EulerParameters::from_axis_angle(&Vec3::z(), theta0).unwrap();
     let down = Vec3::new(theta0.sin(), -theta0.cos(), 0.0);
     let body = |name: &str, m: f64, com: Vec3, inertia: Vec3, position: Vec3| RigidBody {
         name: name.into(),

@@ -38,6 +38,43 @@ pub struct ModalInvariants {
     pub rotary_modal_mass: DMatrix<f64>,
 }
 
+/// Why lumped-mass nodes and a modal stiffness do not make a modal body.
+#[derive(Clone, Debug, thiserror::Error, PartialEq)]
+pub enum LumpedNodeError {
+    /// A node's mode matrix has a column count other than the number of modes.
+    #[error("lumped node {node}: {matrix} has {found} columns, expected {modes} (one per mode)")]
+    ModeColumns {
+        /// The node's index.
+        node: usize,
+        /// `psi` or `theta`.
+        matrix: &'static str,
+        /// Its number of columns.
+        found: usize,
+        /// The number of modes.
+        modes: usize,
+    },
+    /// The modal stiffness is not square.
+    #[error("the modal stiffness is {rows}×{columns}; expected a square matrix, one row and column per mode")]
+    StiffnessNotSquare {
+        /// Its rows.
+        rows: usize,
+        /// Its columns.
+        columns: usize,
+    },
+}
+
+/// Every node's `Ψᵢ` and `Θᵢ` has one column per mode.
+fn check_mode_columns(nodes: &[LumpedNode], modes: usize) -> Result<(), LumpedNodeError> {
+    for (node, n) in nodes.iter().enumerate() {
+        for (matrix, found) in [("psi", n.psi.ncols()), ("theta", n.theta.ncols())] {
+            if found != modes {
+                return Err(LumpedNodeError::ModeColumns { node, matrix, found, modes });
+            }
+        }
+    }
+    Ok(())
+}
+
 /// One lumped-mass node, for [`ModalInvariants::from_lumped_nodes`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct LumpedNode {
@@ -56,7 +93,8 @@ pub struct LumpedNode {
 impl ModalInvariants {
     /// The invariants of formulation.md §3 summed over lumped-mass nodes with `modes` modes (for a
     /// modal body from another FE code's nodal masses and mode shapes).
-    pub fn from_lumped_nodes(nodes: &[LumpedNode], modes: usize) -> ModalInvariants {
+    pub fn from_lumped_nodes(nodes: &[LumpedNode], modes: usize) -> Result<ModalInvariants, LumpedNodeError> {
+        check_mode_columns(nodes, modes)?;
         let m = modes;
         let column = |p: &Matrix3xX<f64>, j: usize| Vec3::new(p[(0, j)], p[(1, j)], p[(2, j)]);
         let mut inv = ModalInvariants {
@@ -93,7 +131,7 @@ impl ModalInvariants {
                 }
             }
         }
-        inv
+        Ok(inv)
     }
 
     /// Number of modes.
@@ -171,10 +209,13 @@ pub struct ModalBody {
 impl ModalBody {
     /// A modal body from lumped-mass nodes and a modal stiffness (m×m): the invariants summed over the
     /// nodes, modes labelled `M1`, `M2`, …, no damping, initial modal coordinates and rates zero.
-    pub fn from_lumped_nodes(nodes: &[LumpedNode], stiffness: DMatrix<f64>) -> ModalBody {
+    pub fn from_lumped_nodes(nodes: &[LumpedNode], stiffness: DMatrix<f64>) -> Result<ModalBody, LumpedNodeError> {
         let m = stiffness.nrows();
-        ModalBody {
-            invariants: ModalInvariants::from_lumped_nodes(nodes, m),
+        if stiffness.ncols() != m {
+            return Err(LumpedNodeError::StiffnessNotSquare { rows: m, columns: stiffness.ncols() });
+        }
+        Ok(ModalBody {
+            invariants: ModalInvariants::from_lumped_nodes(nodes, m)?,
             stiffness,
             damping: DMatrix::zeros(m, m),
             nodes: nodes
@@ -185,7 +226,7 @@ impl ModalBody {
             mode_labels: (1..=m).map(|j| format!("M{j}")).collect(),
             initial_coordinates: DVector::zeros(m),
             initial_rates: DVector::zeros(m),
-        }
+        })
     }
 
     /// Number of modes.

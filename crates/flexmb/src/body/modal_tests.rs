@@ -41,7 +41,7 @@ fn random_nodes(rng: &mut Lcg, n: usize, m: usize, rotary: bool) -> Vec<LumpedNo
 fn modal_body(nodes: &[LumpedNode], m: usize, rng: &mut Lcg) -> ModalBody {
     let r = DMatrix::from_fn(m, m, |_, _| rng.range(-1.0, 1.0));
     let stiffness = &r * r.transpose() * 50.0 + DMatrix::identity(m, m) * 200.0;
-    ModalBody::from_lumped_nodes(nodes, stiffness)
+    ModalBody::from_lumped_nodes(nodes, stiffness).unwrap()
 }
 
 /// One free flexible body (no joints, no gravity).
@@ -326,7 +326,7 @@ fn a_flexible_body_without_modes_moves_like_the_rigid_body() {
     let inertia_com = Mat3::new(0.02, 0.001, 0.0, 0.001, 0.03, 0.002, 0.0, 0.002, 0.025);
     let initial = InitialState {
         position: Vec3::zeros(),
-        orientation: EulerParameters::from_axis_angle(&Vec3::new(0.2, 1.0, 0.1), 0.4),
+        orientation: EulerParameters::from_axis_angle(&Vec3::new(0.2, 1.0, 0.1), 0.4).unwrap(),
         velocity: None,
         angular_velocity: Some(Vec3::new(0.5, -1.0, 2.0)),
     };
@@ -428,7 +428,7 @@ fn a_free_undamped_flexible_body_keeps_momentum_and_energy() {
     let mut b = ModelBuilder::new("free flexible body");
     let initial = InitialState {
         position: Vec3::new(0.1, 0.2, 0.3),
-        orientation: EulerParameters::from_axis_angle(&Vec3::new(1.0, 2.0, 0.5), 0.7),
+        orientation: EulerParameters::from_axis_angle(&Vec3::new(1.0, 2.0, 0.5), 0.7).unwrap(),
         velocity: Some(Vec3::new(0.3, -0.1, 0.2)),
         angular_velocity: Some(Vec3::new(1.0, 2.0, -1.5)),
     };

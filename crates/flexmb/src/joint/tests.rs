@@ -22,7 +22,7 @@ use crate::stage::{constraint_equations, jacobian_entries, kinematics, update_an
 use crate::test_support::{quat_mul, turn_body_frame, Lcg};
 
 fn rot(axis: Vec3, angle: f64) -> Mat3 {
-    EulerParameters::from_axis_angle(&axis, angle).rotation_matrix()
+    EulerParameters::from_axis_angle(&axis, angle).unwrap().rotation_matrix()
 }
 
 fn rigid_body(name: &str, pose: (Vec3, EulerParameters)) -> RigidBody {
@@ -376,7 +376,7 @@ fn consistent_model(kind: &JointKind, placement: Placement, t: f64, rng: &mut Lc
             let mi = add_marker(&mut b, "i", BodyRef::Ground, ri, ai);
             // Body 2 posed so that its marker (sj, aj_local) lands on (rj, aj).
             let a2 = aj * aj_local.transpose();
-            let p2 = EulerParameters::from_rotation_matrix(&a2);
+            let p2 = EulerParameters::from_rotation_matrix(&a2).unwrap();
             let b2 = b.add_body(rigid_body("b2", (rj - a2 * sj, p2))).unwrap();
             (mi, add_marker(&mut b, "j", BodyRef::Body(b2), sj, aj_local))
         }
@@ -384,7 +384,7 @@ fn consistent_model(kind: &JointKind, placement: Placement, t: f64, rng: &mut Lc
             let b1 = b.add_body(rigid_body("b1", (r1, p1))).unwrap();
             let mi = add_marker(&mut b, "i", BodyRef::Body(b1), si, ai_local);
             let a2 = aj * aj_local.transpose();
-            let p2 = EulerParameters::from_rotation_matrix(&a2);
+            let p2 = EulerParameters::from_rotation_matrix(&a2).unwrap();
             let b2 = b.add_body(rigid_body("b2", (rj - a2 * sj, p2))).unwrap();
             (mi, add_marker(&mut b, "j", BodyRef::Body(b2), sj, aj_local))
         }

@@ -4,7 +4,7 @@
 use nalgebra::{DMatrix, Matrix3xX};
 
 use super::{BodyId, BodyRef, JointId, MarkerId, MeasureId, ModelBuilder, ModelError, OutputKind};
-use crate::body::{InitialState, LumpedNode, Marker, ModalBody, RigidBody};
+use crate::body::{InitialState, LumpedNode, LumpedNodeError, Marker, ModalBody, RigidBody};
 use crate::force::{ForceElement, ForceKind};
 use crate::function::Expression;
 use crate::joint::{Joint, JointKind};
@@ -195,7 +195,7 @@ fn strip() -> ModalBody {
         psi: Matrix3xX::from_column_slice(&[0.0, 0.0, x]),
         theta: Matrix3xX::from_column_slice(&[0.0, -1.0, 0.0]),
     };
-    ModalBody::from_lumped_nodes(&[node(0.0), node(1.0)], DMatrix::from_element(1, 1, 100.0))
+    ModalBody::from_lumped_nodes(&[node(0.0), node(1.0)], DMatrix::from_element(1, 1, 100.0)).unwrap()
 }
 
 #[test]
@@ -233,6 +233,26 @@ fn a_flexible_body_with_sizes_that_disagree_is_refused() {
     assert_eq!(
         message(b.add_flexible_body("strip", InitialState::default(), modal)),
         "body 'strip': mode labels: 2, expected 1 (one per mode)"
+    );
+}
+
+#[test]
+fn lumped_nodes_whose_mode_shapes_do_not_match_the_modes_are_refused() {
+    let node = LumpedNode {
+        position: Vec3::zeros(),
+        mass: 1.0,
+        rotary_inertia: Mat3::zeros(),
+        psi: Matrix3xX::zeros(2),
+        theta: Matrix3xX::zeros(1),
+    };
+    let one_mode = DMatrix::from_element(1, 1, 100.0);
+    assert_eq!(
+        ModalBody::from_lumped_nodes(std::slice::from_ref(&node), one_mode).unwrap_err().to_string(),
+        "lumped node 0: psi has 2 columns, expected 1 (one per mode)"
+    );
+    assert_eq!(
+        ModalBody::from_lumped_nodes(&[node], DMatrix::zeros(2, 1)).unwrap_err(),
+        LumpedNodeError::StiffnessNotSquare { rows: 2, columns: 1 }
     );
 }
 

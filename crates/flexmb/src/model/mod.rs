@@ -127,6 +127,9 @@ impl Model {
     }
 
     /// Name of a body reference (`ground` for ground).
+    ///
+    /// # Panics
+    /// If the body is not one of this model's.
     pub fn body_name(&self, b: BodyRef) -> &str {
         match b {
             BodyRef::Ground => "ground",
@@ -141,6 +144,9 @@ impl Model {
 
     /// A human-readable description of the equation of velocity coordinate `k`: the equations of motion of
     /// a body, or the modal equation of one of its modes.
+    ///
+    /// # Panics
+    /// If `k` is not below [`Layout::nv`].
     pub fn describe_velocity_row(&self, k: usize) -> String {
         let b = self.layout.body_of_velocity(k);
         let local = k - self.layout.v_offset[b.0];
@@ -152,6 +158,9 @@ impl Model {
     }
 
     /// A human-readable description of constraint row `row`: joint name, kind and equation.
+    ///
+    /// # Panics
+    /// If `row` is not below [`Layout::nc`].
     pub fn describe_constraint_row(&self, row: usize) -> String {
         let (joint, eq) = self.layout.equations[row];
         let j = &self.joints[joint.0];

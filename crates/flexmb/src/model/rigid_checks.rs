@@ -3,7 +3,7 @@
 
 use super::ModelError;
 use crate::body::RigidBody;
-use crate::math::{euler_parameters::rotation_matrix_defect, Mat3, Vec3};
+use crate::math::{rotation_matrix_defect, Mat3, Vec3, ROTATION_TOLERANCE};
 
 /// Mass, inertia, initial orientation and values of one rigid body.
 pub(super) fn check_body(b: &RigidBody) -> Result<(), ModelError> {
@@ -53,7 +53,7 @@ pub(super) fn check_inertia(j: &Mat3) -> Result<(), String> {
 /// `a` is a proper orthonormal frame (a rotation matrix); `what` names it in the error.
 pub(super) fn check_frame(what: &str, a: &Mat3) -> Result<(), ModelError> {
     let defect = rotation_matrix_defect(a);
-    if defect.is_nan() || defect >= 1e-6 {
+    if defect.is_nan() || defect >= ROTATION_TOLERANCE {
         return Err(ModelError::BadFrame {
             what: what.to_string(),
             problem: format!("axes are not a proper orthonormal frame (defect {defect:.2e})"),

@@ -155,7 +155,7 @@ pub fn unwrap_angles(a: &[f64]) -> Vec<f64> {
 /// inertia `ic` about its centre) released at rest `theta0` from the hanging position; gravity −y.
 pub fn pendulum(l: f64, m: f64, ic: f64, theta0: f64, g: f64) -> ModelBuilder {
     let mut b = ModelBuilder::new("pendulum").gravity(Vec3::new(0.0, -g, 0.0));
-    let pose = EulerParameters::from_axis_angle(&Vec3::z(), theta0);
+    let pose = EulerParameters::from_axis_angle(&Vec3::z(), theta0).unwrap();
     let bob = b.add_body(rigid("bob", m, Vec3::zeros(), Mat3::from_diagonal(&Vec3::new(ic, ic, ic)), Vec3::new(l * theta0.sin(), -l * theta0.cos(), 0.0), pose, None, None)).unwrap();
     let gm = marker(&mut b, "pivot_ground", BodyRef::Ground, Vec3::zeros());
     let bm = marker(&mut b, "pivot_bob", BodyRef::Body(bob), Vec3::new(0.0, l, 0.0));
@@ -258,7 +258,7 @@ pub fn lumped_flexible_pendulum(stiffness: [f64; 3], rates: [f64; 3]) -> (ModelB
             }
         })
         .collect();
-    let mut modal = ModalBody::from_lumped_nodes(&nodes, DMatrix::from_diagonal(&DVector::from_vec(stiffness.to_vec())));
+    let mut modal = ModalBody::from_lumped_nodes(&nodes, DMatrix::from_diagonal(&DVector::from_vec(stiffness.to_vec()))).unwrap();
     modal.initial_rates = DVector::from_vec(rates.to_vec());
     modal.damping = modal.damping_matrix(&ModalDamping::Ratios(vec![0.02])).unwrap();
     let mut b = ModelBuilder::new("flexible pendulum").gravity(Vec3::new(0.0, -9.81, 0.0));
@@ -278,7 +278,7 @@ pub fn pendulum_with_stiff_slider(x0: f64) -> Model {
     let (l, theta0, s0) = (1.0, 1.0_f64, 0.1);
     let mut b = pendulum(l, 1.0, 1e-3, theta0, 9.81);
     let bob = flexmb::model::BodyId(0);
-    let pose = flexmb::math::EulerParameters::from_axis_angle(&Vec3::z(), theta0);
+    let pose = flexmb::math::EulerParameters::from_axis_angle(&Vec3::z(), theta0).unwrap();
     let bob_position = Vec3::new(l * theta0.sin(), -l * theta0.cos(), 0.0);
     let slider = b.add_body(rigid(
         "slider",
