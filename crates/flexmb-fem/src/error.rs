@@ -129,6 +129,13 @@ pub enum FemError {
     /// The shifted operator has values that are not finite.
     #[error("the mode analysis's operator is not finite: the model's coordinates or properties overflow double precision")]
     NotFinite,
+    /// The inputs of [`InertiaInvariants::new`](crate::reduction::InertiaInvariants::new) disagree in
+    /// size.
+    #[error("inertia invariants: {message}")]
+    InvariantInputs {
+        /// What disagrees.
+        message: String,
+    },
     /// A mesh generator was asked for nothing (no elements along a line, no cells across a plate).
     #[error("{generator}: {problem}")]
     Generator {

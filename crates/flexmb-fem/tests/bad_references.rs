@@ -69,3 +69,18 @@ fn generators_asked_for_nothing_are_refused_and_leave_the_mesh_alone() {
     assert_eq!(error, FemError::Generator { generator: "plate", problem: "a plate needs at least one cell each way" });
     assert_eq!(model.mesh, before);
 }
+
+#[test]
+fn inertia_invariants_of_inputs_that_disagree_in_size_are_refused() {
+    use flexmb_fem::reduction::InertiaInvariants;
+    use nalgebra::{DMatrix, Matrix3};
+    let positions = [Vector3::zeros(), Vector3::x()];
+    let rotary = [Matrix3::zeros(); 2];
+    let shapes = [DMatrix::zeros(3, 2), DMatrix::zeros(3, 2)];
+    let error = InertiaInvariants::new(&positions, &[1.0], &rotary, &shapes, &shapes, 2).unwrap_err();
+    assert_eq!(error.to_string(), "inertia invariants: 1 masses for 2 points");
+    let error = InertiaInvariants::new(&positions, &[1.0, 1.0], &rotary, &shapes, &shapes, 3).unwrap_err();
+    assert_eq!(error.to_string(), "inertia invariants: point 0: mode matrices (3, 2) and (3, 2), expected (3, 3)");
+    let invariants = InertiaInvariants::new(&positions, &[1.0, 2.0], &rotary, &shapes, &shapes, 2).unwrap();
+    assert_eq!(invariants.mass, 3.0);
+}

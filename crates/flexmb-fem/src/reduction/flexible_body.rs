@@ -195,11 +195,17 @@ impl FlexibleBody {
     }
 
     /// `Ψᵢ`, the translational mode matrix of node `i` (3×m).
+    ///
+    /// # Panics
+    /// If `node` is not below the number of nodes.
     pub fn psi(&self, node: usize) -> DMatrix<f64> {
         DMatrix::from_fn(3, self.modes.len(), |r, j| self.shapes[j].translation[node][r])
     }
 
     /// `Θᵢ`, the rotational mode matrix of node `i` (3×m).
+    ///
+    /// # Panics
+    /// If `node` is not below the number of nodes.
     pub fn theta(&self, node: usize) -> DMatrix<f64> {
         DMatrix::from_fn(3, self.modes.len(), |r, j| self.shapes[j].rotation[node][r])
     }

@@ -182,7 +182,7 @@ pub fn reduce(model: &FeModel, name: &str, settings: &ReductionSettings) -> Resu
         (&modal_mass, &modal_stiffness),
         reduced_frequencies_hz,
         &fe_modes,
-    );
+    )?;
     Ok(Reduction { body, fe_modes, static_modes, basis_independence, warnings })
 }
 
@@ -297,7 +297,7 @@ fn flexible_body(
     (modal_mass, modal_stiffness): (&Mat<f64>, &Mat<f64>),
     reduced_frequencies_hz: Vec<f64>,
     fe_modes: &VibrationModes,
-) -> FlexibleBody {
+) -> Result<FlexibleBody, FemError> {
     let mesh = &model.mesh;
     let m = basis.ncols();
     let nodal: Vec<Vec<f64>> =
@@ -326,9 +326,9 @@ fn flexible_body(
             (motion.rows(0, 3).into_owned(), motion.rows(3, 3).into_owned())
         })
         .unzip();
-    let invariants = InertiaInvariants::new(&positions, &masses, &rotary, &psi, &theta, m);
+    let invariants = InertiaInvariants::new(&positions, &masses, &rotary, &psi, &theta, m)?;
     let properties = MassProperties::of_points(points);
-    FlexibleBody {
+    Ok(FlexibleBody {
         format: FORMAT.to_string(),
         version: VERSION,
         name: name.to_string(),
@@ -366,5 +366,5 @@ fn flexible_body(
             center_of_mass: properties.center_of_mass,
             inertia: properties.inertia,
         },
-    }
+    })
 }
