@@ -38,9 +38,10 @@ pub struct ModalInvariants {
     pub rotary_modal_mass: DMatrix<f64>,
 }
 
-/// Why lumped-mass nodes and a modal stiffness do not make a modal body.
+/// Why a modal description cannot be made or analysed: sizes that disagree, a modal mass that is not
+/// positive definite, damping ratios that do not fit the modes.
 #[derive(Clone, Debug, thiserror::Error, PartialEq)]
-pub enum LumpedNodeError {
+pub enum ModalError {
     /// A node's mode matrix has a column count other than the number of modes.
     #[error("lumped node {node}: {matrix} has {found} columns, expected {modes} (one per mode)")]
     ModeColumns {
@@ -53,22 +54,38 @@ pub enum LumpedNodeError {
         /// The number of modes.
         modes: usize,
     },
-    /// The modal stiffness is not square.
-    #[error("the modal stiffness is {rows}×{columns}; expected a square matrix, one row and column per mode")]
-    StiffnessNotSquare {
+    /// The modal stiffness is not `m × m`.
+    #[error("the modal stiffness is {rows}×{columns}; expected {modes}×{modes}, one row and column per mode")]
+    StiffnessSize {
         /// Its rows.
         rows: usize,
         /// Its columns.
         columns: usize,
+        /// The number of modes.
+        modes: usize,
+    },
+    /// The modal mass has no Cholesky factor.
+    #[error("the modal mass is not positive definite")]
+    MassNotPositiveDefinite,
+    /// The modal mass's Cholesky factor cannot be inverted.
+    #[error("the modal mass is singular")]
+    MassSingular,
+    /// Damping ratios neither one for all modes nor one per mode.
+    #[error("{given} damping ratios for {modes} modes; give one for all or one per mode")]
+    RatioCount {
+        /// How many ratios were given.
+        given: usize,
+        /// The number of modes.
+        modes: usize,
     },
 }
 
 /// Every node's `Ψᵢ` and `Θᵢ` has one column per mode.
-fn check_mode_columns(nodes: &[LumpedNode], modes: usize) -> Result<(), LumpedNodeError> {
+fn check_mode_columns(nodes: &[LumpedNode], modes: usize) -> Result<(), ModalError> {
     for (node, n) in nodes.iter().enumerate() {
         for (matrix, found) in [("psi", n.psi.ncols()), ("theta", n.theta.ncols())] {
             if found != modes {
-                return Err(LumpedNodeError::ModeColumns { node, matrix, found, modes });
+                return Err(ModalError::ModeColumns { node, matrix, found, modes });
             }
         }
     }
@@ -93,7 +110,7 @@ pub struct LumpedNode {
 impl ModalInvariants {
     /// The invariants of formulation.md §3 summed over lumped-mass nodes with `modes` modes (for a
     /// modal body from another FE code's nodal masses and mode shapes).
-    pub fn from_lumped_nodes(nodes: &[LumpedNode], modes: usize) -> Result<ModalInvariants, LumpedNodeError> {
+    pub fn from_lumped_nodes(nodes: &[LumpedNode], modes: usize) -> Result<ModalInvariants, ModalError> {
         check_mode_columns(nodes, modes)?;
         let m = modes;
         let column = |p: &Matrix3xX<f64>, j: usize| Vec3::new(p[(0, j)], p[(1, j)], p[(2, j)]);
@@ -209,10 +226,10 @@ pub struct ModalBody {
 impl ModalBody {
     /// A modal body from lumped-mass nodes and a modal stiffness (m×m): the invariants summed over the
     /// nodes, modes labelled `M1`, `M2`, …, no damping, initial modal coordinates and rates zero.
-    pub fn from_lumped_nodes(nodes: &[LumpedNode], stiffness: DMatrix<f64>) -> Result<ModalBody, LumpedNodeError> {
+    pub fn from_lumped_nodes(nodes: &[LumpedNode], stiffness: DMatrix<f64>) -> Result<ModalBody, ModalError> {
         let m = stiffness.nrows();
         if stiffness.ncols() != m {
-            return Err(LumpedNodeError::StiffnessNotSquare { rows: m, columns: stiffness.ncols() });
+            return Err(ModalError::StiffnessSize { rows: m, columns: stiffness.ncols(), modes: m });
         }
         Ok(ModalBody {
             invariants: ModalInvariants::from_lumped_nodes(nodes, m)?,
@@ -237,10 +254,15 @@ impl ModalBody {
     /// The natural modes of the reduced model: the eigenvalues `ω²` of `(K_aa, M_aa)`, lowest first,
     /// and the mass-normalized eigenvectors `X` (columns, in the same order); an error if the modal
     /// mass is not positive definite.
-    pub fn natural_modes(&self) -> Result<(Vec<f64>, DMatrix<f64>), String> {
+    pub fn natural_modes(&self) -> Result<(Vec<f64>, DMatrix<f64>), ModalError> {
+        let m = self.modes();
+        if self.stiffness.shape() != (m, m) {
+            let (rows, columns) = self.stiffness.shape();
+            return Err(ModalError::StiffnessSize { rows, columns, modes: m });
+        }
         let mass = self.invariants.modal_mass();
-        let chol = nalgebra::Cholesky::new(mass).ok_or("the modal mass is not positive definite")?;
-        let l_inv = chol.l().try_inverse().ok_or("the modal mass is singular")?;
+        let chol = nalgebra::Cholesky::new(mass).ok_or(ModalError::MassNotPositiveDefinite)?;
+        let l_inv = chol.l().try_inverse().ok_or(ModalError::MassSingular)?;
         let reduced = &l_inv * &self.stiffness * l_inv.transpose();
         let reduced = 0.5 * (&reduced + reduced.transpose());
         let eigen = nalgebra::SymmetricEigen::new(reduced);
@@ -259,9 +281,10 @@ impl ModalBody {
         omega_squared.first().map(|w2| w2.max(0.0).sqrt())
     }
 
-    /// The damping matrix of `damping` for this body's modal mass and stiffness; `None` if the modal
-    /// mass is not positive definite or a ratio list has the wrong length.
-    pub fn damping_matrix(&self, damping: &ModalDamping) -> Result<DMatrix<f64>, String> {
+    /// The damping matrix of `damping` for this body's modal mass and stiffness; an error if the
+    /// modal mass is not positive definite, the stiffness not `m × m` or a ratio list has the wrong
+    /// length.
+    pub fn damping_matrix(&self, damping: &ModalDamping) -> Result<DMatrix<f64>, ModalError> {
         let m = self.modes();
         if m == 0 {
             return Ok(DMatrix::zeros(0, 0));
@@ -269,10 +292,16 @@ impl ModalBody {
         let mass = self.invariants.modal_mass();
         match damping {
             ModalDamping::None => Ok(DMatrix::zeros(m, m)),
-            ModalDamping::Rayleigh { alpha, beta } => Ok(*alpha * &mass + *beta * &self.stiffness),
+            ModalDamping::Rayleigh { alpha, beta } => {
+                if self.stiffness.shape() != (m, m) {
+                    let (rows, columns) = self.stiffness.shape();
+                    return Err(ModalError::StiffnessSize { rows, columns, modes: m });
+                }
+                Ok(*alpha * &mass + *beta * &self.stiffness)
+            }
             ModalDamping::Ratios(ratios) => {
                 if ratios.len() != 1 && ratios.len() != m {
-                    return Err(format!("{} damping ratios for {m} modes; give one for all or one per mode", ratios.len()));
+                    return Err(ModalError::RatioCount { given: ratios.len(), modes: m });
                 }
                 // D = M X diag(2ζω) Xᵀ M. The k-th ratio goes to the mode of k-th lowest frequency.
                 let (omega_squared, x) = self.natural_modes()?;

@@ -4,7 +4,7 @@
 use nalgebra::{DMatrix, Matrix3xX};
 
 use super::{BodyId, BodyRef, JointId, MarkerId, MeasureId, ModelBuilder, ModelError, OutputKind};
-use crate::body::{InitialState, LumpedNode, LumpedNodeError, Marker, ModalBody, RigidBody};
+use crate::body::{InitialState, LumpedNode, Marker, ModalBody, ModalDamping, ModalError, RigidBody};
 use crate::force::{ForceElement, ForceKind};
 use crate::function::Expression;
 use crate::joint::{Joint, JointKind};
@@ -252,7 +252,26 @@ fn lumped_nodes_whose_mode_shapes_do_not_match_the_modes_are_refused() {
     );
     assert_eq!(
         ModalBody::from_lumped_nodes(&[node], DMatrix::zeros(2, 1)).unwrap_err(),
-        LumpedNodeError::StiffnessNotSquare { rows: 2, columns: 1 }
+        ModalError::StiffnessSize { rows: 2, columns: 1, modes: 2 }
+    );
+}
+
+#[test]
+fn damping_that_does_not_fit_the_modes_is_refused() {
+    let body = strip();
+    assert_eq!(
+        body.damping_matrix(&ModalDamping::Ratios(vec![0.01, 0.02])).unwrap_err().to_string(),
+        "2 damping ratios for 1 modes; give one for all or one per mode"
+    );
+    let mut massless = strip();
+    massless.invariants.c9[(0, 0)] = 0.0;
+    massless.invariants.rotary_modal_mass[(0, 0)] = 0.0;
+    assert_eq!(massless.damping_matrix(&ModalDamping::Ratios(vec![0.01])), Err(ModalError::MassNotPositiveDefinite));
+    let mut wrong = strip();
+    wrong.stiffness = DMatrix::zeros(2, 2);
+    assert_eq!(
+        wrong.damping_matrix(&ModalDamping::Rayleigh { alpha: 0.1, beta: 0.0 }).unwrap_err().to_string(),
+        "the modal stiffness is 2×2; expected 1×1, one row and column per mode"
     );
 }
 
