@@ -36,7 +36,7 @@ fn beam(length: f64, n: usize, w: f64, h: f64) -> FeModel {
         }],
         ..Default::default()
     };
-    mesh.add_beam_line(Vec3::zeros(), Vec3::new(length, 0.0, 0.0), n, 0);
+    mesh.add_beam_line(Vec3::zeros(), Vec3::new(length, 0.0, 0.0), n, 0).unwrap();
     FeModel { mesh, options: ModelOptions { rotary_inertia: true, ..Default::default() }, ..Default::default() }
 }
 
@@ -63,17 +63,17 @@ fn loaded_arm(set: &str, force_z: f64) -> (Model, f64) {
     let static_tip = force_z * raw.body.shapes[0].translation[tip][2];
     let modal = modal_body(&reduced.body, &ModalDamping::Ratios(vec![0.7])).unwrap();
     let mut b = ModelBuilder::new("clamped arm");
-    let arm = b.add_flexible_body("arm", InitialState::default(), modal);
-    let root = b.add_node_marker("root", arm, 0, Mat3::identity());
-    let tip_marker = b.add_node_marker("tip", arm, tip, Mat3::identity());
-    let ground = b.add_marker(Marker { name: "wall".into(), body: BodyRef::Ground, origin: Vec3::zeros(), axes: Mat3::identity() });
-    b.add_joint(Joint { name: "clamp".into(), kind: JointKind::Fixed, marker_i: ground, marker_j: root });
+    let arm = b.add_flexible_body("arm", InitialState::default(), modal).unwrap();
+    let root = b.add_node_marker("root", arm, 0, Mat3::identity()).unwrap();
+    let tip_marker = b.add_node_marker("tip", arm, tip, Mat3::identity()).unwrap();
+    let ground = b.add_marker(Marker { name: "wall".into(), body: BodyRef::Ground, origin: Vec3::zeros(), axes: Mat3::identity() }).unwrap();
+    b.add_joint(Joint { name: "clamp".into(), kind: JointKind::Fixed, marker_i: ground, marker_j: root }).unwrap();
     let component = |x: f64| Expression::parse(&format!("{x}"), &|_| None).unwrap();
     b.add_force(ForceElement {
         name: "load".into(),
         kind: ForceKind::AppliedForce { marker: tip_marker, components: [component(0.0), component(0.0), component(force_z)], frame: ForceFrame::Global },
-    });
-    b.add_output("tip", OutputKind::MarkerPosition(tip_marker));
+    }).unwrap();
+    b.add_output("tip", OutputKind::MarkerPosition(tip_marker)).unwrap();
     (b.build().unwrap(), static_tip)
 }
 
@@ -139,12 +139,12 @@ fn pendulum_with(elements: usize, mass: MassModel, set: Option<&str>) -> Vec<[f6
         }, &ModalDamping::None)
         .unwrap();
     }
-    let beam_id = b.add_flexible_body("beam", InitialState::default(), modal);
-    let hinge = b.add_node_marker("hinge", beam_id, 0, Mat3::identity());
-    let tip_marker = b.add_node_marker("tip", beam_id, tip, Mat3::identity());
-    let ground = b.add_marker(Marker { name: "pivot".into(), body: BodyRef::Ground, origin: Vec3::zeros(), axes: Mat3::identity() });
-    b.add_joint(Joint { name: "hinge".into(), kind: JointKind::Revolute, marker_i: ground, marker_j: hinge });
-    b.add_output("tip", OutputKind::MarkerPosition(tip_marker));
+    let beam_id = b.add_flexible_body("beam", InitialState::default(), modal).unwrap();
+    let hinge = b.add_node_marker("hinge", beam_id, 0, Mat3::identity()).unwrap();
+    let tip_marker = b.add_node_marker("tip", beam_id, tip, Mat3::identity()).unwrap();
+    let ground = b.add_marker(Marker { name: "pivot".into(), body: BodyRef::Ground, origin: Vec3::zeros(), axes: Mat3::identity() }).unwrap();
+    b.add_joint(Joint { name: "hinge".into(), kind: JointKind::Revolute, marker_i: ground, marker_j: hinge }).unwrap();
+    b.add_output("tip", OutputKind::MarkerPosition(tip_marker)).unwrap();
     let model = b.build().unwrap();
     let mut tip_xy = Vec::new();
     simulate(&model, &settings(1.0, 0.01, 1e-8), &mut |f| tip_xy.push([f.values[0], f.values[1]])).unwrap();
@@ -203,14 +203,14 @@ fn assembly_moves_modal_coordinates_only_when_asked() {
     let reduced = reduce(&fe, "arm", &settings).unwrap();
     let modal = modal_body(&reduced.body, &ModalDamping::None).unwrap();
     let mut b = ModelBuilder::new("pinned arm");
-    let arm = b.add_flexible_body("arm", InitialState::default(), modal);
-    let root = b.add_node_marker("root", arm, 0, Mat3::identity());
-    let tip_marker = b.add_node_marker("tip", arm, tip, Mat3::identity());
-    let wall = b.add_marker(Marker { name: "wall".into(), body: BodyRef::Ground, origin: Vec3::zeros(), axes: Mat3::identity() });
+    let arm = b.add_flexible_body("arm", InitialState::default(), modal).unwrap();
+    let root = b.add_node_marker("root", arm, 0, Mat3::identity()).unwrap();
+    let tip_marker = b.add_node_marker("tip", arm, tip, Mat3::identity()).unwrap();
+    let wall = b.add_marker(Marker { name: "wall".into(), body: BodyRef::Ground, origin: Vec3::zeros(), axes: Mat3::identity() }).unwrap();
     let target = Vec3::new(1.0, 0.0, 1e-3);
-    let pin = b.add_marker(Marker { name: "pin".into(), body: BodyRef::Ground, origin: target, axes: Mat3::identity() });
-    b.add_joint(Joint { name: "clamp".into(), kind: JointKind::Fixed, marker_i: wall, marker_j: root });
-    b.add_joint(Joint { name: "tip_pin".into(), kind: JointKind::Spherical, marker_i: pin, marker_j: tip_marker });
+    let pin = b.add_marker(Marker { name: "pin".into(), body: BodyRef::Ground, origin: target, axes: Mat3::identity() }).unwrap();
+    b.add_joint(Joint { name: "clamp".into(), kind: JointKind::Fixed, marker_i: wall, marker_j: root }).unwrap();
+    b.add_joint(Joint { name: "tip_pin".into(), kind: JointKind::Spherical, marker_i: pin, marker_j: tip_marker }).unwrap();
     let model = b.build().unwrap();
     let mut data = flexmb::Data::new(&model);
     let mut held = State::initial(&model);
@@ -248,19 +248,19 @@ fn static_assembly_gives_the_static_deflection_that_fits_the_joints() {
     let stiffness = modal.stiffness.clone();
     let psi_mid = modal.nodes[mid].psi.clone();
     let mut b = ModelBuilder::new("pinned arm");
-    let arm = b.add_flexible_body("arm", InitialState::default(), modal);
-    let root = b.add_node_marker("root", arm, 0, Mat3::identity());
-    let tip_marker = b.add_node_marker("tip", arm, tip, Mat3::identity());
-    let wall = b.add_marker(Marker { name: "wall".into(), body: BodyRef::Ground, origin: Vec3::zeros(), axes: Mat3::identity() });
+    let arm = b.add_flexible_body("arm", InitialState::default(), modal).unwrap();
+    let root = b.add_node_marker("root", arm, 0, Mat3::identity()).unwrap();
+    let tip_marker = b.add_node_marker("tip", arm, tip, Mat3::identity()).unwrap();
+    let wall = b.add_marker(Marker { name: "wall".into(), body: BodyRef::Ground, origin: Vec3::zeros(), axes: Mat3::identity() }).unwrap();
     let deflection = 1e-3;
     let pin = b.add_marker(Marker {
         name: "pin".into(),
         body: BodyRef::Ground,
         origin: Vec3::new(1.0, 0.0, deflection),
         axes: Mat3::identity(),
-    });
-    b.add_joint(Joint { name: "clamp".into(), kind: JointKind::Fixed, marker_i: wall, marker_j: root });
-    b.add_joint(Joint { name: "tip_pin".into(), kind: JointKind::Spherical, marker_i: pin, marker_j: tip_marker });
+    }).unwrap();
+    b.add_joint(Joint { name: "clamp".into(), kind: JointKind::Fixed, marker_i: wall, marker_j: root }).unwrap();
+    b.add_joint(Joint { name: "tip_pin".into(), kind: JointKind::Spherical, marker_i: pin, marker_j: tip_marker }).unwrap();
     let model = b.build().unwrap();
     let mut data = flexmb::Data::new(&model);
     let mut state = State::initial(&model);

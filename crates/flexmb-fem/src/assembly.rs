@@ -19,13 +19,13 @@ pub struct DofMap {
 }
 
 impl DofMap {
-    /// Numbers the free degrees of freedom node by node.
+    /// Numbers the free degrees of freedom node by node; a node beyond `supported` is free.
     pub fn new(n_nodes: usize, supported: &[DofSet]) -> DofMap {
         let mut equations = vec![None; 6 * n_nodes];
         let mut n_free = 0;
         for node in 0..n_nodes {
             for dof in Dof::ALL {
-                if !supported[node].contains(dof) {
+                if !supported.get(node).is_some_and(|s| s.contains(dof)) {
                     equations[6 * node + dof.index()] = Some(n_free);
                     n_free += 1;
                 }
@@ -34,14 +34,14 @@ impl DofMap {
         DofMap { equations, n_free }
     }
 
-    /// The equation of `dof` of `node`, `None` if supported.
+    /// The equation of `dof` of `node`, `None` if supported or beyond the nodes.
     pub fn equation(&self, node: usize, dof: Dof) -> Option<usize> {
-        self.equations[6 * node + dof.index()]
+        self.equation_of(6 * node + dof.index())
     }
 
-    /// The equation of global dof index `6 node + dof`.
+    /// The equation of global dof index `6 node + dof`, `None` if supported or beyond the nodes.
     pub fn equation_of(&self, global: usize) -> Option<usize> {
-        self.equations[global]
+        self.equations.get(global).copied().flatten()
     }
 
     /// Number of free degrees of freedom (the size of the assembled matrices).
@@ -49,10 +49,10 @@ impl DofMap {
         self.n_free
     }
 
-    /// The node and dof of equation `equation`.
-    pub fn node_dof(&self, equation: usize) -> (usize, Dof) {
-        let global = self.equations.iter().position(|e| *e == Some(equation)).expect("equation exists");
-        (global / 6, Dof::ALL[global % 6])
+    /// The node and dof of equation `equation`, `None` beyond [`n_free`](Self::n_free).
+    pub fn node_dof(&self, equation: usize) -> Option<(usize, Dof)> {
+        let global = self.equations.iter().position(|e| *e == Some(equation))?;
+        Some((global / 6, Dof::ALL[global % 6]))
     }
 
     /// Number of nodes.
@@ -60,9 +60,10 @@ impl DofMap {
         self.equations.len() / 6
     }
 
-    /// Scatters a vector over the free dofs into all `6 n_nodes` nodal dofs (zeros at supports).
+    /// Scatters a vector over the free dofs into all `6 n_nodes` nodal dofs (zeros at supports, and
+    /// where `free` is shorter than [`n_free`](Self::n_free)).
     pub fn expand(&self, free: &[f64]) -> Vec<f64> {
-        self.equations.iter().map(|e| e.map_or(0.0, |k| free[k])).collect()
+        self.equations.iter().map(|e| e.and_then(|k| free.get(k).copied()).unwrap_or(0.0)).collect()
     }
 }
 
@@ -70,7 +71,9 @@ impl DofMap {
 /// triangles stored), the mass points the mass is made of, and the lumped mass per node.
 #[derive(Clone, Debug)]
 pub struct AssembledModel {
+    /// The equation number of every free dof.
     pub dofs: DofMap,
+    /// `K` over the free dofs.
     pub stiffness: SparseColMat<usize, f64>,
     /// `M = Σ_g G_gᵀ diag(m_g I, J_g) G_g` over the mass points.
     pub mass: SparseColMat<usize, f64>,
@@ -85,17 +88,21 @@ pub struct AssembledModel {
     pub nodal_masses: Vec<NodalMass>,
 }
 
-/// The supported dofs of every node.
+/// The supported dofs of every node. A support at a node the mesh does not have is left out here;
+/// [`FeModel::check_references`] reports it.
 pub fn supported_dofs(model: &FeModel) -> Vec<DofSet> {
     let mut supported = vec![DofSet::EMPTY; model.mesh.nodes.len()];
     for s in &model.supports {
-        supported[s.node] = supported[s.node].union(s.dofs);
+        if let Some(set) = supported.get_mut(s.node) {
+            *set = set.union(s.dofs);
+        }
     }
     supported
 }
 
 /// Assembles the stiffness and lumped mass of `model`.
 pub fn assemble(model: &FeModel) -> Result<AssembledModel, FemError> {
+    model.check_references()?;
     let mesh = &model.mesh;
     let n_nodes = mesh.nodes.len();
     let dofs = DofMap::new(n_nodes, &supported_dofs(model));
@@ -248,7 +255,9 @@ fn mass_root(dofs: &DofMap, points: &[MassPoint]) -> Result<SparseColMat<usize, 
 /// inertia included): the rigid-body properties a flexible body must reproduce.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MassProperties {
+    /// Total mass (kg).
     pub mass: f64,
+    /// Centre of mass in the body frame (m).
     pub center_of_mass: Vector3<f64>,
     /// Inertia tensor about the centre of mass, body axes (kg m²).
     pub inertia: Matrix3<f64>,

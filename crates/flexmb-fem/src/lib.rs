@@ -14,8 +14,15 @@
 //! 4. reduces the model to a mode set such as `4N5S` and evaluates the inertia invariants of the
 //!    equations of motion ([`reduction`]), written as a flexible-body file.
 //!
+//! [`reduction::reduce`] runs the whole chain on an [`FeModel`] (its documentation reduces a steel
+//! cantilever and checks its first frequency and mass); every part of the model that refers to a node,
+//! material or section by index is checked first ([`FeModel::check_references`]), so a bad index is a
+//! [`FemError`], not a panic.
+//!
 //! [`input`] holds the guards on what users give it, shared with the `flexmb` program: how input
 //! files are read (regular files, a size limit) and the windows of physical magnitudes.
+
+#![warn(missing_docs)]
 
 pub mod assembly;
 pub mod element;

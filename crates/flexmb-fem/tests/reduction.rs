@@ -331,10 +331,10 @@ fn door_with_the_seeds_supports_reduces_to_the_seeds_mode_sets() {
         shell_sections: vec![ShellSection { name: "panel".into(), material: 0, thickness: 0.003 }],
         ..Default::default()
     };
-    mesh.add_rectangular_plate(Vector3::zeros(), Vector3::new(0.0, w, 0.0), Vector3::new(0.0, 0.0, h), 3, 4, 0, ShellShape::Quadrilateral);
+    mesh.add_rectangular_plate(Vector3::zeros(), Vector3::new(0.0, w, 0.0), Vector3::new(0.0, 0.0, h), 3, 4, 0, ShellShape::Quadrilateral).unwrap();
     let corners = [Vector3::zeros(), Vector3::new(0.0, w, 0.0), Vector3::new(0.0, w, h), Vector3::new(0.0, 0.0, h)];
     for k in 0..4 {
-        mesh.add_beam_line(corners[k], corners[(k + 1) % 4], if k % 2 == 0 { 6 } else { 8 }, 0);
+        mesh.add_beam_line(corners[k], corners[(k + 1) % 4], if k % 2 == 0 { 6 } else { 8 }, 0).unwrap();
     }
     let bottom = mesh.nearest_node(&corners[0]).unwrap().0;
     let top = mesh.nearest_node(&corners[3]).unwrap().0;

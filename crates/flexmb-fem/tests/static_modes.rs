@@ -64,7 +64,7 @@ fn door_frame() -> (FeModel, usize, usize) {
     let (w, h) = (0.8, 2.0);
     let corners = [Vector3::zeros(), Vector3::new(0.0, w, 0.0), Vector3::new(0.0, w, h), Vector3::new(0.0, 0.0, h)];
     for k in 0..4 {
-        mesh.add_beam_line(corners[k], corners[(k + 1) % 4], 6, 0);
+        mesh.add_beam_line(corners[k], corners[(k + 1) % 4], 6, 0).unwrap();
     }
     let bottom = mesh.nearest_node(&corners[0]).unwrap().0;
     let top = mesh.nearest_node(&corners[3]).unwrap().0;

@@ -45,6 +45,6 @@ pub fn modal_body(body: &FlexibleBody, damping: &ModalDamping) -> Result<ModalBo
         initial_coordinates: DVector::zeros(m),
         initial_rates: DVector::zeros(m),
     };
-    modal.damping = modal.damping_matrix(damping)?;
+    modal.damping = modal.damping_matrix(damping).map_err(|e| e.to_string())?;
     Ok(modal)
 }

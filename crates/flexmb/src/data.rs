@@ -46,11 +46,17 @@ impl Data {
     }
 
     /// Global position of a marker origin after the last kinematics stage.
+    ///
+    /// # Panics
+    /// If `m` is not a marker of the model this data was made for.
     pub fn marker_position(&self, m: crate::model::MarkerId) -> Vec3 {
         self.markers[m.0].position
     }
 
     /// Global axes of a marker (columns x, y, z) after the last kinematics stage.
+    ///
+    /// # Panics
+    /// If `m` is not a marker of the model this data was made for.
     pub fn marker_axes(&self, m: crate::model::MarkerId) -> Mat3 {
         self.markers[m.0].axes
     }

@@ -9,17 +9,27 @@
 //! [`analysis`] module assembles the mechanism, finds consistent velocities and runs the dynamics with
 //! the integrators of [`integrate`].
 //!
+//! [`ModelBuilder`] checks every element as it is added and returns a [`ModelError`](model::ModelError)
+//! that names it (an id the builder did not hand out, a name used twice, a mass, inertia, frame or
+//! spring constant out of range): its documentation builds a pendulum.
+//!
 //! References: E. J. Haug, *Computer Aided Kinematics and Dynamics of Mechanical Systems* (1989);
 //! W. S. Yoo and E. J. Haug, *Dynamics of Articulated Structures* (1986); K. E. Brenan, S. L. Campbell,
 //! L. R. Petzold, *Numerical Solution of Initial-Value Problems in DAEs* (1996); L. F. Shampine and
 //! M. W. Reichelt, *The MATLAB ODE Suite* (1997); C. W. Gear, B. Leimkuhler, G. K. Gupta, *Automatic
 //! integration of Euler–Lagrange equations with constraints* (1985).
 
+#![warn(missing_docs)]
+
+// Documented in branch issue15-engine; the lead removes this allow at merge.
+#[allow(missing_docs)]
 pub mod analysis;
 pub mod body;
 mod data;
 pub mod force;
 pub mod function;
+// Documented in branch issue15-engine; the lead removes this allow at merge.
+#[allow(missing_docs)]
 pub mod integrate;
 pub mod joint;
 pub mod linalg;

@@ -29,6 +29,8 @@ pub enum MeasureKind {
 /// A named measure.
 #[derive(Clone, Debug)]
 pub struct Measure {
+    /// The name expressions read it by.
     pub name: String,
+    /// What it reads.
     pub kind: MeasureKind,
 }

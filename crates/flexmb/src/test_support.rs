@@ -27,7 +27,7 @@ impl Lcg {
     }
     pub fn rotation(&mut self) -> EulerParameters {
         let axis = self.unit();
-        EulerParameters::from_axis_angle(&axis, self.range(-3.0, 3.0))
+        EulerParameters::from_axis_angle(&axis, self.range(-3.0, 3.0)).unwrap()
     }
 }
 

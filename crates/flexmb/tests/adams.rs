@@ -54,8 +54,8 @@ fn pendulum_period_matches_the_elliptic_integral() {
     let (l, m, ic, g, theta0) = (1.0, 1.0, 1e-3, 9.81, 1.0_f64);
     let mut b = pendulum(l, m, ic, theta0, g);
     let bob = b.find_marker("bob_centre").unwrap();
-    b.add_output("bob", OutputKind::MarkerPosition(bob));
-    b.add_output("energy", OutputKind::Energy);
+    b.add_output("bob", OutputKind::MarkerPosition(bob)).unwrap();
+    b.add_output("energy", OutputKind::Energy).unwrap();
     let model = b.build().unwrap();
     let period = 4.0 * ((ic + m * l * l) / (m * g * l)).sqrt() * elliptic_k((theta0 / 2.0).sin());
     let s = settings(10.0 * period, 1e-3, 1e-9);
@@ -95,10 +95,10 @@ fn driven_slider_crank_follows_the_closed_form() {
     let SliderCrank { slide, pivot_ground, pivot, .. } = slider_crank_linkage(&mut b, CRANK, ROD, None);
     let driver = JointKind::AngleDriver { function: TimeFunction::parse("2*PI*t").unwrap() };
     joint(&mut b, "crank_motion", driver, pivot_ground, pivot);
-    let x = b.add_measure(Measure { name: "x".into(), kind: MeasureKind::JointDisplacement(slide) });
-    let v = b.add_measure(Measure { name: "v".into(), kind: MeasureKind::JointVelocity(slide) });
-    b.add_output("x", OutputKind::Measure(x));
-    b.add_output("v", OutputKind::Measure(v));
+    let x = b.add_measure(Measure { name: "x".into(), kind: MeasureKind::JointDisplacement(slide) }).unwrap();
+    let v = b.add_measure(Measure { name: "v".into(), kind: MeasureKind::JointVelocity(slide) }).unwrap();
+    b.add_output("x", OutputKind::Measure(x)).unwrap();
+    b.add_output("v", OutputKind::Measure(v)).unwrap();
     let model = b.build().unwrap();
     let run = run(&model, &with_adams(settings(2.0, 0.002, 1e-8)));
     let (xs, vs) = (run.col("x"), run.col("v"));
@@ -137,9 +137,9 @@ fn free_slider_crank() -> Model {
             free_length: 0.4,
             actuator: None,
         },
-    });
-    b.add_output("pin", OutputKind::MarkerPosition(slider_pin));
-    b.add_output("energy", OutputKind::Energy);
+    }).unwrap();
+    b.add_output("pin", OutputKind::MarkerPosition(slider_pin)).unwrap();
+    b.add_output("energy", OutputKind::Energy).unwrap();
     b.build().unwrap()
 }
 
@@ -195,16 +195,16 @@ fn heavy_top() -> Model {
         Vec3::new(0.0, 0.0, TOP_R),
         Mat3::from_diagonal(&Vec3::new(3.5e-4, 3.5e-4, 6.25e-4)),
         Vec3::zeros(),
-        EulerParameters::from_axis_angle(&Vec3::y(), theta0),
+        EulerParameters::from_axis_angle(&Vec3::y(), theta0).unwrap(),
         Some(Vec3::zeros()),
         Some(200.0 * axis),
-    ));
+    )).unwrap();
     let support = marker(&mut b, "support", BodyRef::Ground, Vec3::zeros());
     let tip = marker(&mut b, "tip", BodyRef::Body(body), Vec3::zeros());
     let center = marker(&mut b, "center_marker", BodyRef::Body(body), Vec3::new(0.0, 0.0, TOP_R));
     joint(&mut b, "tip", JointKind::Spherical, support, tip);
-    b.add_output("center", OutputKind::MarkerPosition(center));
-    b.add_output("energy", OutputKind::Energy);
+    b.add_output("center", OutputKind::MarkerPosition(center)).unwrap();
+    b.add_output("energy", OutputKind::Energy).unwrap();
     b.build().unwrap()
 }
 
@@ -304,7 +304,7 @@ fn projection_moves_the_state_by_much_less_than_the_tolerance() {
 /// at its first node and swinging under gravity.
 fn flexible_pendulum(stiffness: [f64; 3]) -> Model {
     let (mut b, _, tip) = lumped_flexible_pendulum(stiffness, [0.0; 3]);
-    b.add_output("tip", OutputKind::MarkerPosition(tip));
+    b.add_output("tip", OutputKind::MarkerPosition(tip)).unwrap();
     b.build().unwrap()
 }
 
@@ -424,7 +424,7 @@ fn partitioning_against_projection() {
 fn interpolated_outputs_keep_the_constraints() {
     let mut b = ModelBuilder::new("slider-crank").gravity(Vec3::new(0.0, -9.81, 0.0));
     slider_crank_linkage(&mut b, CRANK, ROD, Some(Vec3::new(0.0, 0.0, 8.0)));
-    b.add_output("residual", OutputKind::ConstraintResidual);
+    b.add_output("residual", OutputKind::ConstraintResidual).unwrap();
     let model = b.build().unwrap();
     let tol = 1e-6;
     let run = run(&model, &with_adams(settings(2.0, 0.001, tol)));

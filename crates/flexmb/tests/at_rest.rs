@@ -13,7 +13,7 @@ use flexmb::model::{BodyRef, Model, ModelBuilder};
 use support::*;
 
 fn axes(axis: Vec3, angle: f64) -> Mat3 {
-    EulerParameters::from_axis_angle(&axis, angle).rotation_matrix()
+    EulerParameters::from_axis_angle(&axis, angle).unwrap().rotation_matrix()
 }
 
 fn fixed_body() -> Model {
@@ -28,7 +28,7 @@ fn fixed_body() -> Model {
         EulerParameters(p.normalize()),
         None,
         None,
-    ));
+    )).unwrap();
     let on_ground = marker_with_axes(
         &mut b,
         "k0",

@@ -32,7 +32,7 @@ fn oscillator() -> Model {
         EulerParameters::identity(),
         Some(Vec3::zeros()),
         Some(Vec3::zeros()),
-    ));
+    )).unwrap();
     let origin = marker(&mut b, "origin", BodyRef::Ground, Vec3::zeros());
     let attach = marker(&mut b, "attach", BodyRef::Body(block), Vec3::zeros());
     let guide = marker_with_axes(&mut b, "guide", BodyRef::Ground, Vec3::zeros(), frame_with_z(Vec3::x()));
@@ -48,7 +48,7 @@ fn oscillator() -> Model {
             free_length: L0,
             actuator: None,
         },
-    });
+    }).unwrap();
     b.build().unwrap()
 }
 

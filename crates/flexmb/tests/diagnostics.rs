@@ -22,7 +22,7 @@ fn bar(name: &str, mass: f64, len: f64, position: Vec3, angle: f64, omega_z: Opt
         Vec3::new(len / 2.0, 0.0, 0.0),
         Mat3::from_diagonal(&Vec3::new(0.01 * t, t, t)),
         position,
-        EulerParameters::from_axis_angle(&Vec3::z(), angle),
+        EulerParameters::from_axis_angle(&Vec3::z(), angle).unwrap(),
         None,
         omega_z.map(|w| Vec3::new(0.0, 0.0, w)),
     )
@@ -35,9 +35,9 @@ fn bar(name: &str, mass: f64, len: f64, position: Vec3, angle: f64, omega_z: Opt
 fn four_bar(all_revolute: bool) -> Model {
     let (a, b_len, c, d) = (0.1, 0.35, 0.3, 0.4);
     let mut b = ModelBuilder::new("four-bar").gravity(Vec3::new(0.0, -9.81, 0.0));
-    let crank = b.add_body(bar("crank", 0.2, a, Vec3::zeros(), std::f64::consts::FRAC_PI_2, Some(5.0)));
-    let coupler = b.add_body(bar("coupler", 0.5, b_len, Vec3::new(0.0, a, 0.0), 0.548147899239, None));
-    let rocker = b.add_body(bar("rocker", 0.4, c, Vec3::new(d, 0.0, 0.0), 1.915155650511, None));
+    let crank = b.add_body(bar("crank", 0.2, a, Vec3::zeros(), std::f64::consts::FRAC_PI_2, Some(5.0))).unwrap();
+    let coupler = b.add_body(bar("coupler", 0.5, b_len, Vec3::new(0.0, a, 0.0), 0.548147899239, None)).unwrap();
+    let rocker = b.add_body(bar("rocker", 0.4, c, Vec3::new(d, 0.0, 0.0), 1.915155650511, None)).unwrap();
     let o2 = marker(&mut b, "o2", BodyRef::Ground, Vec3::zeros());
     let o4 = marker(&mut b, "o4", BodyRef::Ground, Vec3::new(d, 0.0, 0.0));
     let crank_pivot = marker(&mut b, "crank_pivot", BodyRef::Body(crank), Vec3::zeros());
@@ -57,10 +57,10 @@ fn four_bar(all_revolute: bool) -> Model {
         joint(&mut b, "crank_coupler", JointKind::Spherical, crank_pin, coupler_a);
         joint(&mut b, "coupler_rocker", JointKind::Universal, coupler_b, rocker_b);
     }
-    let angle = b.add_measure(Measure { name: "crank_angle".into(), kind: MeasureKind::JointAngle(crank_ground) });
-    b.add_output("crank_angle", OutputKind::Measure(angle));
-    b.add_output("energy", OutputKind::Energy);
-    b.add_output("residual", OutputKind::ConstraintResidual);
+    let angle = b.add_measure(Measure { name: "crank_angle".into(), kind: MeasureKind::JointAngle(crank_ground) }).unwrap();
+    b.add_output("crank_angle", OutputKind::Measure(angle)).unwrap();
+    b.add_output("energy", OutputKind::Energy).unwrap();
+    b.add_output("residual", OutputKind::ConstraintResidual).unwrap();
     b.build().unwrap()
 }
 
@@ -115,7 +115,7 @@ fn all_revolute_four_bar_is_redundant_names_the_rows_and_still_runs() {
 /// away than the link can reach.
 fn unreachable_distance() -> Model {
     let mut b = ModelBuilder::new("unreachable");
-    let link = b.add_body(bar("link", 1.0, 1.0, Vec3::zeros(), 0.3, None));
+    let link = b.add_body(bar("link", 1.0, 1.0, Vec3::zeros(), 0.3, None)).unwrap();
     let pivot = marker(&mut b, "pivot", BodyRef::Ground, Vec3::zeros());
     let base = marker(&mut b, "link_base", BodyRef::Body(link), Vec3::zeros());
     let tip = marker(&mut b, "link_tip", BodyRef::Body(link), Vec3::new(1.0, 0.0, 0.0));
@@ -159,8 +159,8 @@ fn locking_slider_crank() -> Model {
         pivot_ground,
         pivot,
     );
-    let angle = b.add_measure(Measure { name: "crank_angle".into(), kind: MeasureKind::JointAngle(crank_joint) });
-    b.add_output("crank_angle", OutputKind::Measure(angle));
+    let angle = b.add_measure(Measure { name: "crank_angle".into(), kind: MeasureKind::JointAngle(crank_joint) }).unwrap();
+    b.add_output("crank_angle", OutputKind::Measure(angle)).unwrap();
     b.build().unwrap()
 }
 

@@ -49,15 +49,15 @@ fn spatial_chain() -> Model {
         let d = dirs[k].normalize();
         // Body x along d.
         let axis = Vec3::x().cross(&d);
-        let pose = EulerParameters::from_axis_angle(&axis, Vec3::x().dot(&d).acos());
-        let body = b.add_body(link(&format!("link{k}"), mass[k], len[k], end, pose, omegas[k]));
+        let pose = EulerParameters::from_axis_angle(&axis, Vec3::x().dot(&d).acos()).unwrap();
+        let body = b.add_body(link(&format!("link{k}"), mass[k], len[k], end, pose, omegas[k])).unwrap();
         let start = marker(&mut b, &format!("link{k}_start"), BodyRef::Body(body), Vec3::zeros());
         joint(&mut b, &format!("ball{k}"), JointKind::Spherical, top, start);
         top = marker(&mut b, &format!("link{k}_end"), BodyRef::Body(body), Vec3::new(len[k], 0.0, 0.0));
         end += len[k] * d;
     }
-    b.add_output("tip", OutputKind::MarkerPosition(top));
-    b.add_output("energy", OutputKind::Energy);
+    b.add_output("tip", OutputKind::MarkerPosition(top)).unwrap();
+    b.add_output("energy", OutputKind::Energy).unwrap();
     b.build().unwrap()
 }
 
@@ -134,7 +134,7 @@ fn damped_slider(k: f64, c: f64, m: f64, free_length: f64, x0: f64) -> Model {
         EulerParameters::identity(),
         Some(Vec3::zeros()),
         None,
-    ));
+    )).unwrap();
     let origin = marker(&mut b, "origin", BodyRef::Ground, Vec3::zeros());
     let attach = marker(&mut b, "attach", BodyRef::Body(block), Vec3::zeros());
     let guide = marker_with_axes(&mut b, "guide", BodyRef::Ground, Vec3::zeros(), frame_with_z(Vec3::x()));
@@ -150,11 +150,11 @@ fn damped_slider(k: f64, c: f64, m: f64, free_length: f64, x0: f64) -> Model {
             free_length,
             actuator: None,
         },
-    });
-    let rate = b.add_measure(Measure { name: "l_rate".into(), kind: MeasureKind::DistanceRate(origin, attach) });
-    b.add_output("x", OutputKind::MarkerPosition(attach));
-    b.add_output("l_rate", OutputKind::Measure(rate));
-    b.add_output("energy", OutputKind::Energy);
+    }).unwrap();
+    let rate = b.add_measure(Measure { name: "l_rate".into(), kind: MeasureKind::DistanceRate(origin, attach) }).unwrap();
+    b.add_output("x", OutputKind::MarkerPosition(attach)).unwrap();
+    b.add_output("l_rate", OutputKind::Measure(rate)).unwrap();
+    b.add_output("energy", OutputKind::Energy).unwrap();
     b.build().unwrap()
 }
 
@@ -199,10 +199,10 @@ fn spring_damper_pendulum_loses_energy_monotonically_at_the_damper_rate() {
         Vec3::new(0.05, 0.02, -0.1),
         Mat3::from_diagonal(&Vec3::new(0.02, 0.03, 0.025)),
         Vec3::new(0.4, 0.1, -1.2),
-        EulerParameters::from_axis_angle(&Vec3::new(1.0, -1.0, 0.5), 0.4),
+        EulerParameters::from_axis_angle(&Vec3::new(1.0, -1.0, 0.5), 0.4).unwrap(),
         Some(Vec3::new(0.0, 1.2, 0.3)),
         Some(Vec3::new(1.0, 0.5, -2.0)),
-    ));
+    )).unwrap();
     let anchor = marker(&mut b, "anchor", BodyRef::Ground, Vec3::zeros());
     let hook = marker(&mut b, "hook", BodyRef::Body(body), Vec3::new(0.0, 0.05, 0.1));
     b.add_force(ForceElement {
@@ -215,10 +215,10 @@ fn spring_damper_pendulum_loses_energy_monotonically_at_the_damper_rate() {
             free_length: 1.0,
             actuator: None,
         },
-    });
-    let rate = b.add_measure(Measure { name: "l_rate".into(), kind: MeasureKind::DistanceRate(anchor, hook) });
-    b.add_output("l_rate", OutputKind::Measure(rate));
-    b.add_output("energy", OutputKind::Energy);
+    }).unwrap();
+    let rate = b.add_measure(Measure { name: "l_rate".into(), kind: MeasureKind::DistanceRate(anchor, hook) }).unwrap();
+    b.add_output("l_rate", OutputKind::Measure(rate)).unwrap();
+    b.add_output("energy", OutputKind::Energy).unwrap();
     let model = b.build().unwrap();
     let run = run(&model, &settings(8.0, 0.001, 1e-9));
     let (balance, increase) = check_dissipation(&run, c, "elastic pendulum");
@@ -251,8 +251,8 @@ fn the_energy_balance_of_a_driven_damped_mechanism_closes() {
             free_length: 0.25,
             actuator: Some(flexmb::function::Expression::parse("5*sin(7*t)", &|_| None).unwrap()),
         },
-    });
-    b.add_output("energy", OutputKind::Energy);
+    }).unwrap();
+    b.add_output("energy", OutputKind::Energy).unwrap();
     let model = b.build().unwrap();
     // Over a whole revolution the work nearly cancels: the balance is checked at end times through it.
     for t_end in [0.3, 0.55, 0.8, 1.3] {

@@ -27,7 +27,7 @@ fn com() -> Vec3 {
 
 /// Principal moments 0.10, 0.16, 0.21 kg m² about axes turned away from the body frame.
 fn inertia() -> Mat3 {
-    let q = EulerParameters::from_axis_angle(&Vec3::new(0.3, 1.0, -0.6), 0.9).rotation_matrix();
+    let q = EulerParameters::from_axis_angle(&Vec3::new(0.3, 1.0, -0.6), 0.9).unwrap().rotation_matrix();
     q * Mat3::from_diagonal(&Vec3::new(0.10, 0.16, 0.21)) * q.transpose()
 }
 
@@ -39,10 +39,10 @@ fn free_body() -> Model {
         com(),
         inertia(),
         Vec3::new(0.3, -0.2, 1.0),
-        EulerParameters::from_axis_angle(&Vec3::new(1.0, 2.0, 0.5), 0.7),
+        EulerParameters::from_axis_angle(&Vec3::new(1.0, 2.0, 0.5), 0.7).unwrap(),
         Some(Vec3::new(0.4, 0.1, -0.3)),
         Some(Vec3::new(2.0, -3.5, 4.0)),
-    ));
+    )).unwrap();
     b.build().unwrap()
 }
 

@@ -114,12 +114,12 @@ fn free_slider_crank() -> Model {
     let mut b = ModelBuilder::new("free slider-crank").gravity(Vec3::new(0.0, -G, 0.0));
     let SliderCrank { crank_joint, slide, slider_pin, .. } =
         slider_crank_linkage(&mut b, 0.1, 0.3, Some(Vec3::new(0.0, 0.0, 8.0)));
-    let x = b.add_measure(Measure { name: "slider_position".into(), kind: MeasureKind::JointDisplacement(slide) });
-    let angle = b.add_measure(Measure { name: "crank_angle".into(), kind: MeasureKind::JointAngle(crank_joint) });
-    b.add_output("x", OutputKind::Measure(x));
-    b.add_output("angle", OutputKind::Measure(angle));
-    b.add_output("pin", OutputKind::MarkerVelocity(slider_pin));
-    b.add_output("energy", OutputKind::Energy);
+    let x = b.add_measure(Measure { name: "slider_position".into(), kind: MeasureKind::JointDisplacement(slide) }).unwrap();
+    let angle = b.add_measure(Measure { name: "crank_angle".into(), kind: MeasureKind::JointAngle(crank_joint) }).unwrap();
+    b.add_output("x", OutputKind::Measure(x)).unwrap();
+    b.add_output("angle", OutputKind::Measure(angle)).unwrap();
+    b.add_output("pin", OutputKind::MarkerVelocity(slider_pin)).unwrap();
+    b.add_output("energy", OutputKind::Energy).unwrap();
     b.build().unwrap()
 }
 
@@ -179,17 +179,17 @@ fn heavy_top(theta0: f64) -> (Model, f64) {
         Vec3::new(0.0, 0.0, r),
         Mat3::from_diagonal(&Vec3::new(a, a, i3)),
         Vec3::zeros(),
-        EulerParameters::from_axis_angle(&Vec3::y(), theta0),
+        EulerParameters::from_axis_angle(&Vec3::y(), theta0).unwrap(),
         Some(Vec3::zeros()),
         Some(spin * axis + precession * Vec3::z()),
-    ));
+    )).unwrap();
     let support = marker(&mut b, "support", BodyRef::Ground, Vec3::zeros());
     let tip = marker(&mut b, "tip", BodyRef::Body(body), Vec3::zeros());
     let center = marker(&mut b, "center_marker", BodyRef::Body(body), Vec3::new(0.0, 0.0, r));
     joint(&mut b, "tip", JointKind::Spherical, support, tip);
-    b.add_output("center", OutputKind::MarkerPosition(center));
-    b.add_output("w", OutputKind::MarkerAngularVelocity(center));
-    b.add_output("energy", OutputKind::Energy);
+    b.add_output("center", OutputKind::MarkerPosition(center)).unwrap();
+    b.add_output("w", OutputKind::MarkerAngularVelocity(center)).unwrap();
+    b.add_output("energy", OutputKind::Energy).unwrap();
     (b.build().unwrap(), 2.0 * PI / precession)
 }
 
@@ -426,7 +426,7 @@ fn redundant_rows_change_nothing() {
     let mut runs = Vec::new();
     for mut b in [plain, doubled] {
         let bob = b.find_marker("bob_centre").unwrap();
-        b.add_output("bob", OutputKind::MarkerPosition(bob));
+        b.add_output("bob", OutputKind::MarkerPosition(bob)).unwrap();
         let model = b.build().unwrap();
         runs.push(run(&model, &alpha_settings(2.0, 0.01, 1e-7, 0.9)));
     }
@@ -447,7 +447,7 @@ fn redundant_rows_change_nothing() {
 #[test]
 fn flexible_pendulum_agrees_with_the_bdf() {
     let (mut b, _, tip) = lumped_flexible_pendulum([400.0, 3000.0, 9000.0], [0.1, 0.0, 0.0]);
-    b.add_output("tip", OutputKind::MarkerPosition(tip));
+    b.add_output("tip", OutputKind::MarkerPosition(tip)).unwrap();
     let model = b.build().unwrap();
     let reference = run(&model, &settings(1.0, 0.01, 1e-10));
     let tol = 1e-6;

@@ -47,17 +47,17 @@ fn top(theta0: f64, phi_rate0: f64) -> Model {
         Vec3::new(0.0, 0.0, R),
         Mat3::from_diagonal(&Vec3::new(A, A, I3)),
         Vec3::zeros(),
-        EulerParameters::from_axis_angle(&Vec3::y(), theta0),
+        EulerParameters::from_axis_angle(&Vec3::y(), theta0).unwrap(),
         Some(Vec3::zeros()),
         Some(omega),
-    ));
+    )).unwrap();
     let support = marker(&mut b, "support", BodyRef::Ground, Vec3::zeros());
     let tip = marker(&mut b, "tip", BodyRef::Body(body), Vec3::zeros());
     let center = marker(&mut b, "center_marker", BodyRef::Body(body), Vec3::new(0.0, 0.0, R));
     joint(&mut b, "tip", JointKind::Spherical, support, tip);
-    b.add_output("center", OutputKind::MarkerPosition(center));
-    b.add_output("w", OutputKind::MarkerAngularVelocity(center));
-    b.add_output("energy", OutputKind::Energy);
+    b.add_output("center", OutputKind::MarkerPosition(center)).unwrap();
+    b.add_output("w", OutputKind::MarkerAngularVelocity(center)).unwrap();
+    b.add_output("energy", OutputKind::Energy).unwrap();
     b.build().unwrap()
 }
 

@@ -104,8 +104,8 @@ fn loaded_slider_crank(driven: bool) -> Model {
         let f = TimeFunction::parse("8*t + 0.5*sin(3*t)").unwrap();
         joint(&mut b, "crank_motion", JointKind::AngleDriver { function: f }, pivot_ground, pivot);
     }
-    let v = b.add_measure(Measure { name: "slider_v".into(), kind: MeasureKind::JointVelocity(slide) });
-    let w = b.add_measure(Measure { name: "crank_rate".into(), kind: MeasureKind::JointRate(crank_joint) });
+    let v = b.add_measure(Measure { name: "slider_v".into(), kind: MeasureKind::JointVelocity(slide) }).unwrap();
+    let w = b.add_measure(Measure { name: "crank_rate".into(), kind: MeasureKind::JointRate(crank_joint) }).unwrap();
     let resolve = |name: &str| match name {
         "slider_v" => Some(v),
         "crank_rate" => Some(w),
@@ -121,7 +121,7 @@ fn loaded_slider_crank(driven: bool) -> Model {
             free_length: 0.35,
             actuator: Some(Expression::parse("2*sin(3*t) - 0.5*slider_v", &resolve).unwrap()),
         },
-    });
+    }).unwrap();
     b.add_force(ForceElement {
         name: "motor".into(),
         kind: ForceKind::RotationalSpringDamper {
@@ -131,7 +131,7 @@ fn loaded_slider_crank(driven: bool) -> Model {
             free_angle: 0.0,
             actuator: Some(Expression::parse("0.2 - 0.02*crank_rate", &resolve).unwrap()),
         },
-    });
+    }).unwrap();
     b.add_force(ForceElement {
         name: "push".into(),
         kind: ForceKind::AppliedForce {
@@ -143,7 +143,7 @@ fn loaded_slider_crank(driven: bool) -> Model {
             ],
             frame: ForceFrame::Global,
         },
-    });
+    }).unwrap();
     b.build().unwrap()
 }
 
@@ -158,7 +158,7 @@ fn flexible_pendulum() -> Model {
             components: [Expression::constant(0.0), Expression::constant(0.0), Expression::parse("0.2*sin(5*t)", &|_| None).unwrap()],
             frame: ForceFrame::Global,
         },
-    });
+    }).unwrap();
     b.build().unwrap()
 }
 

@@ -11,8 +11,8 @@ fn period_matches_elliptic_integral_and_energy_is_conserved() {
     let (l, m, ic, g, theta0) = (1.0, 1.0, 1e-3, 9.81, 1.0_f64);
     let mut b = support::pendulum(l, m, ic, theta0, g);
     let bob = b.find_marker("bob_centre").unwrap();
-    b.add_output("bob", OutputKind::MarkerPosition(bob));
-    b.add_output("energy", OutputKind::Energy);
+    b.add_output("bob", OutputKind::MarkerPosition(bob)).unwrap();
+    b.add_output("energy", OutputKind::Energy).unwrap();
     let model = b.build().unwrap();
     // Physical pendulum: T = 4 sqrt(I_O / (m g l)) K(sin(θ0/2)).
     let i_pivot = ic + m * l * l;

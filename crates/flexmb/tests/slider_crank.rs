@@ -34,13 +34,13 @@ fn slider_crank() -> Model {
         pivot_ground,
         pivot,
     );
-    let x = b.add_measure(Measure { name: "slider_position".into(), kind: MeasureKind::JointDisplacement(slide) });
-    let v = b.add_measure(Measure { name: "slider_velocity".into(), kind: MeasureKind::JointVelocity(slide) });
-    let angle = b.add_measure(Measure { name: "crank_angle".into(), kind: MeasureKind::JointAngle(crank_joint) });
-    b.add_output("x", OutputKind::Measure(x));
-    b.add_output("v", OutputKind::Measure(v));
-    b.add_output("angle", OutputKind::Measure(angle));
-    b.add_output("pin", OutputKind::MarkerPosition(slider_pin));
+    let x = b.add_measure(Measure { name: "slider_position".into(), kind: MeasureKind::JointDisplacement(slide) }).unwrap();
+    let v = b.add_measure(Measure { name: "slider_velocity".into(), kind: MeasureKind::JointVelocity(slide) }).unwrap();
+    let angle = b.add_measure(Measure { name: "crank_angle".into(), kind: MeasureKind::JointAngle(crank_joint) }).unwrap();
+    b.add_output("x", OutputKind::Measure(x)).unwrap();
+    b.add_output("v", OutputKind::Measure(v)).unwrap();
+    b.add_output("angle", OutputKind::Measure(angle)).unwrap();
+    b.add_output("pin", OutputKind::MarkerPosition(slider_pin)).unwrap();
     b.build().unwrap()
 }
 

@@ -18,7 +18,7 @@ use flexmb::body::{InitialState, Marker, RigidBody};
 use flexmb::integrate::BdfConfig;
 use flexmb::joint::{Joint, JointKind};
 use flexmb::math::{EulerParameters, Mat3, Vec3};
-use flexmb::model::{BodyRef, ModelBuilder};
+use flexmb::model::{BodyRef, ModelBuilder, ModelError};
 use flexmb::Model;
 
 use flexmb_files::model_file::parse_model;
@@ -49,11 +49,15 @@ const SLIDER_CRANK: &str = include_str!("../../../../models/slider_crank.toml");
 /// A chain of `n` slender links (0.1 m, 0.1 kg) on spherical joints, horizontal along x at rest, first
 /// link on a spherical joint to ground; gravity −z.
 pub fn spherical_chain(n: usize) -> Model {
+    spherical_chain_model(n).expect("the chain model is valid")
+}
+
+fn spherical_chain_model(n: usize) -> Result<Model, ModelError> {
     let (l, m) = (0.1, 0.1);
     let i_axial = 1e-6;
     let i_transverse = m * l * l / 12.0;
     let mut b = ModelBuilder::new(format!("chain of {n} links")).gravity(Vec3::new(0.0, 0.0, -9.81));
-    let mut previous = b.add_marker(Marker { name: "anchor".into(), body: BodyRef::Ground, origin: Vec3::zeros(), axes: Mat3::identity() });
+    let mut previous = b.add_marker(Marker { name: "anchor".into(), body: BodyRef::Ground, origin: Vec3::zeros(), axes: Mat3::identity() })?;
     for k in 0..n {
         let body = b.add_body(RigidBody {
             name: format!("link{k}"),
@@ -66,17 +70,17 @@ pub fn spherical_chain(n: usize) -> Model {
                 velocity: None,
                 angular_velocity: None,
             },
-        });
-        let start = b.add_marker(Marker { name: format!("link{k}_start"), body: BodyRef::Body(body), origin: Vec3::zeros(), axes: Mat3::identity() });
-        b.add_joint(Joint { name: format!("ball{k}"), kind: JointKind::Spherical, marker_i: previous, marker_j: start });
+        })?;
+        let start = b.add_marker(Marker { name: format!("link{k}_start"), body: BodyRef::Body(body), origin: Vec3::zeros(), axes: Mat3::identity() })?;
+        b.add_joint(Joint { name: format!("ball{k}"), kind: JointKind::Spherical, marker_i: previous, marker_j: start })?;
         previous = b.add_marker(Marker {
             name: format!("link{k}_end"),
             body: BodyRef::Body(body),
             origin: Vec3::new(l, 0.0, 0.0),
             axes: Mat3::identity(),
-        });
+        })?;
     }
-    b.build().expect("the chain model is valid")
+    b.build()
 }
 
 struct CaseResult {

@@ -40,9 +40,9 @@ pub fn rigid_pendulum() -> Result<Model, String> {
         center_of_mass: strip.center_of_mass,
         inertia: strip.inertia,
         initial: strip.initial.clone(),
-    });
-    let on_body = b.add_marker(Marker { name: "hinge_beam".into(), body: BodyRef::Body(body), origin: Vec3::zeros(), axes: Mat3::identity() });
-    let on_ground = b.add_marker(Marker { name: "hinge_ground".into(), body: BodyRef::Ground, origin: Vec3::zeros(), axes: Mat3::identity() });
-    b.add_joint(Joint { name: "hinge".into(), kind: JointKind::Revolute, marker_i: on_ground, marker_j: on_body });
+    }).map_err(|e| e.to_string())?;
+    let on_body = b.add_marker(Marker { name: "hinge_beam".into(), body: BodyRef::Body(body), origin: Vec3::zeros(), axes: Mat3::identity() }).map_err(|e| e.to_string())?;
+    let on_ground = b.add_marker(Marker { name: "hinge_ground".into(), body: BodyRef::Ground, origin: Vec3::zeros(), axes: Mat3::identity() }).map_err(|e| e.to_string())?;
+    b.add_joint(Joint { name: "hinge".into(), kind: JointKind::Revolute, marker_i: on_ground, marker_j: on_body }).map_err(|e| e.to_string())?;
     b.build().map_err(|e| e.to_string())
 }

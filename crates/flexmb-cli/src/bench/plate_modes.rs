@@ -31,7 +31,7 @@ pub fn simply_supported_plate(n: usize) -> FeModel {
         n,
         0,
         ShellShape::Quadrilateral,
-    );
+    ).unwrap();
     let mut supports = Vec::new();
     for (i, column) in grid.iter().enumerate() {
         for (j, &node) in column.iter().enumerate() {

@@ -23,6 +23,7 @@ use crate::mesh::{Element, ElementKind, Mesh, ModelOptions};
 /// The stiffness matrix (symmetric, 6n × 6n) and the mass of one element.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ElementMatrices {
+    /// The stiffness in body-frame components (6n × 6n).
     pub stiffness: DMatrix<f64>,
     /// The lumped mass, one entry per node (always computed: the nodes' share of the mass).
     pub lumped_mass: Vec<NodalMass>,
@@ -44,22 +45,60 @@ pub struct NodalMass {
 /// Why an element's matrices cannot be formed.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum ElementError {
+    /// The element has the wrong number of nodes for its kind.
     #[error("the element has {found} nodes; a {kind} needs {expected}")]
-    NodeCount { kind: &'static str, expected: &'static str, found: usize },
+    NodeCount {
+        /// `beam` or `shell`.
+        kind: &'static str,
+        /// The numbers it may have.
+        expected: &'static str,
+        /// The number it has.
+        found: usize,
+    },
+    /// The element refers to a node, section or material the mesh does not have.
+    #[error("{kind} index {index} is beyond the mesh's {count}")]
+    UnknownIndex {
+        /// `node`, `beam section`, `shell section` or `material`.
+        kind: &'static str,
+        /// The index given.
+        index: usize,
+        /// How many the mesh has.
+        count: usize,
+    },
+    /// A beam's two nodes coincide.
     #[error("the beam has zero length (its two nodes coincide)")]
     ZeroLength,
+    /// A beam's orientation vector does not fix its cross-section axes.
     #[error("the beam's orientation vector is parallel to the beam axis")]
     OrientationParallel,
+    /// A shell without area.
     #[error("the shell is degenerate (zero or negative area, or collinear nodes)")]
     DegenerateShape,
+    /// A quadrilateral shell whose nodes are not in one plane.
     #[error("the shell's nodes are not in one plane: warp {warp:.3e} relative to its size")]
-    Warped { warp: f64 },
+    Warped {
+        /// The distance from the mean plane relative to the element's size.
+        warp: f64,
+    },
+    /// A property that must be positive is not.
     #[error("{property} must be positive and finite, got {value}")]
-    InvalidProperty { property: &'static str, value: f64 },
+    InvalidProperty {
+        /// The property's name.
+        property: &'static str,
+        /// The value given.
+        value: f64,
+    },
     /// A property that may be zero or negative (density, Poisson's ratio, the drilling stiffness
     /// factor) is outside its range; `requirement` says what the range is.
     #[error("{property} must be {requirement}, got {value}")]
-    OutOfRange { property: &'static str, requirement: &'static str, value: f64 },
+    OutOfRange {
+        /// The property's name.
+        property: &'static str,
+        /// Its range, in words.
+        requirement: &'static str,
+        /// The value given.
+        value: f64,
+    },
 }
 
 /// The matrices of `element` of `mesh`.
@@ -68,23 +107,32 @@ pub fn element_matrices(
     element: &Element,
     options: &ModelOptions,
 ) -> Result<ElementMatrices, ElementError> {
-    let points: Vec<_> = element.nodes.iter().map(|&n| mesh.nodes[n].position).collect();
+    let points = element
+        .nodes
+        .iter()
+        .map(|&n| lookup(&mesh.nodes, "node", n).map(|node| node.position))
+        .collect::<Result<Vec<_>, _>>()?;
     match element.kind {
         ElementKind::Beam { section } => {
-            let section = &mesh.beam_sections[section];
-            let material = &mesh.materials[section.material];
+            let section = lookup(&mesh.beam_sections, "beam section", section)?;
+            let material = lookup(&mesh.materials, "material", section.material)?;
             if points.len() != 2 {
                 return Err(ElementError::NodeCount { kind: "beam", expected: "2", found: points.len() });
             }
             beam::beam_matrices(&points[0], &points[1], section, material, options)
         }
         ElementKind::Shell { section } => {
-            let section = &mesh.shell_sections[section];
-            let material = &mesh.materials[section.material];
+            let section = lookup(&mesh.shell_sections, "shell section", section)?;
+            let material = lookup(&mesh.materials, "material", section.material)?;
             if points.len() != 3 && points.len() != 4 {
                 return Err(ElementError::NodeCount { kind: "shell", expected: "3 or 4", found: points.len() });
             }
             shell::shell_matrices(&points, section, material, options)
         }
     }
+}
+
+/// `items[index]`, or the error that says the mesh has no such `kind`.
+fn lookup<'a, T>(items: &'a [T], kind: &'static str, index: usize) -> Result<&'a T, ElementError> {
+    items.get(index).ok_or(ElementError::UnknownIndex { kind, index, count: items.len() })
 }

@@ -53,7 +53,9 @@ pub use reader::DEFAULT_N1;
 /// options) and the warnings about what was skipped or approximated, each `file:line: message`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct InpModel {
+    /// The FE model.
     pub model: FeModel,
+    /// What was skipped or approximated, `file:line: message` each.
     pub warnings: Vec<String>,
 }
 
@@ -62,12 +64,20 @@ pub struct InpModel {
 pub enum InpError {
     /// The file given to [`read_inp`] cannot be read.
     #[error("{file}: cannot read: {message}")]
-    Read { file: String, message: String },
+    Read {
+        /// The file's name.
+        file: String,
+        /// The operating system's message.
+        message: String,
+    },
     /// The input is wrong or unsupported at this line.
     #[error("{file}:{line}: {message}")]
     Input {
+        /// The file's name.
         file: String,
+        /// The line (from 1).
         line: usize,
+        /// What is wrong.
         message: String,
     },
 }

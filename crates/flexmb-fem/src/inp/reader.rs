@@ -648,9 +648,9 @@ impl Reader {
         };
         let length = |index, what: &str| quantity(dims, index, what, kw, Quantity::Length);
         let (props, offset) = match section.as_str() {
-            "RECT" => (sections::rect(length(0, "a")?, length(1, "b")?), None),
-            "CIRC" => (sections::circ(length(0, "r")?), None),
-            "PIPE" => (sections::pipe(length(0, "r")?, length(1, "t")?), None),
+            "RECT" => (sections::rect(length(0, "a")?, length(1, "b")?).map_err(|e| e.to_string()), None),
+            "CIRC" => (sections::circ(length(0, "r")?).map_err(|e| e.to_string()), None),
+            "PIPE" => (sections::pipe(length(0, "r")?, length(1, "t")?).map_err(|e| e.to_string()), None),
             "BOX" => {
                 let mut t = [0.0; 4];
                 for (k, tk) in t.iter_mut().enumerate() {
@@ -658,7 +658,7 @@ impl Reader {
                 }
                 match sections::boxed(length(0, "a")?, length(1, "b")?, t) {
                     Ok((p, offset)) => (Ok(p), Some(offset)),
-                    Err(e) => (Err(e), None),
+                    Err(e) => (Err(e.to_string()), None),
                 }
             }
             "GENERAL" if general => {

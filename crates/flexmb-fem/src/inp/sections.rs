@@ -7,19 +7,56 @@ use std::f64::consts::PI;
 /// Area, second moments and torsion constant of a cross-section (m², m⁴).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SectionProperties {
+    /// Area A (m²).
     pub area: f64,
     /// ∫ z² dA about the local y axis (Abaqus I₁₁).
     pub iy: f64,
     /// ∫ y² dA about the local z axis (Abaqus I₂₂).
     pub iz: f64,
+    /// Torsion constant J (m⁴).
     pub torsion_constant: f64,
 }
 
-fn positive(name: &str, value: f64) -> Result<f64, String> {
+/// Why a section's dimensions give no section.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum SectionError {
+    /// A dimension is zero, negative or not finite.
+    #[error("{name} must be positive, got {value}")]
+    NotPositive {
+        /// The dimension's name (`a`, `r`, `t2`, …).
+        name: String,
+        /// The value given (m).
+        value: f64,
+    },
+    /// A tube's wall is thicker than its radius.
+    #[error("the wall thickness t = {thickness} exceeds the outside radius r = {radius}")]
+    WallThickerThanRadius {
+        /// The wall thickness (m).
+        thickness: f64,
+        /// The outside radius (m).
+        radius: f64,
+    },
+    /// A box's opposite walls meet.
+    #[error(
+        "the walls fill the box: t1 + t3 = {} must be less than a = {a}, t2 + t4 = {} less than b = {b}",
+        t[0] + t[2],
+        t[1] + t[3]
+    )]
+    WallsFillBox {
+        /// Outside width (m).
+        a: f64,
+        /// Outside height (m).
+        b: f64,
+        /// Wall thicknesses `[t1, t2, t3, t4]` (m).
+        t: [f64; 4],
+    },
+}
+
+fn positive(name: &str, value: f64) -> Result<f64, SectionError> {
     if value > 0.0 && value.is_finite() {
         Ok(value)
     } else {
-        Err(format!("{name} must be positive, got {value}"))
+        Err(SectionError::NotPositive { name: name.to_string(), value })
     }
 }
 
@@ -39,7 +76,7 @@ pub fn rectangle_torsion_constant(a: f64, b: f64) -> f64 {
 
 /// Solid rectangle, `a` along the 1-direction (local y), `b` along the 2-direction (local z):
 /// `iy = a b³ / 12`, `iz = b a³ / 12`, J from [`rectangle_torsion_constant`].
-pub fn rect(a: f64, b: f64) -> Result<SectionProperties, String> {
+pub fn rect(a: f64, b: f64) -> Result<SectionProperties, SectionError> {
     let (a, b) = (positive("a", a)?, positive("b", b)?);
     Ok(SectionProperties {
         area: a * b,
@@ -50,7 +87,7 @@ pub fn rect(a: f64, b: f64) -> Result<SectionProperties, String> {
 }
 
 /// Solid circle of radius `r`: `I = π r⁴ / 4`, `J = π r⁴ / 2`.
-pub fn circ(r: f64) -> Result<SectionProperties, String> {
+pub fn circ(r: f64) -> Result<SectionProperties, SectionError> {
     let r = positive("r", r)?;
     let i = PI * r.powi(4) / 4.0;
     Ok(SectionProperties {
@@ -63,12 +100,10 @@ pub fn circ(r: f64) -> Result<SectionProperties, String> {
 
 /// Circular tube of outside radius `r` and wall thickness `t` (exact annulus, not the thin-wall
 /// approximation): `I = π (r⁴ − rᵢ⁴) / 4`, `J = 2 I`, `rᵢ = r − t`.
-pub fn pipe(r: f64, t: f64) -> Result<SectionProperties, String> {
+pub fn pipe(r: f64, t: f64) -> Result<SectionProperties, SectionError> {
     let (r, t) = (positive("r", r)?, positive("t", t)?);
     if t > r {
-        return Err(format!(
-            "the wall thickness t = {t} exceeds the outside radius r = {r}"
-        ));
+        return Err(SectionError::WallThickerThanRadius { thickness: t, radius: r });
     }
     let ri = r - t;
     let i = PI * (r.powi(4) - ri.powi(4)) / 4.0;
@@ -88,7 +123,7 @@ pub fn pipe(r: f64, t: f64) -> Result<SectionProperties, String> {
 /// moves off the section's centre when opposite walls differ: the second value returned is that
 /// offset (1, 2) in section axes, which flexmb does not model). The torsion constant is Bredt's
 /// thin-walled one on the wall mid-lines: `J = 4 Aₘ² / ∮ ds/t`, `Aₘ = (a − (t1+t3)/2)(b − (t2+t4)/2)`.
-pub fn boxed(a: f64, b: f64, t: [f64; 4]) -> Result<(SectionProperties, [f64; 2]), String> {
+pub fn boxed(a: f64, b: f64, t: [f64; 4]) -> Result<(SectionProperties, [f64; 2]), SectionError> {
     let (a, b) = (positive("a", a)?, positive("b", b)?);
     for (k, &tk) in t.iter().enumerate() {
         positive(&format!("t{}", k + 1), tk)?;
@@ -96,11 +131,7 @@ pub fn boxed(a: f64, b: f64, t: [f64; 4]) -> Result<(SectionProperties, [f64; 2]
     let [t1, t2, t3, t4] = t;
     let (wh, hh) = (a - t1 - t3, b - t2 - t4);
     if wh <= 0.0 || hh <= 0.0 {
-        return Err(format!(
-            "the walls fill the box: t1 + t3 = {} must be less than a = {a}, t2 + t4 = {} less than b = {b}",
-            t1 + t3,
-            t2 + t4
-        ));
+        return Err(SectionError::WallsFillBox { a, b, t });
     }
     let (ao, ah) = (a * b, wh * hh);
     let area = ao - ah;
@@ -186,6 +217,15 @@ mod tests {
         let full = pipe(0.01, 0.01).unwrap();
         assert!(close(full.iy, c.iy, 1e-14));
         assert!(pipe(0.01, 0.02).is_err());
+        assert_eq!(
+            pipe(0.01, 0.02).unwrap_err().to_string(),
+            "the wall thickness t = 0.02 exceeds the outside radius r = 0.01"
+        );
+        assert_eq!(rect(0.0, 1.0), Err(SectionError::NotPositive { name: "a".into(), value: 0.0 }));
+        assert_eq!(
+            boxed(0.1, 0.2, [0.06, 0.01, 0.05, 0.01]).unwrap_err().to_string(),
+            "the walls fill the box: t1 + t3 = 0.11 must be less than a = 0.1, t2 + t4 = 0.02 less than b = 0.2"
+        );
     }
 
     #[test]

@@ -23,20 +23,29 @@ pub enum InputFileError {
     Io(#[from] std::io::Error),
     /// The path names something that is not a regular file.
     #[error("it is {kind}, not a regular file")]
-    NotRegular { kind: &'static str },
+    NotRegular {
+        /// What it is: a directory, a device, ….
+        kind: &'static str,
+    },
     /// The file is larger than the limit.
     #[error(
         "it is larger than {} (the limit on input files); set {MAX_FILE_SIZE_VARIABLE} to a larger size \
          in bytes, or with k, M or G (e.g. {MAX_FILE_SIZE_VARIABLE}=4G), to read it",
         size_text(*limit)
     )]
-    TooLarge { limit: u64 },
+    TooLarge {
+        /// The limit (bytes).
+        limit: u64,
+    },
     /// [`MAX_FILE_SIZE_VARIABLE`] does not hold a size.
     #[error(
         "{MAX_FILE_SIZE_VARIABLE}=`{value}` is not a size: expected a whole number of bytes, optionally \
          followed by k, M or G (times 1024, 1024², 1024³), e.g. 2G"
     )]
-    BadLimit { value: String },
+    BadLimit {
+        /// The variable's value.
+        value: String,
+    },
     /// The file is not UTF-8 text (from [`read_text`]).
     #[error("it is not UTF-8 text: {0}")]
     NotText(std::str::Utf8Error),

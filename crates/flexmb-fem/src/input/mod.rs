@@ -1,7 +1,7 @@
 //! Guards on what users give flexmb, shared by the `.inp` reader of this crate and the model-file
 //! readers of the `flexmb` program (which depends on this crate, not the other way round):
 //!
-//! * [`file`]: every input file is read by [`read_file`] or [`read_text`], which refuse what is not
+//! * [`mod@file`]: every input file is read by [`read_file`] or [`read_text`], which refuse what is not
 //!   a regular file (a directory, `/dev/zero`, a pipe) and stop at a size limit, so that no path
 //!   makes a command hang or exhaust memory;
 //! * [`magnitude`]: the windows of physical magnitudes a value read from a file must lie in (a mass,

@@ -5,15 +5,22 @@ use std::fmt;
 /// A nodal degree of freedom: translations along and rotations about the body axes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Dof {
+    /// Translation along x.
     Ux,
+    /// Translation along y.
     Uy,
+    /// Translation along z.
     Uz,
+    /// Rotation about x.
     Rx,
+    /// Rotation about y.
     Ry,
+    /// Rotation about z.
     Rz,
 }
 
 impl Dof {
+    /// The six, in the order of a node's degrees of freedom.
     pub const ALL: [Dof; 6] = [Dof::Ux, Dof::Uy, Dof::Uz, Dof::Rx, Dof::Ry, Dof::Rz];
 
     /// Position 0..6 within a node's degrees of freedom.
@@ -45,27 +52,36 @@ impl Dof {
 pub struct DofSet(u8);
 
 impl DofSet {
+    /// No degree of freedom.
     pub const EMPTY: DofSet = DofSet(0);
+    /// The three translations.
     pub const TRANSLATIONS: DofSet = DofSet(0b000111);
+    /// The three rotations.
     pub const ROTATIONS: DofSet = DofSet(0b111000);
+    /// All six.
     pub const ALL: DofSet = DofSet(0b111111);
 
+    /// This set and `dof`.
     pub fn with(self, dof: Dof) -> DofSet {
         DofSet(self.0 | 1 << dof.index())
     }
 
+    /// The dofs in either set.
     pub fn union(self, other: DofSet) -> DofSet {
         DofSet(self.0 | other.0)
     }
 
+    /// Whether `dof` is in the set.
     pub fn contains(self, dof: Dof) -> bool {
         self.0 & (1 << dof.index()) != 0
     }
 
+    /// Whether the set is empty.
     pub fn is_empty(self) -> bool {
         self.0 == 0
     }
 
+    /// The dofs of the set in the order of [`Dof::ALL`].
     pub fn iter(self) -> impl Iterator<Item = Dof> {
         Dof::ALL.into_iter().filter(move |d| self.contains(*d))
     }

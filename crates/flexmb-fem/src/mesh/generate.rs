@@ -16,6 +16,7 @@ use std::collections::HashMap;
 use nalgebra::Vector3;
 
 use super::{Element, ElementKind, Mesh, Node};
+use crate::error::FemError;
 
 /// The element shape of a generated plate.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -57,19 +58,19 @@ impl Mesh {
     /// one), so a line can start or end on nodes of earlier lines and plates. A zero-length line gives
     /// degenerate elements that the element matrices reject.
     ///
-    /// # Panics
-    /// If `elements` is 0.
+    /// # Errors
+    /// [`FemError::Generator`] if `elements` is 0; the mesh is then unchanged. (A section index is
+    /// checked when the model is assembled, so sections may be added after the geometry.)
     pub fn add_beam_line(
         &mut self,
         a: Vector3<f64>,
         b: Vector3<f64>,
         elements: usize,
         section: usize,
-    ) -> Vec<usize> {
-        assert!(
-            elements > 0,
-            "add_beam_line: a line needs at least one element"
-        );
+    ) -> Result<Vec<usize>, FemError> {
+        if elements == 0 {
+            return Err(FemError::Generator { generator: "beam line", problem: "a line needs at least one element" });
+        }
         let tolerance = REUSE_TOLERANCE * (b - a).norm().max(self.size());
         let mut locator = NodeLocator::new(self, tolerance);
         let nodes: Vec<usize> = (0..=elements)
@@ -86,7 +87,7 @@ impl Mesh {
                 nodes: vec![pair[0], pair[1]],
             });
         }
-        nodes
+        Ok(nodes)
     }
 
     /// Adds a flat rectangular (parallelogram) plate of shell elements (section `section`, an index
@@ -102,8 +103,8 @@ impl Mesh {
     /// Nodes closer than `1e-9 × max(|edge_a| + |edge_b|, mesh size)` to existing nodes are reused (the
     /// nearest one), so plates and beam lines generated one after another connect.
     ///
-    /// # Panics
-    /// If `na` or `nb` is 0.
+    /// # Errors
+    /// [`FemError::Generator`] if `na` or `nb` is 0; the mesh is then unchanged.
     #[allow(clippy::too_many_arguments)]
     pub fn add_rectangular_plate(
         &mut self,
@@ -114,11 +115,10 @@ impl Mesh {
         nb: usize,
         section: usize,
         shape: ShellShape,
-    ) -> Vec<Vec<usize>> {
-        assert!(
-            na > 0 && nb > 0,
-            "add_rectangular_plate: a plate needs at least one cell each way"
-        );
+    ) -> Result<Vec<Vec<usize>>, FemError> {
+        if na == 0 || nb == 0 {
+            return Err(FemError::Generator { generator: "plate", problem: "a plate needs at least one cell each way" });
+        }
         let tolerance = REUSE_TOLERANCE * (edge_a.norm() + edge_b.norm()).max(self.size());
         let mut locator = NodeLocator::new(self, tolerance);
         let grid: Vec<Vec<usize>> = (0..=na)
@@ -160,7 +160,7 @@ impl Mesh {
                 }
             }
         }
-        grid
+        Ok(grid)
     }
 }
 
@@ -262,7 +262,7 @@ mod tests {
     #[test]
     fn beam_line_counts_positions_and_labels() {
         let mut mesh = Mesh::default();
-        let nodes = mesh.add_beam_line(v(0.0, 0.0, 0.0), v(2.0, 0.0, 0.0), 4, 0);
+        let nodes = mesh.add_beam_line(v(0.0, 0.0, 0.0), v(2.0, 0.0, 0.0), 4, 0).unwrap();
         assert_eq!(nodes, vec![0, 1, 2, 3, 4]);
         assert_eq!(mesh.nodes.len(), 5);
         assert_eq!(mesh.elements.len(), 4);
@@ -276,7 +276,7 @@ mod tests {
             assert_eq!(e.nodes, vec![nodes[k], nodes[k + 1]]);
         }
         // A second line continuing from the end reuses the end node; labels continue.
-        let more = mesh.add_beam_line(v(2.0, 0.0, 0.0), v(2.0, 1.0, 0.0), 2, 1);
+        let more = mesh.add_beam_line(v(2.0, 0.0, 0.0), v(2.0, 1.0, 0.0), 2, 1).unwrap();
         assert_eq!(more[0], nodes[4]);
         assert_eq!(mesh.nodes.len(), 7);
         assert_eq!(mesh.nodes[more[2]].label, 7);
@@ -292,7 +292,7 @@ mod tests {
         let mut mesh = Mesh::default();
         let corner = v(1.0, 2.0, 3.0);
         let (ea, eb) = (v(2.0, 0.0, 0.0), v(0.0, 1.0, 0.5));
-        let grid = mesh.add_rectangular_plate(corner, ea, eb, 4, 3, 0, ShellShape::Quadrilateral);
+        let grid = mesh.add_rectangular_plate(corner, ea, eb, 4, 3, 0, ShellShape::Quadrilateral).unwrap();
         assert_eq!(grid.len(), 5);
         assert!(grid.iter().all(|row| row.len() == 4));
         assert_eq!(mesh.nodes.len(), 20);
@@ -304,7 +304,7 @@ mod tests {
             }
         }
         let mut tri = Mesh::default();
-        let grid = tri.add_rectangular_plate(corner, ea, eb, 4, 3, 2, ShellShape::Triangle);
+        let grid = tri.add_rectangular_plate(corner, ea, eb, 4, 3, 2, ShellShape::Triangle).unwrap();
         assert_eq!(tri.nodes.len(), 20);
         assert_eq!(tri.elements.len(), 24);
         assert!(tri
@@ -339,7 +339,7 @@ mod tests {
         let normal = ea.cross(&eb).normalize();
         for shape in [ShellShape::Quadrilateral, ShellShape::Triangle] {
             let mut mesh = Mesh::default();
-            mesh.add_rectangular_plate(v(0.3, 0.0, -1.0), ea, eb, 3, 2, 0, shape);
+            mesh.add_rectangular_plate(v(0.3, 0.0, -1.0), ea, eb, 3, 2, 0, shape).unwrap();
             let total_area: f64 = mesh
                 .elements
                 .iter()
@@ -368,14 +368,14 @@ mod tests {
             4,
             0,
             ShellShape::Quadrilateral,
-        );
+        ).unwrap();
         let before = mesh.nodes.len();
         // A stiffener along the edge j = 4, with 2 elements: its 3 nodes are plate nodes 0, 2, 4 of that edge.
-        let line = mesh.add_beam_line(v(0.0, 1.0, 0.0), v(1.0, 1.0, 0.0), 2, 0);
+        let line = mesh.add_beam_line(v(0.0, 1.0, 0.0), v(1.0, 1.0, 0.0), 2, 0).unwrap();
         assert_eq!(line, vec![grid[0][4], grid[2][4], grid[4][4]]);
         assert_eq!(mesh.nodes.len(), before);
         // A post standing on the plate's centre shares one node and adds the others.
-        let post = mesh.add_beam_line(v(0.5, 0.5, 0.0), v(0.5, 0.5, 1.0), 5, 0);
+        let post = mesh.add_beam_line(v(0.5, 0.5, 0.0), v(0.5, 0.5, 1.0), 5, 0).unwrap();
         assert_eq!(post[0], grid[2][2]);
         assert_eq!(mesh.nodes.len(), before + 5);
         // A second plate sharing the edge i = 4 of the first one.
@@ -387,7 +387,7 @@ mod tests {
             4,
             0,
             ShellShape::Triangle,
-        );
+        ).unwrap();
         for j in 0..=4 {
             assert_eq!(second[0][j], grid[4][j]);
         }
@@ -416,7 +416,7 @@ mod tests {
         let mut mesh = Mesh::default();
         mesh.add_node(7, v(0.0, 0.0, 0.5e-9));
         mesh.add_node(8, v(1.0, 0.0, 2e-9));
-        let line = mesh.add_beam_line(v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), 1, 0);
+        let line = mesh.add_beam_line(v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), 1, 0).unwrap();
         assert_eq!(line[0], 0);
         assert_eq!(line[1], 2);
         assert_eq!(mesh.nodes[2].label, 9);
@@ -425,7 +425,7 @@ mod tests {
         mesh.add_node(1, v(10.0, 0.0, 0.0));
         mesh.add_node(2, v(0.0, 0.0, 8e-9));
         mesh.add_node(3, v(0.0, 0.0, -3e-9));
-        let line = mesh.add_beam_line(v(0.0, 0.0, 0.0), v(0.0, 1.0, 0.0), 1, 0);
+        let line = mesh.add_beam_line(v(0.0, 0.0, 0.0), v(0.0, 1.0, 0.0), 1, 0).unwrap();
         assert_eq!(line[0], 2);
     }
 
@@ -440,7 +440,7 @@ mod tests {
             99,
             0,
             ShellShape::Quadrilateral,
-        );
+        ).unwrap();
         assert_eq!(mesh.nodes.len(), 10_000);
         let start = Instant::now();
         // A second plate of 10⁴ nodes sharing one edge (100 nodes) with the first.
@@ -452,7 +452,7 @@ mod tests {
             99,
             0,
             ShellShape::Triangle,
-        );
+        ).unwrap();
         let elapsed = start.elapsed();
         assert_eq!(mesh.nodes.len(), 20_000 - 100);
         assert_eq!(grid[0][50], 99 * 100 + 50);

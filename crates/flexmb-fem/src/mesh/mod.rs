@@ -7,6 +7,7 @@
 
 mod dof;
 mod generate;
+mod references;
 
 use std::collections::BTreeMap;
 
@@ -19,13 +20,16 @@ pub use generate::ShellShape;
 /// A node of the mesh: its label in the input and its undeformed position in the body frame (m).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Node {
+    /// The label in the input (an `.inp` node number or a generated one), for messages.
     pub label: u64,
+    /// Undeformed position in the body frame (m).
     pub position: Vector3<f64>,
 }
 
 /// An isotropic linear-elastic material.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
+    /// The material's name.
     pub name: String,
     /// Young's modulus E (Pa).
     pub youngs_modulus: f64,
@@ -46,6 +50,7 @@ impl Material {
 /// second, y the cross-section axis given by [`orientation`](Self::orientation), z = x × y.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BeamSection {
+    /// The section's name.
     pub name: String,
     /// Index into [`Mesh::materials`].
     pub material: usize,
@@ -68,6 +73,7 @@ pub struct BeamSection {
 /// The section of a flat shell (membrane plus bending) element: material and uniform thickness.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ShellSection {
+    /// The section's name.
     pub name: String,
     /// Index into [`Mesh::materials`].
     pub material: usize,
@@ -79,10 +85,16 @@ pub struct ShellSection {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ElementKind {
     /// A 2-node 3D beam; `section` indexes [`Mesh::beam_sections`].
-    Beam { section: usize },
+    Beam {
+        /// Index into [`Mesh::beam_sections`].
+        section: usize,
+    },
     /// A 3-node (triangle) or 4-node (quadrilateral) flat shell; `section` indexes
     /// [`Mesh::shell_sections`]. Nodes go around the element in order.
-    Shell { section: usize },
+    Shell {
+        /// Index into [`Mesh::shell_sections`].
+        section: usize,
+    },
 }
 
 /// One element: its kind and its nodes (indices into [`Mesh::nodes`]).
@@ -90,13 +102,16 @@ pub enum ElementKind {
 pub struct Element {
     /// Label in the input (an `.inp` element number or a generated one), for messages.
     pub label: u64,
+    /// What it is and its section.
     pub kind: ElementKind,
+    /// Its nodes, indices into [`Mesh::nodes`].
     pub nodes: Vec<usize>,
 }
 
 /// A concentrated mass at a node, with optional rotary inertia about the node (body axes, diagonal).
 #[derive(Clone, Debug, PartialEq)]
 pub struct PointMass {
+    /// The node, an index into [`Mesh::nodes`].
     pub node: usize,
     /// Mass (kg).
     pub mass: f64,
@@ -107,11 +122,17 @@ pub struct PointMass {
 /// A finite-element mesh.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Mesh {
+    /// The nodes; elements, point masses, supports and loads refer to them by index.
     pub nodes: Vec<Node>,
+    /// The materials; sections refer to them by index.
     pub materials: Vec<Material>,
+    /// The sections of beam elements.
     pub beam_sections: Vec<BeamSection>,
+    /// The sections of shell elements.
     pub shell_sections: Vec<ShellSection>,
+    /// The elements.
     pub elements: Vec<Element>,
+    /// Concentrated masses at nodes.
     pub point_masses: Vec<PointMass>,
     /// Named sets of nodes (indices into [`nodes`](Self::nodes)), from `*NSET` or from the mesh
     /// generators.
@@ -164,7 +185,9 @@ impl Mesh {
 /// A boundary condition of the mode analysis: these degrees of freedom of this node are held at zero.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Support {
+    /// The node, an index into [`Mesh::nodes`].
     pub node: usize,
+    /// The dofs held.
     pub dofs: DofSet,
 }
 
@@ -182,7 +205,9 @@ pub enum StaticLoadKind {
 pub struct StaticLoad {
     /// The mode's name (e.g. `bottom_hinge_rx`), for tables and files.
     pub name: String,
+    /// The node it acts at, an index into [`Mesh::nodes`].
     pub node: usize,
+    /// A force or a torque, and its direction.
     pub kind: StaticLoadKind,
 }
 
@@ -234,8 +259,12 @@ impl Default for ModelOptions {
 /// static correction modes, and the modelling options.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct FeModel {
+    /// Nodes, materials, sections, elements, point masses.
     pub mesh: Mesh,
+    /// The boundary conditions of the mode analysis.
     pub supports: Vec<Support>,
+    /// The unit loads of the static correction modes.
     pub static_loads: Vec<StaticLoad>,
+    /// Mass model, rotary inertia, drilling stiffness.
     pub options: ModelOptions,
 }

@@ -26,6 +26,7 @@ pub enum EigenSolver {
     /// Dense up to [`EigenSettings::dense_limit`] free dofs, Lanczos above.
     #[default]
     Auto,
+    /// The dense symmetric eigensolver on the whole shifted operator.
     Dense,
     /// Lanczos, except for a problem no larger than its Krylov space (64 vectors, or four times the
     /// modes asked for and a few more), which is solved densely.
@@ -109,6 +110,7 @@ pub fn check_memory(model: &FeModel, settings: &EigenSettings) -> Result<(), Fem
 pub struct PreparedModel {
     /// The model with the extra supports added.
     pub model: FeModel,
+    /// That model assembled.
     pub assembled: AssembledModel,
     /// The rigid motions the supports leave, all with mass (orthonormal columns over the free dofs).
     pub rigid: Mat<f64>,
@@ -128,7 +130,7 @@ pub fn prepare(model: &FeModel) -> Result<PreparedModel, FemError> {
         return Ok(PreparedModel { model: model.clone(), assembled, rigid, held_massless: Vec::new() });
     }
     let held_massless: Vec<(usize, Dof)> =
-        rigid::pivot_dofs(&massless).into_iter().map(|e| assembled.dofs.node_dof(e)).collect();
+        rigid::pivot_dofs(&massless).into_iter().filter_map(|e| assembled.dofs.node_dof(e)).collect();
     let mut model = model.clone();
     for &(node, dof) in &held_massless {
         model.supports.push(Support { node, dofs: DofSet::EMPTY.with(dof) });

@@ -79,10 +79,13 @@ pub fn pivot_dofs(motions: &Mat<f64>) -> Vec<usize> {
     let norm2 = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>();
     let mut chosen = Vec::with_capacity(r);
     for _ in 0..r {
-        let best = (0..n)
+        // As many pivots as motions, at most one per dof.
+        let Some(best) = (0..n)
             .filter(|i| !chosen.contains(i))
             .max_by(|&a, &b| norm2(&rows[a]).total_cmp(&norm2(&rows[b])))
-            .expect("more free dofs than rigid motions");
+        else {
+            break;
+        };
         let norm = norm2(&rows[best]).sqrt();
         let pivot: Vec<f64> = rows[best].iter().map(|x| x / norm).collect();
         for row in rows.iter_mut() {

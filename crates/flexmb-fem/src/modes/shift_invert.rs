@@ -23,6 +23,7 @@ use crate::assembly::AssembledModel;
 /// The factored shifted stiffness, the mass factor and the rigid-motion projector.
 #[derive(Debug)]
 pub struct ShiftInvert {
+    /// The shift σ of `K + σ M` (1/s²).
     pub shift: f64,
     factor: faer::sparse::linalg::solvers::Llt<usize, f64>,
     /// `F` (r × n).

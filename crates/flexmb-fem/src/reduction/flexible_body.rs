@@ -45,6 +45,7 @@ pub enum ModeKind {
 pub struct ModeInfo {
     /// `N1`, `S2`, `O3`, …
     pub label: String,
+    /// Vibration, static correction or orthonormalized.
     pub kind: ModeKind,
     /// FE natural frequency of a vibration mode, reduced-model frequency of an orthonormal mode (Hz).
     pub frequency_hz: Option<f64>,
@@ -56,10 +57,14 @@ pub struct ModeInfo {
 /// inertia (with a consistent mass, the node's share of the element masses).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BodyNode {
+    /// The node's label in the FE model.
     pub label: u64,
+    /// Undeformed position in the body frame (m).
     #[serde(with = "serde_matrix::vector3")]
     pub position: Vector3<f64>,
+    /// Lumped mass (kg).
     pub mass: f64,
+    /// Rotary inertia about the node, body axes (kg m²).
     #[serde(with = "serde_matrix::matrix3")]
     pub rotary_inertia: Matrix3<f64>,
 }
@@ -68,22 +73,29 @@ pub struct BodyNode {
 /// indices into [`FlexibleBody::nodes`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BodyElement {
+    /// The element's label in the FE model.
     pub label: u64,
+    /// `beam` or `shell`.
     pub kind: String,
+    /// Indices into [`FlexibleBody::nodes`].
     pub nodes: Vec<usize>,
 }
 
 /// One mode shape at every node: translation and rotation (body frame).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ModeShape {
+    /// The translation of every node (body frame), one per node.
     pub translation: Vec<[f64; 3]>,
+    /// The rotation of every node (body frame), one per node.
     pub rotation: Vec<[f64; 3]>,
 }
 
 /// Rigid-body mass properties of the undeformed FE model.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BodyMassProperties {
+    /// Total mass (kg).
     pub mass: f64,
+    /// Centre of mass in the body frame (m).
     #[serde(with = "serde_matrix::vector3")]
     pub center_of_mass: Vector3<f64>,
     /// About the centre of mass, body axes (kg m²).
@@ -98,16 +110,20 @@ pub struct FlexibleBody {
     pub format: String,
     /// [`VERSION`] of the writer.
     pub version: u32,
+    /// The body's name.
     pub name: String,
     /// The mode set, e.g. `4N5S`.
     pub mode_set: String,
+    /// Raw or mass-orthonormalized modes.
     pub basis: Basis,
     /// The FE model's mass: `lumped` (the invariants are sums over the nodes' masses) or
     /// `consistent` (integrals over the elements; the nodes' masses are then their shares, for
     /// drawing and checking). Files without it are lumped.
     #[serde(default)]
     pub mass: MassModel,
+    /// Every node of the FE model.
     pub nodes: Vec<BodyNode>,
+    /// Every element, for drawing.
     pub elements: Vec<BodyElement>,
     /// The modes, in basis order.
     pub modes: Vec<ModeInfo>,
@@ -119,6 +135,7 @@ pub struct FlexibleBody {
     /// `Φᵀ M Φ` (m×m): `C9` plus the rotary part.
     #[serde(with = "serde_matrix::dmatrix")]
     pub modal_mass: DMatrix<f64>,
+    /// The inertia invariants of the equations of motion.
     pub invariants: InertiaInvariants,
     /// Natural frequencies of the reduced model (Hz), ascending.
     pub reduced_frequencies_hz: Vec<f64>,
@@ -126,20 +143,49 @@ pub struct FlexibleBody {
     pub fe_frequencies_hz: Vec<f64>,
     /// Number of rigid motions the supports left (excluded from the modes).
     pub rigid_modes: usize,
+    /// Mass, centre of mass and inertia of the undeformed body.
     pub mass_properties: BodyMassProperties,
 }
 
 /// A problem reading or writing a flexible-body file.
 #[derive(Debug, thiserror::Error)]
 pub enum BodyFileError {
+    /// The file cannot be written.
     #[error("{file}: {source}")]
-    Io { file: String, source: std::io::Error },
+    Io {
+        /// The file's path.
+        file: String,
+        /// The operating system's error.
+        source: std::io::Error,
+    },
+    /// The file cannot be read.
     #[error("{file}: cannot read: {source}")]
-    Read { file: String, source: crate::input::InputFileError },
+    Read {
+        /// The file's path.
+        file: String,
+        /// Why.
+        source: crate::input::InputFileError,
+    },
+    /// The file is not a flexible-body file.
     #[error("{file}:{line}:{column}: {message}")]
-    Parse { file: String, line: usize, column: usize, message: String },
+    Parse {
+        /// The file's path.
+        file: String,
+        /// The line (from 1).
+        line: usize,
+        /// The column (from 1).
+        column: usize,
+        /// The parser's message.
+        message: String,
+    },
+    /// The file reads but its contents disagree (sizes, format, version).
     #[error("{file}: {message}")]
-    Invalid { file: String, message: String },
+    Invalid {
+        /// The file's path.
+        file: String,
+        /// What is wrong.
+        message: String,
+    },
 }
 
 impl FlexibleBody {
@@ -149,11 +195,17 @@ impl FlexibleBody {
     }
 
     /// `Ψᵢ`, the translational mode matrix of node `i` (3×m).
+    ///
+    /// # Panics
+    /// If `node` is not below the number of nodes.
     pub fn psi(&self, node: usize) -> DMatrix<f64> {
         DMatrix::from_fn(3, self.modes.len(), |r, j| self.shapes[j].translation[node][r])
     }
 
     /// `Θᵢ`, the rotational mode matrix of node `i` (3×m).
+    ///
+    /// # Panics
+    /// If `node` is not below the number of nodes.
     pub fn theta(&self, node: usize) -> DMatrix<f64> {
         DMatrix::from_fn(3, self.modes.len(), |r, j| self.shapes[j].rotation[node][r])
     }

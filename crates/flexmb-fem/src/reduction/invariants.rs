@@ -8,6 +8,7 @@ use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
 
 use super::serde_matrix;
+use crate::error::FemError;
 
 /// The nine sets of invariants, plus the rotary-inertia sums when the model lumps rotary inertia.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -52,6 +53,27 @@ pub struct InertiaInvariants {
     pub rotary_modal_mass: DMatrix<f64>,
 }
 
+/// One mass, rotary inertia and pair of mode matrices per point, each mode matrix 3×`modes`.
+fn check_inputs(
+    points: usize,
+    lengths: [usize; 4],
+    psi: &[DMatrix<f64>],
+    theta: &[DMatrix<f64>],
+    modes: usize,
+) -> Result<(), FemError> {
+    let bad = |message: String| Err(FemError::InvariantInputs { message });
+    let names = ["masses", "rotary inertias", "psi matrices", "theta matrices"];
+    if let Some((name, n)) = names.iter().zip(lengths).find(|(_, n)| *n != points) {
+        return bad(format!("{n} {name} for {points} points"));
+    }
+    for (i, (p, t)) in psi.iter().zip(theta).enumerate() {
+        if p.shape() != (3, modes) || t.shape() != (3, modes) {
+            return bad(format!("point {i}: mode matrices {:?} and {:?}, expected (3, {modes})", p.shape(), t.shape()));
+        }
+    }
+    Ok(())
+}
+
 fn skew(v: &Vector3<f64>) -> Matrix3<f64> {
     v.cross_matrix()
 }
@@ -59,6 +81,9 @@ fn skew(v: &Vector3<f64>) -> Matrix3<f64> {
 impl InertiaInvariants {
     /// The invariants of mass points at `positions` with `masses`, rotary inertias `rotary` (3×3 each),
     /// translational mode matrices `psi` and rotational ones `theta` (3×m each).
+    ///
+    /// # Errors
+    /// [`FemError::InvariantInputs`] if the slices differ in length or a mode matrix is not 3×m.
     pub fn new(
         positions: &[Vector3<f64>],
         masses: &[f64],
@@ -66,7 +91,8 @@ impl InertiaInvariants {
         psi: &[DMatrix<f64>],
         theta: &[DMatrix<f64>],
         modes: usize,
-    ) -> InertiaInvariants {
+    ) -> Result<InertiaInvariants, FemError> {
+        check_inputs(positions.len(), [masses.len(), rotary.len(), psi.len(), theta.len()], psi, theta, modes)?;
         let m = modes;
         let mut inv = InertiaInvariants {
             mass: 0.0,
@@ -110,7 +136,7 @@ impl InertiaInvariants {
                 inv.rotary_modal_mass += theta[i].transpose() * &j_i * &theta[i];
             }
         }
-        inv
+        Ok(inv)
     }
 
     /// Number of modes.

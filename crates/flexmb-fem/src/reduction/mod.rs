@@ -26,15 +26,18 @@ use crate::static_correction::{static_correction_modes, StaticModes};
 /// What to reduce to.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ReductionSettings {
+    /// The vibration and static correction modes of the basis, such as `4N2S`.
     pub mode_set: ModeSet,
     /// Default [`Basis::Orthonormal`].
     pub basis: Basis,
+    /// How the vibration modes are found.
     pub eigen: EigenSettings,
 }
 
 /// A reduced body and how it was obtained.
 #[derive(Clone, Debug)]
 pub struct Reduction {
+    /// The flexible body: nodes, modes, modal mass and stiffness, invariants.
     pub body: FlexibleBody,
     /// The FE vibration modes computed (at least as many as the basis has modes, for comparison).
     pub fe_modes: VibrationModes,
@@ -54,6 +57,50 @@ const NEARLY_DEPENDENT: f64 = 1e-6;
 const DEPENDENT: f64 = 1e-12;
 
 /// Reduces `model` to the mode set of `settings`; `name` names the body.
+///
+/// A steel cantilever 1 m long, 10 mm square, in 20 beam elements, reduced to its four lowest
+/// vibration modes: the first frequency is Euler–Bernoulli's `(1.8751)² / (2π) √(E I / (ρ A L⁴))`
+/// and the mass is `ρ A L`.
+///
+/// ```
+/// use flexmb_fem::mesh::{BeamSection, FeModel, Material, Mesh};
+/// use flexmb_fem::reduction::{reduce, Basis, ReductionSettings};
+/// use flexmb_fem::{DofSet, Support};
+/// use nalgebra::Vector3;
+///
+/// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+/// let (e, rho, h, length): (f64, f64, f64, f64) = (2.1e11, 7850.0, 0.01, 1.0);
+/// let (area, i) = (h * h, h.powi(4) / 12.0);
+/// let mut mesh = Mesh {
+///     materials: vec![Material { name: "steel".into(), youngs_modulus: e, poisson_ratio: 0.3, density: rho }],
+///     beam_sections: vec![BeamSection {
+///         name: "square".into(),
+///         material: 0,
+///         area,
+///         iy: i,
+///         iz: i,
+///         torsion_constant: 0.1406 * h.powi(4),
+///         orientation: Vector3::new(0.0, 1.0, 0.0),
+///         shear_coefficient: None,
+///     }],
+///     ..Default::default()
+/// };
+/// let nodes = mesh.add_beam_line(Vector3::zeros(), Vector3::new(length, 0.0, 0.0), 20, 0)?;
+/// let clamp = Support { node: nodes[0], dofs: DofSet::ALL };
+/// let model = FeModel { mesh, supports: vec![clamp], ..Default::default() };
+///
+/// let settings = ReductionSettings { mode_set: "4N".parse()?, basis: Basis::Raw, eigen: Default::default() };
+/// let reduction = reduce(&model, "cantilever", &settings)?;
+/// let body = &reduction.body;
+///
+/// let euler_bernoulli = 1.8751_f64.powi(2) / (2.0 * std::f64::consts::PI) * (e * i / (rho * area)).sqrt();
+/// assert!((body.fe_frequencies_hz[0] / euler_bernoulli - 1.0).abs() < 2e-3);
+/// assert_eq!(body.mode_count(), 4);
+/// assert!((body.mass_properties.mass - rho * area * length).abs() < 1e-12);
+/// assert!((body.mass_properties.center_of_mass.x - length / 2.0).abs() < 1e-12);
+/// # Ok(())
+/// # }
+/// ```
 pub fn reduce(model: &FeModel, name: &str, settings: &ReductionSettings) -> Result<Reduction, FemError> {
     let set = &settings.mode_set;
     if set.statics() > model.static_loads.len() {
@@ -66,6 +113,7 @@ pub fn reduce(model: &FeModel, name: &str, settings: &ReductionSettings) -> Resu
             ),
         });
     }
+    model.check_references()?;
     check_memory(model, &settings.eigen)?;
     let prepared = prepare(model)?;
     let (model, assembled, rigid) = (&prepared.model, &prepared.assembled, &prepared.rigid);
@@ -134,7 +182,7 @@ pub fn reduce(model: &FeModel, name: &str, settings: &ReductionSettings) -> Resu
         (&modal_mass, &modal_stiffness),
         reduced_frequencies_hz,
         &fe_modes,
-    );
+    )?;
     Ok(Reduction { body, fe_modes, static_modes, basis_independence, warnings })
 }
 
@@ -249,7 +297,7 @@ fn flexible_body(
     (modal_mass, modal_stiffness): (&Mat<f64>, &Mat<f64>),
     reduced_frequencies_hz: Vec<f64>,
     fe_modes: &VibrationModes,
-) -> FlexibleBody {
+) -> Result<FlexibleBody, FemError> {
     let mesh = &model.mesh;
     let m = basis.ncols();
     let nodal: Vec<Vec<f64>> =
@@ -278,9 +326,9 @@ fn flexible_body(
             (motion.rows(0, 3).into_owned(), motion.rows(3, 3).into_owned())
         })
         .unzip();
-    let invariants = InertiaInvariants::new(&positions, &masses, &rotary, &psi, &theta, m);
+    let invariants = InertiaInvariants::new(&positions, &masses, &rotary, &psi, &theta, m)?;
     let properties = MassProperties::of_points(points);
-    FlexibleBody {
+    Ok(FlexibleBody {
         format: FORMAT.to_string(),
         version: VERSION,
         name: name.to_string(),
@@ -318,5 +366,5 @@ fn flexible_body(
             center_of_mass: properties.center_of_mass,
             inertia: properties.inertia,
         },
-    }
+    })
 }

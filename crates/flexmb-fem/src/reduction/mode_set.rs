@@ -19,6 +19,7 @@ pub enum ModeGroup {
 /// A mode set: groups of vibration and static correction modes, in basis order.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ModeSet {
+    /// The groups, in basis order.
     pub groups: Vec<ModeGroup>,
 }
 
@@ -38,6 +39,7 @@ impl ModeSet {
         self.vibration() + self.statics()
     }
 
+    /// Whether the set has no mode.
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }

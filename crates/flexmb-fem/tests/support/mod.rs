@@ -30,7 +30,7 @@ pub fn square_section(h: f64) -> BeamSection {
 /// A straight beam of `n` elements from the origin to (L, 0, 0), no supports.
 pub fn beam(length: f64, n: usize, section: BeamSection) -> FeModel {
     let mut mesh = Mesh { materials: vec![steel()], beam_sections: vec![section], ..Default::default() };
-    mesh.add_beam_line(Vector3::zeros(), Vector3::new(length, 0.0, 0.0), n, 0);
+    mesh.add_beam_line(Vector3::zeros(), Vector3::new(length, 0.0, 0.0), n, 0).unwrap();
     FeModel { mesh, ..Default::default() }
 }
 
@@ -61,7 +61,7 @@ pub fn plate(a: f64, b: f64, t: f64, na: usize, nb: usize, shape: ShellShape) ->
         nb,
         0,
         shape,
-    );
+    ).unwrap();
     (FeModel { mesh, options: ModelOptions::default(), ..Default::default() }, grid)
 }
 

@@ -63,7 +63,9 @@ fn add_beam_line(b: &mut Builder, k: usize, line: &BeamLineSection) -> Result<()
         ));
     }
     check_orientation(b, section, &axis, &line.section.span(), &section_key, "this line")?;
-    let nodes = b.model.mesh.add_beam_line(from, to, count, section);
+    let nodes = b.model.mesh.add_beam_line(from, to, count, section).map_err(|e| {
+        b.ctx.invalid(&line.elements.span(), &element.key("elements"), e.to_string())
+    })?;
     if let Some(name) = &line.name {
         let sets = &mut b.model.mesh.node_sets;
         let text = name.get_ref();
@@ -130,7 +132,11 @@ fn add_plate(b: &mut Builder, k: usize, plate: &PlateSection) -> Result<(), Mode
         )?,
         None => ShellShape::Quadrilateral,
     };
-    let grid = b.model.mesh.add_rectangular_plate(corner, edge_a, edge_b, na, nb, section, shape);
+    let grid = b
+        .model
+        .mesh
+        .add_rectangular_plate(corner, edge_a, edge_b, na, nb, section, shape)
+        .map_err(|e| b.ctx.invalid(&plate.elements.span(), &counts_key, e.to_string()))?;
     if let Some(name) = &plate.name {
         let boundary: Vec<usize> = grid
             .iter()

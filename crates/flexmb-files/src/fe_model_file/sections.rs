@@ -142,7 +142,7 @@ fn section_properties(
         }
     };
     // The dimensions are checked positive above, so the formulas accept them.
-    properties.map_err(|message| b.ctx.invalid(&shape_name.span(), &shape_key, message))
+    properties.map_err(|message| b.ctx.invalid(&shape_name.span(), &shape_key, message.to_string()))
 }
 
 pub(crate) fn add_shell_sections(

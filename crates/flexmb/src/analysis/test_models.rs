@@ -13,7 +13,7 @@ use crate::model::{BodyRef, Model, ModelBuilder, OutputKind};
 /// path of the Jacobian pattern (joints, forces, measures) is exercised.
 pub fn double_pendulum_with_spring() -> Model {
     let mut b = ModelBuilder::new("test double pendulum").gravity(Vec3::new(0.0, -9.81, 0.0));
-    let tilt = EulerParameters::from_axis_angle(&Vec3::new(0.3, 0.2, 1.0), 0.7);
+    let tilt = EulerParameters::from_axis_angle(&Vec3::new(0.3, 0.2, 1.0), 0.7).unwrap();
     let link = |name: &str, position: Vec3| RigidBody {
         name: name.into(),
         mass: 1.3,
@@ -22,10 +22,10 @@ pub fn double_pendulum_with_spring() -> Model {
         initial: InitialState { position, orientation: tilt, velocity: None, angular_velocity: None },
     };
     let a = tilt.rotation_matrix();
-    let l1 = b.add_body(link("link1", Vec3::zeros()));
-    let l2 = b.add_body(link("link2", a * Vec3::new(0.0, -0.5, 0.0)));
+    let l1 = b.add_body(link("link1", Vec3::zeros())).unwrap();
+    let l2 = b.add_body(link("link2", a * Vec3::new(0.0, -0.5, 0.0))).unwrap();
     let mk = |b: &mut ModelBuilder, name: &str, body, origin| {
-        b.add_marker(Marker { name: name.into(), body, origin, axes: Mat3::identity() })
+        b.add_marker(Marker { name: name.into(), body, origin, axes: Mat3::identity() }).unwrap()
     };
     let g0 = mk(&mut b, "g0", BodyRef::Ground, Vec3::zeros());
     let a1 = mk(&mut b, "a1", BodyRef::Body(l1), Vec3::zeros());
@@ -33,9 +33,9 @@ pub fn double_pendulum_with_spring() -> Model {
     let a2 = mk(&mut b, "a2", BodyRef::Body(l2), Vec3::zeros());
     let tip = mk(&mut b, "tip", BodyRef::Body(l2), Vec3::new(0.0, -0.5, 0.0));
     let anchor = mk(&mut b, "anchor", BodyRef::Ground, Vec3::new(0.4, -0.2, 0.1));
-    b.add_joint(Joint { name: "ball".into(), kind: JointKind::Spherical, marker_i: g0, marker_j: a1 });
-    let hinge = b.add_joint(Joint { name: "hinge".into(), kind: JointKind::Revolute, marker_i: e1, marker_j: a2 });
-    let rate = b.add_measure(Measure { name: "hinge_rate".into(), kind: MeasureKind::JointRate(hinge) });
+    b.add_joint(Joint { name: "ball".into(), kind: JointKind::Spherical, marker_i: g0, marker_j: a1 }).unwrap();
+    let hinge = b.add_joint(Joint { name: "hinge".into(), kind: JointKind::Revolute, marker_i: e1, marker_j: a2 }).unwrap();
+    let rate = b.add_measure(Measure { name: "hinge_rate".into(), kind: MeasureKind::JointRate(hinge) }).unwrap();
     let actuator = Expression::parse("0.5*sin(3*t) - 0.2*hinge_rate", &|n| (n == "hinge_rate").then_some(rate)).unwrap();
     b.add_force(ForceElement {
         name: "spring".into(),
@@ -47,7 +47,7 @@ pub fn double_pendulum_with_spring() -> Model {
             free_length: 0.3,
             actuator: Some(actuator),
         },
-    });
+    }).unwrap();
     b.build().unwrap()
 }
 
@@ -63,7 +63,7 @@ pub fn pendulum_with_stiff_slider_of(stiffness: f64) -> Model {
     let (l, mass) = (1.0, 1.0);
     let mut b = ModelBuilder::new("pendulum with a stiff slider").gravity(Vec3::new(0.0, -9.81, 0.0));
     let theta0 = 1.0_f64;
-    let pose = EulerParameters::from_axis_angle(&Vec3::z(), theta0);
+    let pose = EulerParameters::from_axis_angle(&Vec3::z(), theta0).unwrap();
     let down = Vec3::new(theta0.sin(), -theta0.cos(), 0.0);
     let body = |name: &str, m: f64, com: Vec3, inertia: Vec3, position: Vec3| RigidBody {
         name: name.into(),
@@ -72,17 +72,17 @@ pub fn pendulum_with_stiff_slider_of(stiffness: f64) -> Model {
         inertia: Mat3::from_diagonal(&inertia),
         initial: InitialState { position, orientation: pose, velocity: None, angular_velocity: None },
     };
-    let rod = b.add_body(body("rod", 0.5, Vec3::new(0.0, -0.5 * l, 0.0), Vec3::new(0.05, 1e-3, 0.05), Vec3::zeros()));
-    let bob = b.add_body(body("bob", mass, Vec3::zeros(), Vec3::new(1e-3, 1e-3, 1e-3), l * down));
-    let mk = |b: &mut ModelBuilder, name: &str, body, origin, axes| b.add_marker(Marker { name: name.into(), body, origin, axes });
+    let rod = b.add_body(body("rod", 0.5, Vec3::new(0.0, -0.5 * l, 0.0), Vec3::new(0.05, 1e-3, 0.05), Vec3::zeros())).unwrap();
+    let bob = b.add_body(body("bob", mass, Vec3::zeros(), Vec3::new(1e-3, 1e-3, 1e-3), l * down)).unwrap();
+    let mk = |b: &mut ModelBuilder, name: &str, body, origin, axes| b.add_marker(Marker { name: name.into(), body, origin, axes }).unwrap();
     let pivot_ground = mk(&mut b, "pivot_ground", BodyRef::Ground, Vec3::zeros(), Mat3::identity());
     let pivot = mk(&mut b, "pivot", BodyRef::Body(rod), Vec3::zeros(), Mat3::identity());
-    b.add_joint(Joint { name: "pivot".into(), kind: JointKind::Revolute, marker_i: pivot_ground, marker_j: pivot });
+    b.add_joint(Joint { name: "pivot".into(), kind: JointKind::Revolute, marker_i: pivot_ground, marker_j: pivot }).unwrap();
     // z along the rod (body y): x = body z, y = body x, z = body y.
     let along = Mat3::new(0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0);
     let guide = mk(&mut b, "guide", BodyRef::Body(rod), Vec3::new(0.0, -l, 0.0), along);
     let slider = mk(&mut b, "slider", BodyRef::Body(bob), Vec3::zeros(), along);
-    b.add_joint(Joint { name: "slide".into(), kind: JointKind::Translational, marker_i: guide, marker_j: slider });
+    b.add_joint(Joint { name: "slide".into(), kind: JointKind::Translational, marker_i: guide, marker_j: slider }).unwrap();
     let spring_end = mk(&mut b, "spring_end", BodyRef::Body(rod), Vec3::zeros(), Mat3::identity());
     let bob_centre = mk(&mut b, "bob_centre", BodyRef::Body(bob), Vec3::zeros(), Mat3::identity());
     b.add_force(ForceElement {
@@ -95,7 +95,7 @@ pub fn pendulum_with_stiff_slider_of(stiffness: f64) -> Model {
             free_length: l,
             actuator: None,
         },
-    });
-    b.add_output("bob", OutputKind::MarkerPosition(bob_centre));
+    }).unwrap();
+    b.add_output("bob", OutputKind::MarkerPosition(bob_centre)).unwrap();
     b.build().unwrap()
 }

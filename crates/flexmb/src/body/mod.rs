@@ -6,7 +6,7 @@ mod modal;
 mod rigid;
 
 pub use marker::Marker;
-pub use modal::{LumpedNode, ModalBody, ModalDamping, ModalInvariants, ModalNode};
+pub use modal::{LumpedNode, ModalBody, ModalDamping, ModalError, ModalInvariants, ModalNode};
 pub use rigid::{InitialState, RigidBody};
 
 #[cfg(test)]

@@ -38,6 +38,60 @@ pub struct ModalInvariants {
     pub rotary_modal_mass: DMatrix<f64>,
 }
 
+/// Why a modal description cannot be made or analysed: sizes that disagree, a modal mass that is not
+/// positive definite, damping ratios that do not fit the modes.
+#[derive(Clone, Debug, thiserror::Error, PartialEq)]
+pub enum ModalError {
+    /// A node's mode matrix has a column count other than the number of modes.
+    #[error("lumped node {node}: {matrix} has {found} columns, expected {modes} (one per mode)")]
+    ModeColumns {
+        /// The node's index.
+        node: usize,
+        /// `psi` or `theta`.
+        matrix: &'static str,
+        /// Its number of columns.
+        found: usize,
+        /// The number of modes.
+        modes: usize,
+    },
+    /// The modal stiffness is not `m × m`.
+    #[error("the modal stiffness is {rows}×{columns}; expected {modes}×{modes}, one row and column per mode")]
+    StiffnessSize {
+        /// Its rows.
+        rows: usize,
+        /// Its columns.
+        columns: usize,
+        /// The number of modes.
+        modes: usize,
+    },
+    /// The modal mass has no Cholesky factor.
+    #[error("the modal mass is not positive definite")]
+    MassNotPositiveDefinite,
+    /// The modal mass's Cholesky factor cannot be inverted.
+    #[error("the modal mass is singular")]
+    MassSingular,
+    /// Damping ratios neither one for all modes nor one per mode.
+    #[error("{given} damping ratios for {modes} modes; give one for all or one per mode")]
+    RatioCount {
+        /// How many ratios were given.
+        given: usize,
+        /// The number of modes.
+        modes: usize,
+    },
+}
+
+/// Every node's `Ψᵢ` and `Θᵢ` has one column per mode.
+fn check_mode_columns(nodes: &[LumpedNode], modes: usize) -> Result<(), ModalError> {
+    for (node, n) in nodes.iter().enumerate() {
+        for (matrix, found) in [("psi", n.psi.ncols()), ("theta", n.theta.ncols())] {
+            if found != modes {
+                return Err(ModalError::ModeColumns { node, matrix, found, modes });
+            }
+        }
+    }
+    Ok(())
+}
+
 /// One lumped-mass node, for [`ModalInvariants::from_lumped_nodes`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct LumpedNode {
@@ -56,7 +110,8 @@ pub struct LumpedNode {
 impl ModalInvariants {
     /// The invariants of formulation.md §3 summed over lumped-mass nodes with `modes` modes (for a
     /// modal body from another FE code's nodal masses and mode shapes).
-    pub fn from_lumped_nodes(nodes: &[LumpedNode], modes: usize) -> ModalInvariants {
+    pub fn from_lumped_nodes(nodes: &[LumpedNode], modes: usize) -> Result<ModalInvariants, ModalError> {
+        check_mode_columns(nodes, modes)?;
         let m = modes;
         let column = |p: &Matrix3xX<f64>, j: usize| Vec3::new(p[(0, j)], p[(1, j)], p[(2, j)]);
         let mut inv = ModalInvariants {
@@ -93,7 +148,7 @@ impl ModalInvariants {
                 }
             }
         }
-        inv
+        Ok(inv)
     }
 
     /// Number of modes.
@@ -124,8 +179,11 @@ impl ModalInvariants {
 pub struct ModalNode {
     /// The node's label in the FE model, for messages and outputs.
     pub label: u64,
+    /// Undeformed position `s̄ᵢ` in the body frame (m).
     pub position: Vec3,
+    /// Translational mode matrix `Ψᵢ` (3×m): the node's displacement per unit modal coordinate.
     pub psi: Matrix3xX<f64>,
+    /// Rotational mode matrix `Θᵢ` (3×m): the node's small rotation per unit modal coordinate.
     pub theta: Matrix3xX<f64>,
 }
 
@@ -138,12 +196,18 @@ pub enum ModalDamping {
     /// mode): `D = M X diag(2 ζⱼ ωⱼ) Xᵀ M` with `X` the mass-normalized eigenvectors of `(K, M)`.
     Ratios(Vec<f64>),
     /// Rayleigh damping `D = α M + β K`.
-    Rayleigh { alpha: f64, beta: f64 },
+    Rayleigh {
+        /// The mass factor α (1/s).
+        alpha: f64,
+        /// The stiffness factor β (s).
+        beta: f64,
+    },
 }
 
 /// A flexible body's modal description.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ModalBody {
+    /// The inertia invariants of its FE model.
     pub invariants: ModalInvariants,
     /// Modal stiffness `K_aa` (m×m).
     pub stiffness: DMatrix<f64>,
@@ -162,10 +226,13 @@ pub struct ModalBody {
 impl ModalBody {
     /// A modal body from lumped-mass nodes and a modal stiffness (m×m): the invariants summed over the
     /// nodes, modes labelled `M1`, `M2`, …, no damping, initial modal coordinates and rates zero.
-    pub fn from_lumped_nodes(nodes: &[LumpedNode], stiffness: DMatrix<f64>) -> ModalBody {
+    pub fn from_lumped_nodes(nodes: &[LumpedNode], stiffness: DMatrix<f64>) -> Result<ModalBody, ModalError> {
         let m = stiffness.nrows();
-        ModalBody {
-            invariants: ModalInvariants::from_lumped_nodes(nodes, m),
+        if stiffness.ncols() != m {
+            return Err(ModalError::StiffnessSize { rows: m, columns: stiffness.ncols(), modes: m });
+        }
+        Ok(ModalBody {
+            invariants: ModalInvariants::from_lumped_nodes(nodes, m)?,
             stiffness,
             damping: DMatrix::zeros(m, m),
             nodes: nodes
@@ -176,7 +243,7 @@ impl ModalBody {
             mode_labels: (1..=m).map(|j| format!("M{j}")).collect(),
             initial_coordinates: DVector::zeros(m),
             initial_rates: DVector::zeros(m),
-        }
+        })
     }
 
     /// Number of modes.
@@ -187,10 +254,15 @@ impl ModalBody {
     /// The natural modes of the reduced model: the eigenvalues `ω²` of `(K_aa, M_aa)`, lowest first,
     /// and the mass-normalized eigenvectors `X` (columns, in the same order); an error if the modal
     /// mass is not positive definite.
-    pub fn natural_modes(&self) -> Result<(Vec<f64>, DMatrix<f64>), String> {
+    pub fn natural_modes(&self) -> Result<(Vec<f64>, DMatrix<f64>), ModalError> {
+        let m = self.modes();
+        if self.stiffness.shape() != (m, m) {
+            let (rows, columns) = self.stiffness.shape();
+            return Err(ModalError::StiffnessSize { rows, columns, modes: m });
+        }
         let mass = self.invariants.modal_mass();
-        let chol = nalgebra::Cholesky::new(mass).ok_or("the modal mass is not positive definite")?;
-        let l_inv = chol.l().try_inverse().ok_or("the modal mass is singular")?;
+        let chol = nalgebra::Cholesky::new(mass).ok_or(ModalError::MassNotPositiveDefinite)?;
+        let l_inv = chol.l().try_inverse().ok_or(ModalError::MassSingular)?;
         let reduced = &l_inv * &self.stiffness * l_inv.transpose();
         let reduced = 0.5 * (&reduced + reduced.transpose());
         let eigen = nalgebra::SymmetricEigen::new(reduced);
@@ -209,9 +281,10 @@ impl ModalBody {
         omega_squared.first().map(|w2| w2.max(0.0).sqrt())
     }
 
-    /// The damping matrix of `damping` for this body's modal mass and stiffness; `None` if the modal
-    /// mass is not positive definite or a ratio list has the wrong length.
-    pub fn damping_matrix(&self, damping: &ModalDamping) -> Result<DMatrix<f64>, String> {
+    /// The damping matrix of `damping` for this body's modal mass and stiffness; an error if the
+    /// modal mass is not positive definite, the stiffness not `m × m` or a ratio list has the wrong
+    /// length.
+    pub fn damping_matrix(&self, damping: &ModalDamping) -> Result<DMatrix<f64>, ModalError> {
         let m = self.modes();
         if m == 0 {
             return Ok(DMatrix::zeros(0, 0));
@@ -219,10 +292,16 @@ impl ModalBody {
         let mass = self.invariants.modal_mass();
         match damping {
             ModalDamping::None => Ok(DMatrix::zeros(m, m)),
-            ModalDamping::Rayleigh { alpha, beta } => Ok(*alpha * &mass + *beta * &self.stiffness),
+            ModalDamping::Rayleigh { alpha, beta } => {
+                if self.stiffness.shape() != (m, m) {
+                    let (rows, columns) = self.stiffness.shape();
+                    return Err(ModalError::StiffnessSize { rows, columns, modes: m });
+                }
+                Ok(*alpha * &mass + *beta * &self.stiffness)
+            }
             ModalDamping::Ratios(ratios) => {
                 if ratios.len() != 1 && ratios.len() != m {
-                    return Err(format!("{} damping ratios for {m} modes; give one for all or one per mode", ratios.len()));
+                    return Err(ModalError::RatioCount { given: ratios.len(), modes: m });
                 }
                 // D = M X diag(2ζω) Xᵀ M. The k-th ratio goes to the mode of k-th lowest frequency.
                 let (omega_squared, x) = self.natural_modes()?;

@@ -41,14 +41,14 @@ fn random_nodes(rng: &mut Lcg, n: usize, m: usize, rotary: bool) -> Vec<LumpedNo
 fn modal_body(nodes: &[LumpedNode], m: usize, rng: &mut Lcg) -> ModalBody {
     let r = DMatrix::from_fn(m, m, |_, _| rng.range(-1.0, 1.0));
     let stiffness = &r * r.transpose() * 50.0 + DMatrix::identity(m, m) * 200.0;
-    ModalBody::from_lumped_nodes(nodes, stiffness)
+    ModalBody::from_lumped_nodes(nodes, stiffness).unwrap()
 }
 
 /// One free flexible body (no joints, no gravity).
 fn free_body_model(nodes: &[LumpedNode], m: usize, rng: &mut Lcg) -> Model {
     let mut b = ModelBuilder::new("free flexible body");
     let body = modal_body(nodes, m, rng);
-    b.add_flexible_body("flex", InitialState::default(), body);
+    b.add_flexible_body("flex", InitialState::default(), body).unwrap();
     b.build().unwrap()
 }
 
@@ -207,33 +207,33 @@ fn jointed_model(rng: &mut Lcg) -> Model {
     let m = 3;
     let nodes = random_nodes(rng, 6, m, true);
     let mut b = ModelBuilder::new("jointed flexible body").gravity(Vec3::new(0.0, 0.0, -9.81));
-    let flex = b.add_flexible_body("flex", InitialState::default(), modal_body(&nodes, m, rng));
+    let flex = b.add_flexible_body("flex", InitialState::default(), modal_body(&nodes, m, rng)).unwrap();
     let rigid = b.add_body(RigidBody {
         name: "link".into(),
         mass: 1.0,
         center_of_mass: Vec3::new(0.1, 0.0, 0.0),
         inertia: Mat3::from_diagonal(&Vec3::new(0.01, 0.02, 0.02)),
         initial: InitialState::default(),
-    });
+    }).unwrap();
     let axes = |rng: &mut Lcg| rng.rotation().rotation_matrix();
-    let n0 = b.add_node_marker("n0", flex, 0, axes(rng));
-    let n1 = b.add_node_marker("n1", flex, 1, axes(rng));
-    let n2 = b.add_node_marker("n2", flex, 2, axes(rng));
-    let n3 = b.add_node_marker("n3", flex, 3, axes(rng));
-    let ground = b.add_marker(Marker { name: "g".into(), body: BodyRef::Ground, origin: rng.vec3(0.5), axes: axes(rng) });
-    let ground2 = b.add_marker(Marker { name: "g2".into(), body: BodyRef::Ground, origin: rng.vec3(0.5), axes: axes(rng) });
-    let on_link = b.add_marker(Marker { name: "l".into(), body: BodyRef::Body(rigid), origin: rng.vec3(0.2), axes: axes(rng) });
-    b.add_joint(Joint { name: "ball".into(), kind: JointKind::Spherical, marker_i: n0, marker_j: ground });
-    b.add_joint(Joint { name: "hinge".into(), kind: JointKind::Revolute, marker_i: n1, marker_j: on_link });
-    b.add_joint(Joint { name: "slide".into(), kind: JointKind::Cylindrical, marker_i: ground2, marker_j: n2 });
-    b.add_joint(Joint { name: "cross".into(), kind: JointKind::Universal, marker_i: n3, marker_j: ground });
-    let n4 = b.add_node_marker("n4", flex, 4, axes(rng));
-    let n5 = b.add_node_marker("n5", flex, 5, axes(rng));
+    let n0 = b.add_node_marker("n0", flex, 0, axes(rng)).unwrap();
+    let n1 = b.add_node_marker("n1", flex, 1, axes(rng)).unwrap();
+    let n2 = b.add_node_marker("n2", flex, 2, axes(rng)).unwrap();
+    let n3 = b.add_node_marker("n3", flex, 3, axes(rng)).unwrap();
+    let ground = b.add_marker(Marker { name: "g".into(), body: BodyRef::Ground, origin: rng.vec3(0.5), axes: axes(rng) }).unwrap();
+    let ground2 = b.add_marker(Marker { name: "g2".into(), body: BodyRef::Ground, origin: rng.vec3(0.5), axes: axes(rng) }).unwrap();
+    let on_link = b.add_marker(Marker { name: "l".into(), body: BodyRef::Body(rigid), origin: rng.vec3(0.2), axes: axes(rng) }).unwrap();
+    b.add_joint(Joint { name: "ball".into(), kind: JointKind::Spherical, marker_i: n0, marker_j: ground }).unwrap();
+    b.add_joint(Joint { name: "hinge".into(), kind: JointKind::Revolute, marker_i: n1, marker_j: on_link }).unwrap();
+    b.add_joint(Joint { name: "slide".into(), kind: JointKind::Cylindrical, marker_i: ground2, marker_j: n2 }).unwrap();
+    b.add_joint(Joint { name: "cross".into(), kind: JointKind::Universal, marker_i: n3, marker_j: ground }).unwrap();
+    let n4 = b.add_node_marker("n4", flex, 4, axes(rng)).unwrap();
+    let n5 = b.add_node_marker("n5", flex, 5, axes(rng)).unwrap();
     let length = crate::function::TimeFunction::parse("0.7").unwrap();
-    b.add_joint(Joint { name: "rod".into(), kind: JointKind::Distance { length }, marker_i: n4, marker_j: on_link });
+    b.add_joint(Joint { name: "rod".into(), kind: JointKind::Distance { length }, marker_i: n4, marker_j: on_link }).unwrap();
     let angle = crate::function::TimeFunction::parse("0.2").unwrap();
-    b.add_joint(Joint { name: "turn".into(), kind: JointKind::AngleDriver { function: angle }, marker_i: ground2, marker_j: n5 });
-    b.add_output("tip", OutputKind::MarkerPosition(n3));
+    b.add_joint(Joint { name: "turn".into(), kind: JointKind::AngleDriver { function: angle }, marker_i: ground2, marker_j: n5 }).unwrap();
+    b.add_output("tip", OutputKind::MarkerPosition(n3)).unwrap();
     b.build().unwrap()
 }
 
@@ -326,7 +326,7 @@ fn a_flexible_body_without_modes_moves_like_the_rigid_body() {
     let inertia_com = Mat3::new(0.02, 0.001, 0.0, 0.001, 0.03, 0.002, 0.0, 0.002, 0.025);
     let initial = InitialState {
         position: Vec3::zeros(),
-        orientation: EulerParameters::from_axis_angle(&Vec3::new(0.2, 1.0, 0.1), 0.4),
+        orientation: EulerParameters::from_axis_angle(&Vec3::new(0.2, 1.0, 0.1), 0.4).unwrap(),
         velocity: None,
         angular_velocity: Some(Vec3::new(0.5, -1.0, 2.0)),
     };
@@ -356,24 +356,24 @@ fn a_flexible_body_without_modes_moves_like_the_rigid_body() {
                 initial_coordinates: DVector::zeros(0),
                 initial_rates: DVector::zeros(0),
             };
-            b.add_flexible_body("link", initial.clone(), modal)
+            b.add_flexible_body("link", initial.clone(), modal).unwrap()
         } else {
-            b.add_body(RigidBody { name: "link".into(), mass, center_of_mass: com, inertia: inertia_com, initial: initial.clone() })
+            b.add_body(RigidBody { name: "link".into(), mass, center_of_mass: com, inertia: inertia_com, initial: initial.clone() }).unwrap()
         };
         let hinge = if flexible {
-            b.add_node_marker("hinge", body, 0, Mat3::identity())
+            b.add_node_marker("hinge", body, 0, Mat3::identity()).unwrap()
         } else {
-            b.add_marker(Marker { name: "hinge".into(), body: BodyRef::Body(body), origin: Vec3::zeros(), axes: Mat3::identity() })
+            b.add_marker(Marker { name: "hinge".into(), body: BodyRef::Body(body), origin: Vec3::zeros(), axes: Mat3::identity() }).unwrap()
         };
-        let ground = b.add_marker(Marker { name: "g".into(), body: BodyRef::Ground, origin: Vec3::zeros(), axes: Mat3::identity() });
-        b.add_joint(Joint { name: "ball".into(), kind: JointKind::Spherical, marker_i: ground, marker_j: hinge });
+        let ground = b.add_marker(Marker { name: "g".into(), body: BodyRef::Ground, origin: Vec3::zeros(), axes: Mat3::identity() }).unwrap();
+        b.add_joint(Joint { name: "ball".into(), kind: JointKind::Spherical, marker_i: ground, marker_j: hinge }).unwrap();
         let tip = if flexible {
-            b.add_node_marker("tip", body, 0, Mat3::identity())
+            b.add_node_marker("tip", body, 0, Mat3::identity()).unwrap()
         } else {
-            b.add_marker(Marker { name: "tip".into(), body: BodyRef::Body(body), origin: Vec3::zeros(), axes: Mat3::identity() })
+            b.add_marker(Marker { name: "tip".into(), body: BodyRef::Body(body), origin: Vec3::zeros(), axes: Mat3::identity() }).unwrap()
         };
-        b.add_output("w", OutputKind::MarkerAngularVelocity(tip));
-        b.add_output("e", OutputKind::Energy);
+        b.add_output("w", OutputKind::MarkerAngularVelocity(tip)).unwrap();
+        b.add_output("e", OutputKind::Energy).unwrap();
         let model = b.build().unwrap();
         let settings = settings(1.0, 0.05, 1e-8);
         let mut values = Vec::new();
@@ -428,12 +428,12 @@ fn a_free_undamped_flexible_body_keeps_momentum_and_energy() {
     let mut b = ModelBuilder::new("free flexible body");
     let initial = InitialState {
         position: Vec3::new(0.1, 0.2, 0.3),
-        orientation: EulerParameters::from_axis_angle(&Vec3::new(1.0, 2.0, 0.5), 0.7),
+        orientation: EulerParameters::from_axis_angle(&Vec3::new(1.0, 2.0, 0.5), 0.7).unwrap(),
         velocity: Some(Vec3::new(0.3, -0.1, 0.2)),
         angular_velocity: Some(Vec3::new(1.0, 2.0, -1.5)),
     };
-    let body = b.add_flexible_body("flex", initial, modal);
-    b.add_output("e", OutputKind::Energy);
+    let body = b.add_flexible_body("flex", initial, modal).unwrap();
+    b.add_output("e", OutputKind::Energy).unwrap();
     let model = b.build().unwrap();
     let _ = body;
     let mut states: Vec<(Vec<f64>, Vec<f64>, f64)> = Vec::new();
@@ -489,21 +489,21 @@ fn springs_at_nodes_conserve_energy() {
     let mut modal = modal_body(&nodes, m, &mut rng);
     modal.initial_rates = DVector::from_vec(vec![0.2, -0.1, 0.3]);
     let mut b = ModelBuilder::new("sprung flexible body").gravity(Vec3::new(0.0, -9.81, 0.0));
-    let flex = b.add_flexible_body("flex", InitialState { angular_velocity: Some(Vec3::new(0.0, 0.0, 1.5)), ..Default::default() }, modal);
-    let hinge = b.add_node_marker("hinge", flex, 0, Mat3::identity());
-    let far = b.add_node_marker("far", flex, 3, Mat3::identity());
-    let ground = b.add_marker(Marker { name: "g".into(), body: BodyRef::Ground, origin: nodes[0].position, axes: Mat3::identity() });
-    let anchor = b.add_marker(Marker { name: "anchor".into(), body: BodyRef::Ground, origin: Vec3::new(0.8, 0.5, 0.2), axes: Mat3::identity() });
-    let joint = b.add_joint(Joint { name: "hinge".into(), kind: JointKind::Revolute, marker_i: ground, marker_j: hinge });
+    let flex = b.add_flexible_body("flex", InitialState { angular_velocity: Some(Vec3::new(0.0, 0.0, 1.5)), ..Default::default() }, modal).unwrap();
+    let hinge = b.add_node_marker("hinge", flex, 0, Mat3::identity()).unwrap();
+    let far = b.add_node_marker("far", flex, 3, Mat3::identity()).unwrap();
+    let ground = b.add_marker(Marker { name: "g".into(), body: BodyRef::Ground, origin: nodes[0].position, axes: Mat3::identity() }).unwrap();
+    let anchor = b.add_marker(Marker { name: "anchor".into(), body: BodyRef::Ground, origin: Vec3::new(0.8, 0.5, 0.2), axes: Mat3::identity() }).unwrap();
+    let joint = b.add_joint(Joint { name: "hinge".into(), kind: JointKind::Revolute, marker_i: ground, marker_j: hinge }).unwrap();
     b.add_force(ForceElement {
         name: "torsion".into(),
         kind: ForceKind::RotationalSpringDamper { joint, stiffness: 5.0, damping: 0.0, free_angle: 0.3, actuator: None },
-    });
+    }).unwrap();
     b.add_force(ForceElement {
         name: "spring".into(),
         kind: ForceKind::TranslationalSpringDamper { marker_i: anchor, marker_j: far, stiffness: 40.0, damping: 0.0, free_length: 0.4, actuator: None },
-    });
-    b.add_output("e", OutputKind::Energy);
+    }).unwrap();
+    b.add_output("e", OutputKind::Energy).unwrap();
     let model = b.build().unwrap();
     let mut energy = Vec::new();
     simulate(&model, &settings(1.0, 0.01, 1e-9), &mut |f| energy.push((f.values[0], f.values[3]))).unwrap();

@@ -29,6 +29,7 @@ impl Default for InitialState {
 /// A rigid body. The body frame need not be at the centre of mass nor along principal axes.
 #[derive(Clone, Debug)]
 pub struct RigidBody {
+    /// The body's name.
     pub name: String,
     /// Mass (kg), positive.
     pub mass: f64,
@@ -36,6 +37,7 @@ pub struct RigidBody {
     pub center_of_mass: Vec3,
     /// Inertia tensor about the centre of mass, body-frame axes (kg m²), symmetric positive definite.
     pub inertia: Mat3,
+    /// Initial pose and velocity of the body frame.
     pub initial: InitialState,
 }
 

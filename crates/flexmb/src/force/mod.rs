@@ -24,8 +24,11 @@ pub enum ForceFrame {
 /// A force element and its data.
 #[derive(Clone, Debug)]
 pub enum ForceKind {
+    /// A spring, damper and actuator along the line between two marker origins.
     TranslationalSpringDamper {
+        /// The marker the line starts at.
         marker_i: MarkerId,
+        /// The marker the line ends at.
         marker_j: MarkerId,
         /// `k` (N/m).
         stiffness: f64,
@@ -36,6 +39,7 @@ pub enum ForceKind {
         /// `f_act(t, measures)` (N), positive pushes apart.
         actuator: Option<Expression>,
     },
+    /// A torsional spring, damper and actuator about the axis of a joint.
     RotationalSpringDamper {
         /// A revolute or cylindrical joint; the torque acts about its `z_i`.
         joint: JointId,
@@ -48,8 +52,24 @@ pub enum ForceKind {
         /// `f_act(t, measures)` (N m), positive drives `θ` up.
         actuator: Option<Expression>,
     },
-    AppliedForce { marker: MarkerId, components: [Expression; 3], frame: ForceFrame },
-    AppliedTorque { marker: MarkerId, components: [Expression; 3], frame: ForceFrame },
+    /// A force at a marker origin, its components functions of time and measures (N).
+    AppliedForce {
+        /// The marker the force acts at.
+        marker: MarkerId,
+        /// The components along the axes of `frame`.
+        components: [Expression; 3],
+        /// The axes the components are given in.
+        frame: ForceFrame,
+    },
+    /// A torque on a marker's body, its components functions of time and measures (N m).
+    AppliedTorque {
+        /// The marker whose body the torque acts on.
+        marker: MarkerId,
+        /// The components along the axes of `frame`.
+        components: [Expression; 3],
+        /// The axes the components are given in.
+        frame: ForceFrame,
+    },
 }
 
 impl ForceKind {
@@ -78,6 +98,8 @@ impl ForceKind {
 /// A named force element.
 #[derive(Clone, Debug)]
 pub struct ForceElement {
+    /// The element's name.
     pub name: String,
+    /// What it is and its data.
     pub kind: ForceKind,
 }

@@ -20,16 +20,48 @@ pub enum Variable {
 /// Why an expression could not be used.
 #[derive(Clone, Debug, thiserror::Error, PartialEq)]
 pub enum ExpressionError {
+    /// The text is not an expression `exmex` can read.
     #[error("cannot parse expression `{source_text}`: {message}")]
-    Parse { source_text: String, message: String },
+    Parse {
+        /// The expression's text.
+        source_text: String,
+        /// The parser's message.
+        message: String,
+    },
+    /// A name is neither `t` nor a measure.
     #[error("expression `{source_text}` names `{name}`, which is neither `t` nor a defined measure{hint}")]
-    UnknownVariable { source_text: String, name: String, hint: String },
+    UnknownVariable {
+        /// The expression's text.
+        source_text: String,
+        /// The unknown name.
+        name: String,
+        /// A hint on what may be meant, or empty.
+        hint: String,
+    },
+    /// More names than an expression may have (16, `MAX_VARIABLES`).
     #[error("expression `{source_text}` names {count} variables; at most {MAX_VARIABLES} are allowed")]
-    TooManyVariables { source_text: String, count: usize },
+    TooManyVariables {
+        /// The expression's text.
+        source_text: String,
+        /// How many variables it names.
+        count: usize,
+    },
+    /// A function of time (a driver's) names something other than `t`.
     #[error("expression `{source_text}` must depend on time only, but names `{name}`")]
-    NotTimeOnly { source_text: String, name: String },
+    NotTimeOnly {
+        /// The expression's text.
+        source_text: String,
+        /// The name other than `t`.
+        name: String,
+    },
+    /// `exmex` cannot differentiate the expression symbolically.
     #[error("cannot differentiate `{source_text}` with respect to t: {message}")]
-    NotDifferentiable { source_text: String, message: String },
+    NotDifferentiable {
+        /// The expression's text.
+        source_text: String,
+        /// Why.
+        message: String,
+    },
 }
 
 /// A parsed expression with its variables bound to time and measures.
@@ -125,7 +157,7 @@ impl Expression {
         for (slot, v) in values.iter_mut().zip(&self.variables) {
             *slot = match v {
                 Variable::Time => t,
-                Variable::Measure(m) => measures[m.0],
+                Variable::Measure(m) => measures.get(m.0).copied().unwrap_or(f64::NAN),
             };
         }
         flat.eval(&values[..self.variables.len()]).unwrap_or(f64::NAN)

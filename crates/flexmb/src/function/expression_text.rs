@@ -24,9 +24,13 @@ pub const BINARY_FUNCTION_NAMES: &[&str] = &["atan2", "min", "max"];
 /// A piece of expression text.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Token<'a> {
+    /// A name: a variable, parameter, constant or function.
     Identifier(&'a str),
+    /// A number literal.
     Number {
+        /// As written.
         text: &'a str,
+        /// Its value.
         value: f64,
     },
     /// Anything else: operators, parentheses, commas, spaces.

@@ -32,8 +32,11 @@ use crate::model::MarkerId;
 /// One of a marker's axes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Axis {
+    /// The first axis.
     X,
+    /// The second axis.
     Y,
+    /// The third axis, the axis of rotation or translation of most joints.
     Z,
 }
 
@@ -55,23 +58,52 @@ impl Axis {
 /// The kind of a joint and the data it needs.
 #[derive(Clone, Debug)]
 pub enum JointKind {
+    /// Origins coincide (3 equations).
     Spherical,
+    /// Origins coincide and `z_i ∥ z_j`: rotation about the common z axis (5 equations).
     Revolute,
+    /// Origins coincide and `z_i ⟂ z_j`, the two cross-pin axes (4 equations).
     Universal,
+    /// `z_i ∥ z_j` and origin `j` on the z axis of `i`: rotation about and translation along it (4
+    /// equations).
     Cylindrical,
+    /// Cylindrical without the rotation: translation along `z_i` only (5 equations).
     Translational,
+    /// Origins coincide and the axes keep their relative orientation (6 equations).
     Fixed,
+    /// `z_i ∥ z_j` and origin `j` in the x–y plane of `i` (3 equations).
     Planar,
     /// `|r_j − r_i| = L(t)`.
-    Distance { length: TimeFunction },
-    Dot1 { axis_i: Axis, axis_j: Axis },
-    Dot2 { axis_i: Axis },
+    Distance {
+        /// The prescribed distance `L(t)` (m).
+        length: TimeFunction,
+    },
+    /// Axis `axis_i` of marker `i` stays perpendicular to axis `axis_j` of marker `j`.
+    Dot1 {
+        /// The axis of marker `i`.
+        axis_i: Axis,
+        /// The axis of marker `j`.
+        axis_j: Axis,
+    },
+    /// Axis `axis_i` of marker `i` stays perpendicular to `d = r_j − r_i`.
+    Dot2 {
+        /// The axis of marker `i`.
+        axis_i: Axis,
+    },
+    /// Origin `j` on the z axis of `i` (2 equations).
     PointOnLine,
+    /// Origin `j` in the x–y plane of `i` (1 equation).
     PointInPlane,
     /// Relative angle of a revolute or cylindrical joint prescribed: `θ(q) = f(t)`.
-    AngleDriver { function: TimeFunction },
+    AngleDriver {
+        /// The angle `f(t)` (rad).
+        function: TimeFunction,
+    },
     /// Relative displacement of a translational or cylindrical joint prescribed: `z_iᵀ d = f(t)`.
-    DisplacementDriver { function: TimeFunction },
+    DisplacementDriver {
+        /// The displacement `f(t)` (m).
+        function: TimeFunction,
+    },
 }
 
 impl JointKind {
@@ -154,9 +186,14 @@ impl JointKind {
 /// A joint, primitive or driver between markers `i` and `j`.
 #[derive(Clone, Debug)]
 pub struct Joint {
+    /// The joint's name.
     pub name: String,
+    /// What it is and its data.
     pub kind: JointKind,
+    /// The first marker: the joint's reference frame (its `z_i` is the axis of angles and
+    /// displacements).
     pub marker_i: MarkerId,
+    /// The second marker.
     pub marker_j: MarkerId,
 }
 

@@ -22,7 +22,7 @@ use crate::stage::{constraint_equations, jacobian_entries, kinematics, update_an
 use crate::test_support::{quat_mul, turn_body_frame, Lcg};
 
 fn rot(axis: Vec3, angle: f64) -> Mat3 {
-    EulerParameters::from_axis_angle(&axis, angle).rotation_matrix()
+    EulerParameters::from_axis_angle(&axis, angle).unwrap().rotation_matrix()
 }
 
 fn rigid_body(name: &str, pose: (Vec3, EulerParameters)) -> RigidBody {
@@ -36,7 +36,7 @@ fn rigid_body(name: &str, pose: (Vec3, EulerParameters)) -> RigidBody {
 }
 
 fn add_marker(b: &mut ModelBuilder, name: &str, body: BodyRef, origin: Vec3, axes: Mat3) -> MarkerId {
-    b.add_marker(Marker { name: name.into(), body, origin, axes })
+    b.add_marker(Marker { name: name.into(), body, origin, axes }).unwrap()
 }
 
 const DISTANCE_LAW: &str = "0.8 + 0.3*sin(1.7*t)";
@@ -65,15 +65,15 @@ fn primitive_kinds() -> Vec<JointKind> {
 /// body–body, ground–body and body–ground.
 fn primitives_model(rng: &mut Lcg) -> Model {
     let mut b = ModelBuilder::new("primitives");
-    let b1 = b.add_body(rigid_body("b1", (Vec3::zeros(), EulerParameters::identity())));
-    let b2 = b.add_body(rigid_body("b2", (Vec3::zeros(), EulerParameters::identity())));
+    let b1 = b.add_body(rigid_body("b1", (Vec3::zeros(), EulerParameters::identity()))).unwrap();
+    let b2 = b.add_body(rigid_body("b2", (Vec3::zeros(), EulerParameters::identity()))).unwrap();
     let m1 = add_marker(&mut b, "m1", BodyRef::Body(b1), rng.vec3(0.6), rng.rotation().rotation_matrix());
     let m2 = add_marker(&mut b, "m2", BodyRef::Body(b2), rng.vec3(0.6), rng.rotation().rotation_matrix());
     let g = add_marker(&mut b, "g", BodyRef::Ground, rng.vec3(1.0), rng.rotation().rotation_matrix());
     let mut n = 0;
     for (i, j) in [(m1, m2), (g, m2), (m1, g)] {
         for kind in primitive_kinds() {
-            b.add_joint(Joint { name: format!("j{n}"), kind, marker_i: i, marker_j: j });
+            b.add_joint(Joint { name: format!("j{n}"), kind, marker_i: i, marker_j: j }).unwrap();
             n += 1;
         }
     }
@@ -295,12 +295,12 @@ fn named_kinds() -> Vec<(JointKind, usize)> {
 #[test]
 fn every_named_joint_has_its_number_of_equations() {
     let mut b = ModelBuilder::new("counts");
-    let body = b.add_body(rigid_body("b", (Vec3::zeros(), EulerParameters::identity())));
+    let body = b.add_body(rigid_body("b", (Vec3::zeros(), EulerParameters::identity()))).unwrap();
     let g = add_marker(&mut b, "g", BodyRef::Ground, Vec3::zeros(), Mat3::identity());
     let m = add_marker(&mut b, "m", BodyRef::Body(body), Vec3::zeros(), Mat3::identity());
     let kinds = named_kinds();
     for (n, (kind, _)) in kinds.iter().enumerate() {
-        b.add_joint(Joint { name: format!("j{n}"), kind: kind.clone(), marker_i: g, marker_j: m });
+        b.add_joint(Joint { name: format!("j{n}"), kind: kind.clone(), marker_i: g, marker_j: m }).unwrap();
     }
     let model = b.build().unwrap();
     let mut total = 0;
@@ -376,25 +376,25 @@ fn consistent_model(kind: &JointKind, placement: Placement, t: f64, rng: &mut Lc
             let mi = add_marker(&mut b, "i", BodyRef::Ground, ri, ai);
             // Body 2 posed so that its marker (sj, aj_local) lands on (rj, aj).
             let a2 = aj * aj_local.transpose();
-            let p2 = EulerParameters::from_rotation_matrix(&a2);
-            let b2 = b.add_body(rigid_body("b2", (rj - a2 * sj, p2)));
+            let p2 = EulerParameters::from_rotation_matrix(&a2).unwrap();
+            let b2 = b.add_body(rigid_body("b2", (rj - a2 * sj, p2))).unwrap();
             (mi, add_marker(&mut b, "j", BodyRef::Body(b2), sj, aj_local))
         }
         Placement::BodyBody => {
-            let b1 = b.add_body(rigid_body("b1", (r1, p1)));
+            let b1 = b.add_body(rigid_body("b1", (r1, p1))).unwrap();
             let mi = add_marker(&mut b, "i", BodyRef::Body(b1), si, ai_local);
             let a2 = aj * aj_local.transpose();
-            let p2 = EulerParameters::from_rotation_matrix(&a2);
-            let b2 = b.add_body(rigid_body("b2", (rj - a2 * sj, p2)));
+            let p2 = EulerParameters::from_rotation_matrix(&a2).unwrap();
+            let b2 = b.add_body(rigid_body("b2", (rj - a2 * sj, p2))).unwrap();
             (mi, add_marker(&mut b, "j", BodyRef::Body(b2), sj, aj_local))
         }
         Placement::BodyGround => {
-            let b1 = b.add_body(rigid_body("b1", (r1, p1)));
+            let b1 = b.add_body(rigid_body("b1", (r1, p1))).unwrap();
             let mi = add_marker(&mut b, "i", BodyRef::Body(b1), si, ai_local);
             (mi, add_marker(&mut b, "j", BodyRef::Ground, rj, aj))
         }
     };
-    b.add_joint(Joint { name: "joint".into(), kind: kind.clone(), marker_i: mi, marker_j: mj });
+    b.add_joint(Joint { name: "joint".into(), kind: kind.clone(), marker_i: mi, marker_j: mj }).unwrap();
     b.build().unwrap()
 }
 

@@ -43,6 +43,11 @@ impl std::fmt::Debug for SparseLu {
 
 impl SparseLu {
     /// Builds the pattern from `(row, col)` entries (duplicates allowed) plus the whole diagonal.
+    ///
+    /// # Panics
+    /// If an entry is outside the `n × n` matrix. This type is the integrators' workspace: its callers
+    /// build the pattern from a model's layout, so an entry outside it is a bug of the engine, not a
+    /// user's mistake.
     pub fn new(n: usize, entries: impl IntoIterator<Item = (usize, usize)>) -> Self {
         let mut cols: Vec<Vec<usize>> = vec![Vec::new(); n];
         for (r, c) in entries {
@@ -94,6 +99,9 @@ impl SparseLu {
     }
 
     /// Index range in [`values`](Self::values) of column `c`, and the rows of those entries.
+    ///
+    /// # Panics
+    /// If `c` is not below [`n`](Self::n).
     pub fn column(&self, c: usize) -> (std::ops::Range<usize>, &[usize]) {
         let ptr = self.pattern.col_ptr();
         let range = ptr[c]..ptr[c + 1];
@@ -114,7 +122,10 @@ impl SparseLu {
         rows.binary_search(&r).ok().map(|k| range.start + k)
     }
 
-    /// Adds `x` to entry `(r, c)`; panics if the entry is outside the pattern (a programming error).
+    /// Adds `x` to entry `(r, c)`.
+    ///
+    /// # Panics
+    /// If the entry is outside the pattern (a bug of the caller, as for [`new`](Self::new)).
     #[inline]
     pub fn add(&mut self, r: usize, c: usize, x: f64) {
         let s = self.slot(r, c).unwrap_or_else(|| panic!("entry ({r}, {c}) is not in the pattern"));
@@ -154,6 +165,9 @@ impl SparseLu {
 
     /// Solves `A x = b` in place (`rhs` holds `b` on entry and `x` on return).
     /// Returns an error if the factors give a non-finite solution (a numerically singular matrix).
+    ///
+    /// # Panics
+    /// Before a successful [`factor`](Self::factor), or if `rhs` is not of length [`n`](Self::n).
     pub fn solve_in_place(&mut self, rhs: &mut [f64]) -> Result<(), SingularMatrix> {
         assert!(self.factored, "solve before factor");
         if let Some(dense) = &mut self.dense {

@@ -6,6 +6,32 @@
 
 use super::{Mat3, Mat3x4, Vec3, Vec4};
 
+/// The largest [`rotation_matrix_defect`] of a matrix taken as a rotation.
+pub const ROTATION_TOLERANCE: f64 = 1e-6;
+
+/// Why an orientation cannot be made.
+#[derive(Clone, Copy, Debug, thiserror::Error, PartialEq)]
+pub enum OrientationError {
+    /// The axis of an axis–angle rotation has zero length or is not finite.
+    #[error("the rotation axis must be a finite, non-zero vector, got [{}, {}, {}]", axis[0], axis[1], axis[2])]
+    ZeroAxis {
+        /// The axis given.
+        axis: [f64; 3],
+    },
+    /// The angle of an axis–angle rotation is not finite.
+    #[error("the rotation angle must be finite, got {angle}")]
+    NonFiniteAngle {
+        /// The angle given (rad).
+        angle: f64,
+    },
+    /// A matrix that is not a proper rotation.
+    #[error("the matrix is not a proper rotation: defect {defect:.2e} (max(|AᵀA − I|, |det A − 1|)), allowed {ROTATION_TOLERANCE:.0e}")]
+    NotARotation {
+        /// Its [`rotation_matrix_defect`].
+        defect: f64,
+    },
+}
+
 /// Orientation of a body reference frame, `s = A(p) s̄`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EulerParameters(pub Vec4);
@@ -16,20 +42,30 @@ impl EulerParameters {
         Self(Vec4::new(1.0, 0.0, 0.0, 0.0))
     }
 
-    /// Rotation by `angle` (rad) about `axis` (need not be unit; a zero axis gives the identity).
-    pub fn from_axis_angle(axis: &Vec3, angle: f64) -> Self {
+    /// Rotation by `angle` (rad) about `axis` (need not be unit, but finite and not zero).
+    pub fn from_axis_angle(axis: &Vec3, angle: f64) -> Result<Self, OrientationError> {
         let n = axis.norm();
-        if n == 0.0 || angle == 0.0 {
-            return Self::identity();
+        if !(n > 0.0 && n.is_finite()) {
+            return Err(OrientationError::ZeroAxis { axis: [axis.x, axis.y, axis.z] });
+        }
+        if !angle.is_finite() {
+            return Err(OrientationError::NonFiniteAngle { angle });
+        }
+        if angle == 0.0 {
+            return Ok(Self::identity());
         }
         let (s, c) = (0.5 * angle).sin_cos();
         let e = axis * (s / n);
-        Self(Vec4::new(c, e.x, e.y, e.z))
+        Ok(Self(Vec4::new(c, e.x, e.y, e.z)))
     }
 
-    /// Euler parameters of a proper rotation matrix (Shepperd's method, stable for every angle).
-    /// The caller checks orthogonality; see [`rotation_matrix_defect`].
-    pub fn from_rotation_matrix(a: &Mat3) -> Self {
+    /// Euler parameters of a proper rotation matrix (Shepperd's method, stable for every angle); a
+    /// matrix whose [`rotation_matrix_defect`] reaches [`ROTATION_TOLERANCE`] (or is NaN) is refused.
+    pub fn from_rotation_matrix(a: &Mat3) -> Result<Self, OrientationError> {
+        let defect = rotation_matrix_defect(a);
+        if defect.is_nan() || defect >= ROTATION_TOLERANCE {
+            return Err(OrientationError::NotARotation { defect });
+        }
         let tr = a.trace();
         let (e0, e1, e2, e3);
         if tr >= a[(0, 0)] && tr >= a[(1, 1)] && tr >= a[(2, 2)] {
@@ -59,7 +95,7 @@ impl EulerParameters {
         }
         let p = Vec4::new(e0, e1, e2, e3);
         let p = if e0 < 0.0 { -p } else { p };
-        Self(p / p.norm())
+        Ok(Self(p / p.norm()))
     }
 
     /// The unit-norm copy of these parameters.
@@ -119,7 +155,7 @@ mod tests {
 
     #[test]
     fn a_equals_e_g_transpose_and_is_orthogonal() {
-        let p = EulerParameters::from_axis_angle(&Vec3::new(0.3, -1.2, 0.7), 2.1).0;
+        let p = EulerParameters::from_axis_angle(&Vec3::new(0.3, -1.2, 0.7), 2.1).unwrap().0;
         let a = rotation_matrix(&p);
         let eg = e_matrix(&p) * g_matrix(&p).transpose();
         assert!((a - eg).abs().max() < 1e-14);
@@ -136,8 +172,8 @@ mod tests {
             (Vec3::new(0.2, 0.1, 1.0), 3.0),
             (Vec3::new(1.0, 1.0, 1.0), -2.0),
         ] {
-            let p = EulerParameters::from_axis_angle(&axis, angle);
-            let back = EulerParameters::from_rotation_matrix(&p.rotation_matrix());
+            let p = EulerParameters::from_axis_angle(&axis, angle).unwrap();
+            let back = EulerParameters::from_rotation_matrix(&p.rotation_matrix()).unwrap();
             let same = (back.0 - p.0).norm().min((back.0 + p.0).norm());
             assert!(same < 1e-12, "axis {axis:?} angle {angle}: {same}");
         }
@@ -146,11 +182,26 @@ mod tests {
     #[test]
     fn angular_velocity_from_parameter_rates() {
         // ω̄ = 2 G ṗ and ω = 2 E ṗ = A ω̄ for ṗ = ½ Gᵀ ω̄.
-        let p = EulerParameters::from_axis_angle(&Vec3::new(0.5, 0.2, -0.4), 0.9).0;
+        let p = EulerParameters::from_axis_angle(&Vec3::new(0.5, 0.2, -0.4), 0.9).unwrap().0;
         let wbar = Vec3::new(0.7, -1.1, 2.3);
         let pdot = 0.5 * g_matrix(&p).transpose() * wbar;
         assert!((2.0 * g_matrix(&p) * pdot - wbar).norm() < 1e-14);
         let w = rotation_matrix(&p) * wbar;
         assert!((2.0 * e_matrix(&p) * pdot - w).norm() < 1e-14);
+    }
+
+    #[test]
+    fn a_zero_axis_a_non_finite_angle_and_a_matrix_that_is_not_a_rotation_are_refused() {
+        let zero = EulerParameters::from_axis_angle(&Vec3::zeros(), 0.5).unwrap_err();
+        assert_eq!(zero, OrientationError::ZeroAxis { axis: [0.0, 0.0, 0.0] });
+        assert_eq!(zero.to_string(), "the rotation axis must be a finite, non-zero vector, got [0, 0, 0]");
+        let nan = EulerParameters::from_axis_angle(&Vec3::z(), f64::NAN).unwrap_err();
+        assert_eq!(nan.to_string(), "the rotation angle must be finite, got NaN");
+        assert_eq!(EulerParameters::from_axis_angle(&Vec3::x(), 0.0), Ok(EulerParameters::identity()));
+        let stretched = Mat3::from_diagonal(&Vec3::new(1.0, 1.0, 2.0));
+        let error = EulerParameters::from_rotation_matrix(&stretched).unwrap_err();
+        assert_eq!(error, OrientationError::NotARotation { defect: 3.0 });
+        let mirror = Mat3::from_diagonal(&Vec3::new(1.0, 1.0, -1.0));
+        assert!(matches!(EulerParameters::from_rotation_matrix(&mirror), Err(OrientationError::NotARotation { .. })));
     }
 }

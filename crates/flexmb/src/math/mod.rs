@@ -2,7 +2,9 @@
 
 pub(crate) mod euler_parameters;
 
-pub use euler_parameters::{e_matrix, g_matrix, rotation_matrix, rotation_matrix_defect, EulerParameters};
+pub use euler_parameters::{
+    e_matrix, g_matrix, rotation_matrix, rotation_matrix_defect, EulerParameters, OrientationError, ROTATION_TOLERANCE,
+};
 
 /// 3-vector (nalgebra, fixed size).
 pub type Vec3 = nalgebra::Vector3<f64>;

@@ -1,7 +1,10 @@
-//! Assembles and validates a [`Model`].
+//! Assembles a [`Model`], checking each element as it is added.
 
 use std::collections::HashSet;
 
+use super::flexible_checks::{check_flexible_body, check_marker_node};
+use super::references::{self, Counts, Reference};
+use super::rigid_checks::{check_body, check_frame};
 use super::{
     BodyId, BodyRef, ForceId, JointId, Layout, MarkerId, MeasureId, Model, ModelError, OutputKind,
     OutputRequest,
@@ -9,10 +12,58 @@ use super::{
 use crate::body::{InitialState, Marker, ModalBody, RigidBody};
 use crate::force::{ForceElement, ForceKind};
 use crate::joint::Joint;
-use crate::math::{euler_parameters::rotation_matrix_defect, Mat3, Vec3};
+use crate::math::{Mat3, Vec3};
 use crate::measure::{Measure, MeasureKind};
 
-/// Collects the elements of a model; [`build`](Self::build) validates them and derives the layout.
+/// Collects the elements of a model, checking each as it is added; [`build`](Self::build) derives
+/// the coordinate layout and returns the immutable [`Model`].
+///
+/// Every `add_*` method returns an error at once for a bad element: a name used twice, an id this
+/// builder did not hand out, a value out of its range (mass, inertia, frame, stiffness, …). A model
+/// written in code thus fails at the line that adds the faulty element, and a builder only ever holds
+/// valid elements.
+///
+/// A pendulum: a 1 kg body on a revolute joint to ground about the global y axis, under gravity.
+///
+/// ```
+/// use flexmb::body::{InitialState, Marker, RigidBody};
+/// use flexmb::joint::{Joint, JointKind};
+/// use flexmb::math::{Mat3, Vec3};
+/// use flexmb::model::BodyRef;
+/// use flexmb::ModelBuilder;
+///
+/// # fn main() -> Result<(), flexmb::model::ModelError> {
+/// let mut builder = ModelBuilder::new("pendulum").gravity(Vec3::new(0.0, 0.0, -9.81));
+/// let bob = builder.add_body(RigidBody {
+///     name: "bob".into(),
+///     mass: 1.0,
+///     center_of_mass: Vec3::zeros(),
+///     inertia: Mat3::identity() * 1e-3,
+///     initial: InitialState { position: Vec3::new(1.0, 0.0, 0.0), ..Default::default() },
+/// })?;
+/// // The hinge axis is the markers' z axis: turn z onto the global y axis.
+/// let axes = Mat3::new(1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, -1.0, 0.0);
+/// let pivot = builder.add_marker(Marker { name: "pivot".into(), body: BodyRef::Ground, origin: Vec3::zeros(), axes })?;
+/// let end = builder.add_marker(Marker {
+///     name: "rod end".into(),
+///     body: BodyRef::Body(bob),
+///     origin: Vec3::new(-1.0, 0.0, 0.0),
+///     axes,
+/// })?;
+/// builder.add_joint(Joint { name: "hinge".into(), kind: JointKind::Revolute, marker_i: pivot, marker_j: end })?;
+/// let model = builder.build()?;
+/// assert_eq!(model.layout().nq, 7); // R and p of one body
+/// assert_eq!(model.layout().nc, 5); // a revolute joint takes five freedoms
+///
+/// // A mistake is reported where it is made, naming the element:
+/// let mut builder = ModelBuilder::new("wrong");
+/// let error = builder
+///     .add_marker(Marker { name: "tip".into(), body: BodyRef::Body(bob), origin: Vec3::zeros(), axes })
+///     .unwrap_err();
+/// assert_eq!(error.to_string(), "marker 'tip': no body has id 0 (this builder has 0)");
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug, Default)]
 #[must_use]
 pub struct ModelBuilder {
@@ -26,106 +77,197 @@ pub struct ModelBuilder {
     forces: Vec<ForceElement>,
     measures: Vec<Measure>,
     outputs: Vec<OutputRequest>,
+    /// `(kind, name)` of every element added, for unique names per kind.
+    names: HashSet<(&'static str, String)>,
 }
 
 impl ModelBuilder {
+    /// An empty model named `name`, without gravity.
     pub fn new(name: impl Into<String>) -> Self {
         Self { name: name.into(), ..Default::default() }
     }
 
-    /// Gravitational acceleration, global (m/s²). Default zero.
+    /// Gravitational acceleration, global (m/s²). Default zero; checked to be finite by
+    /// [`build`](Self::build).
     pub fn gravity(mut self, g: Vec3) -> Self {
         self.gravity = g;
         self
     }
 
+    /// Sets the gravitational acceleration, global (m/s²), of a builder held by reference.
     pub fn set_gravity(&mut self, g: Vec3) {
         self.gravity = g;
     }
 
-    pub fn add_body(&mut self, body: RigidBody) -> BodyId {
+    /// Adds a rigid body: positive finite mass, a physical inertia tensor (symmetric, positive
+    /// definite, obeying the triangle inequality), a proper initial orientation, finite values.
+    pub fn add_body(&mut self, body: RigidBody) -> Result<BodyId, ModelError> {
+        self.check_new_name("body", &body.name)?;
+        check_body(&body)?;
+        self.names.insert(("body", body.name.clone()));
         self.bodies.push(body);
         self.modal.push(None);
-        BodyId(self.bodies.len() - 1)
+        Ok(BodyId(self.bodies.len() - 1))
     }
 
     /// Adds a flexible body. Its rigid properties (mass, centre of mass, inertia about it) are those
-    /// of the undeformed FE model, from the invariants.
-    pub fn add_flexible_body(&mut self, name: impl Into<String>, initial: InitialState, modal: ModalBody) -> BodyId {
+    /// of the undeformed FE model, from the invariants. The sizes of the modal description must agree
+    /// with its number of modes, its values be finite and the mass matrix of the undeformed body
+    /// positive definite.
+    pub fn add_flexible_body(
+        &mut self,
+        name: impl Into<String>,
+        initial: InitialState,
+        modal: ModalBody,
+    ) -> Result<BodyId, ModelError> {
+        let name = name.into();
+        self.check_new_name("body", &name)?;
         let inv = &modal.invariants;
         let mass = inv.mass;
         let com = if mass > 0.0 { inv.c1 / mass } else { Vec3::zeros() };
         let inertia = inv.undeformed_inertia() - mass * (Mat3::identity() * com.norm_squared() - com * com.transpose());
-        self.bodies.push(RigidBody { name: name.into(), mass, center_of_mass: com, inertia, initial });
+        let body = RigidBody { name, mass, center_of_mass: com, inertia, initial };
+        check_flexible_body(&body, &modal)?;
+        self.names.insert(("body", body.name.clone()));
+        self.bodies.push(body);
         self.modal.push(Some(modal));
-        BodyId(self.bodies.len() - 1)
+        Ok(BodyId(self.bodies.len() - 1))
     }
 
-    pub fn add_marker(&mut self, marker: Marker) -> MarkerId {
-        self.markers.push(marker);
-        self.marker_node.push(None);
-        MarkerId(self.markers.len() - 1)
+    /// Adds a marker on ground or on a rigid body (a marker on a flexible body sits at a node: see
+    /// [`add_node_marker`](Self::add_node_marker)). Its axes must be a proper orthonormal frame and
+    /// its origin finite.
+    pub fn add_marker(&mut self, marker: Marker) -> Result<MarkerId, ModelError> {
+        self.check_new_name("marker", &marker.name)?;
+        self.counts().check_all("marker", &marker.name, references::of_body_ref(marker.body))?;
+        self.check_marker(&marker, None)?;
+        Ok(self.push_marker(marker, None))
     }
 
     /// Adds a marker at node `node` (index into the body's nodes) of flexible body `body`, with `axes`
     /// in the body frame. It moves and turns with the node's elastic deformation.
-    pub fn add_node_marker(&mut self, name: impl Into<String>, body: BodyId, node: usize, axes: Mat3) -> MarkerId {
+    pub fn add_node_marker(
+        &mut self,
+        name: impl Into<String>,
+        body: BodyId,
+        node: usize,
+        axes: Mat3,
+    ) -> Result<MarkerId, ModelError> {
+        let name = name.into();
+        self.check_new_name("marker", &name)?;
+        self.counts().check("marker", &name, Reference::Body(body))?;
         let origin = self.modal[body.0]
             .as_ref()
             .and_then(|m| m.nodes.get(node))
             .map_or(Vec3::zeros(), |n| n.position);
-        self.markers.push(Marker { name: name.into(), body: BodyRef::Body(body), origin, axes });
-        self.marker_node.push(Some(node));
-        MarkerId(self.markers.len() - 1)
+        let marker = Marker { name, body: BodyRef::Body(body), origin, axes };
+        self.check_marker(&marker, Some(node))?;
+        Ok(self.push_marker(marker, Some(node)))
     }
 
-    /// The modal description of a flexible body added so far.
-    pub fn modal_body(&self, body: BodyId) -> Option<&ModalBody> {
-        self.modal[body.0].as_ref()
-    }
-
-    pub fn add_joint(&mut self, joint: Joint) -> JointId {
+    /// Adds a joint or driver between two markers of this builder, on two different bodies (or a body
+    /// and ground).
+    pub fn add_joint(&mut self, joint: Joint) -> Result<JointId, ModelError> {
+        self.check_new_name("joint", &joint.name)?;
+        let refs = [Reference::Marker(joint.marker_i), Reference::Marker(joint.marker_j)];
+        self.counts().check_all("joint", &joint.name, refs)?;
+        let (bi, bj) = (self.markers[joint.marker_i.0].body, self.markers[joint.marker_j.0].body);
+        if bi == bj {
+            let body = match bi {
+                BodyRef::Ground => "ground".to_string(),
+                BodyRef::Body(b) => format!("body '{}'", self.bodies[b.0].name),
+            };
+            return Err(ModelError::JointOnOneBody { joint: joint.name.clone(), body });
+        }
+        self.names.insert(("joint", joint.name.clone()));
         self.joints.push(joint);
-        JointId(self.joints.len() - 1)
+        Ok(JointId(self.joints.len() - 1))
     }
 
-    pub fn add_force(&mut self, force: ForceElement) -> ForceId {
+    /// Adds a force element. Its markers, joint and the measures its expressions read must be this
+    /// builder's; a rotational spring-damper needs a joint that turns about `z_i`; a translational
+    /// one a finite, non-negative stiffness, damping and free length.
+    pub fn add_force(&mut self, force: ForceElement) -> Result<ForceId, ModelError> {
+        self.check_new_name("force", &force.name)?;
+        self.counts().check_all("force", &force.name, references::of_force(&force.kind))?;
+        if let ForceKind::RotationalSpringDamper { joint, .. } = &force.kind {
+            self.require_rotation("rotational spring-damper", &force.name, *joint)?;
+        }
+        if let ForceKind::TranslationalSpringDamper { stiffness, damping, free_length, .. } = &force.kind {
+            for (what, x) in [("stiffness", stiffness), ("damping", damping), ("free_length", free_length)] {
+                if !x.is_finite() || *x < 0.0 {
+                    return Err(ModelError::BadValue {
+                        element: "force",
+                        name: force.name.clone(),
+                        problem: format!("{what} must be finite and not negative, got {x}"),
+                    });
+                }
+            }
+        }
+        self.names.insert(("force", force.name.clone()));
         self.forces.push(force);
-        ForceId(self.forces.len() - 1)
+        Ok(ForceId(self.forces.len() - 1))
     }
 
-    pub fn add_measure(&mut self, measure: Measure) -> MeasureId {
+    /// Adds a measure. A joint angle or rate needs a joint that turns about `z_i`, a joint
+    /// displacement or velocity one that slides along `z_i`; a position or velocity component is 0, 1
+    /// or 2.
+    pub fn add_measure(&mut self, measure: Measure) -> Result<MeasureId, ModelError> {
+        self.check_new_name("measure", &measure.name)?;
+        self.counts().check_all("measure", &measure.name, references::of_measure(&measure.kind))?;
+        self.check_measure_kind(&measure)?;
+        self.names.insert(("measure", measure.name.clone()));
         self.measures.push(measure);
-        MeasureId(self.measures.len() - 1)
+        Ok(MeasureId(self.measures.len() - 1))
     }
 
-    pub fn add_output(&mut self, name: impl Into<String>, kind: OutputKind) {
-        self.outputs.push(OutputRequest { name: name.into(), kind });
+    /// Adds an output request. What it reports must be this builder's; modal coordinates, node
+    /// motions and strain energy need a flexible body and a node index within its nodes.
+    pub fn add_output(&mut self, name: impl Into<String>, kind: OutputKind) -> Result<(), ModelError> {
+        let name = name.into();
+        self.check_new_name("output", &name)?;
+        self.counts().check_all("output", &name, references::of_output(&kind))?;
+        self.check_output_body(&name, &kind)?;
+        self.names.insert(("output", name.clone()));
+        self.outputs.push(OutputRequest { name, kind });
+        Ok(())
     }
 
+    /// The body named `name`.
     pub fn find_body(&self, name: &str) -> Option<BodyId> {
         self.bodies.iter().position(|b| b.name == name).map(BodyId)
     }
+    /// The marker named `name`.
     pub fn find_marker(&self, name: &str) -> Option<MarkerId> {
         self.markers.iter().position(|m| m.name == name).map(MarkerId)
     }
+    /// The joint or driver named `name`.
     pub fn find_joint(&self, name: &str) -> Option<JointId> {
         self.joints.iter().position(|j| j.name == name).map(JointId)
     }
+    /// The measure named `name`.
     pub fn find_measure(&self, name: &str) -> Option<MeasureId> {
         self.measures.iter().position(|m| m.name == name).map(MeasureId)
     }
-    pub fn joint(&self, id: JointId) -> &Joint {
-        &self.joints[id.0]
+    /// A joint added so far; `None` for an id this builder did not hand out.
+    pub fn joint(&self, id: JointId) -> Option<&Joint> {
+        self.joints.get(id.0)
     }
-    pub fn marker(&self, id: MarkerId) -> &Marker {
-        &self.markers[id.0]
+    /// A marker added so far; `None` for an id this builder did not hand out.
+    pub fn marker(&self, id: MarkerId) -> Option<&Marker> {
+        self.markers.get(id.0)
+    }
+    /// The modal description of a flexible body added so far; `None` for a rigid body or an id this
+    /// builder did not hand out.
+    pub fn modal_body(&self, body: BodyId) -> Option<&ModalBody> {
+        self.modal.get(body.0).and_then(Option::as_ref)
     }
 
-    /// Global position of a marker origin in the initial configuration given for its body.
-    pub fn initial_marker_position(&self, m: MarkerId) -> Vec3 {
-        let marker = &self.markers[m.0];
-        match marker.body {
+    /// Global position of a marker origin in the initial configuration given for its body; `None`
+    /// for an id this builder did not hand out.
+    pub fn initial_marker_position(&self, m: MarkerId) -> Option<Vec3> {
+        let marker = self.markers.get(m.0)?;
+        Some(match marker.body {
             BodyRef::Ground => marker.origin,
             BodyRef::Body(b) => {
                 let init = &self.bodies[b.0].initial;
@@ -137,83 +279,24 @@ impl ModelBuilder {
                 }
                 init.position + init.orientation.rotation_matrix() * origin
             }
-        }
+        })
     }
 
-    /// Distance between two markers in the initial configuration (the default length of a distance joint).
-    pub fn initial_distance(&self, i: MarkerId, j: MarkerId) -> f64 {
-        (self.initial_marker_position(j) - self.initial_marker_position(i)).norm()
+    /// Distance between two markers in the initial configuration (the default length of a distance
+    /// joint); `None` if either id is not this builder's.
+    pub fn initial_distance(&self, i: MarkerId, j: MarkerId) -> Option<f64> {
+        Some((self.initial_marker_position(j)? - self.initial_marker_position(i)?).norm())
     }
 
-    /// Validates every element and returns the immutable model.
+    /// Returns the immutable model with its coordinate layout. The elements were checked as they were
+    /// added; what is left is the model's own data: gravity must be finite.
     pub fn build(self) -> Result<Model, ModelError> {
-        unique_names("body", self.bodies.iter().map(|b| b.name.as_str()))?;
-        unique_names("marker", self.markers.iter().map(|m| m.name.as_str()))?;
-        unique_names("joint", self.joints.iter().map(|j| j.name.as_str()))?;
-        unique_names("force", self.forces.iter().map(|f| f.name.as_str()))?;
-        unique_names("measure", self.measures.iter().map(|m| m.name.as_str()))?;
-        unique_names("output", self.outputs.iter().map(|o| o.name.as_str()))?;
-        for (b, modal) in self.bodies.iter().zip(&self.modal) {
-            match modal {
-                None => check_body(b)?,
-                Some(modal) => super::flexible_checks::check_flexible_body(b, modal)?,
-            }
-        }
-        for (k, m) in self.markers.iter().enumerate() {
-            super::flexible_checks::check_marker_node(m, self.marker_node[k], &self.modal)?;
-            check_frame(&format!("marker '{}'", m.name), &m.axes)?;
-            if !m.origin.iter().all(|x| x.is_finite()) {
-                return Err(ModelError::BadFrame {
-                    what: format!("marker '{}'", m.name),
-                    problem: "origin is not finite".into(),
-                });
-            }
-        }
-        for j in &self.joints {
-            let (bi, bj) = (self.markers[j.marker_i.0].body, self.markers[j.marker_j.0].body);
-            if bi == bj {
-                let body = match bi {
-                    BodyRef::Ground => "ground".to_string(),
-                    BodyRef::Body(b) => format!("body '{}'", self.bodies[b.0].name),
-                };
-                return Err(ModelError::JointOnOneBody { joint: j.name.clone(), body });
-            }
-        }
-        for f in &self.forces {
-            if let ForceKind::RotationalSpringDamper { joint, .. } = &f.kind {
-                self.require_rotation("rotational spring-damper", &f.name, *joint)?;
-            }
-            if let ForceKind::TranslationalSpringDamper { stiffness, damping, free_length, .. } = &f.kind {
-                for (what, x) in [("stiffness", stiffness), ("damping", damping), ("free_length", free_length)] {
-                    if !x.is_finite() || *x < 0.0 {
-                        return Err(ModelError::BadValue {
-                            element: "force",
-                            name: f.name.clone(),
-                            problem: format!("{what} must be finite and not negative, got {x}"),
-                        });
-                    }
-                }
-            }
-        }
-        for m in &self.measures {
-            match m.kind {
-                MeasureKind::JointAngle(j) | MeasureKind::JointRate(j) => {
-                    self.require_rotation("measure", &m.name, j)?
-                }
-                MeasureKind::JointDisplacement(j) | MeasureKind::JointVelocity(j) => {
-                    let joint = &self.joints[j.0];
-                    if !joint.kind.has_translation_along_z() {
-                        return Err(ModelError::WrongJointKind {
-                            element: "measure",
-                            name: m.name.clone(),
-                            joint: joint.name.clone(),
-                            kind: joint.kind.keyword(),
-                            motion: "a translation along z_i",
-                        });
-                    }
-                }
-                _ => {}
-            }
+        if !self.gravity.iter().all(|g| g.is_finite()) {
+            return Err(ModelError::BadValue {
+                element: "model",
+                name: self.name,
+                problem: format!("gravity must be finite, got {:?}", self.gravity.as_slice()),
+            });
         }
         let equations: Vec<_> = self.joints.iter().map(|j| j.kind.equations()).collect();
         let modes: Vec<usize> = self.modal.iter().map(|m| m.as_ref().map_or(0, ModalBody::modes)).collect();
@@ -233,6 +316,88 @@ impl ModelBuilder {
         })
     }
 
+    fn counts(&self) -> Counts {
+        Counts {
+            bodies: self.bodies.len(),
+            markers: self.markers.len(),
+            joints: self.joints.len(),
+            measures: self.measures.len(),
+        }
+    }
+
+    fn check_new_name(&self, kind: &'static str, name: &str) -> Result<(), ModelError> {
+        if self.names.contains(&(kind, name.to_string())) {
+            return Err(ModelError::DuplicateName { kind, name: name.to_string() });
+        }
+        Ok(())
+    }
+
+    /// The node (on flexible bodies only, within their nodes), a proper frame, a finite origin.
+    fn check_marker(&self, marker: &Marker, node: Option<usize>) -> Result<(), ModelError> {
+        check_marker_node(marker, node, &self.modal)?;
+        check_frame(&format!("marker '{}'", marker.name), &marker.axes)?;
+        if !marker.origin.iter().all(|x| x.is_finite()) {
+            return Err(ModelError::BadFrame {
+                what: format!("marker '{}'", marker.name),
+                problem: "origin is not finite".into(),
+            });
+        }
+        Ok(())
+    }
+
+    fn push_marker(&mut self, marker: Marker, node: Option<usize>) -> MarkerId {
+        self.names.insert(("marker", marker.name.clone()));
+        self.markers.push(marker);
+        self.marker_node.push(node);
+        MarkerId(self.markers.len() - 1)
+    }
+
+    fn check_measure_kind(&self, m: &Measure) -> Result<(), ModelError> {
+        match m.kind {
+            MeasureKind::JointAngle(j) | MeasureKind::JointRate(j) => self.require_rotation("measure", &m.name, j),
+            MeasureKind::JointDisplacement(j) | MeasureKind::JointVelocity(j) => {
+                let joint = &self.joints[j.0];
+                if joint.kind.has_translation_along_z() {
+                    return Ok(());
+                }
+                Err(ModelError::WrongJointKind {
+                    element: "measure",
+                    name: m.name.clone(),
+                    joint: joint.name.clone(),
+                    kind: joint.kind.keyword(),
+                    motion: "a translation along z_i",
+                })
+            }
+            MeasureKind::Position(_, c) | MeasureKind::Velocity(_, c) if c > 2 => Err(ModelError::BadValue {
+                element: "measure",
+                name: m.name.clone(),
+                problem: format!("component {c} of a vector; expected 0 (x), 1 (y) or 2 (z)"),
+            }),
+            _ => Ok(()),
+        }
+    }
+
+    /// Outputs of flexible bodies: the body is flexible and the node one of its nodes.
+    fn check_output_body(&self, name: &str, kind: &OutputKind) -> Result<(), ModelError> {
+        let (body, node) = match *kind {
+            OutputKind::ModalCoordinates(b) | OutputKind::StrainEnergy(b) => (b, None),
+            OutputKind::NodePosition(b, n)
+            | OutputKind::NodeVelocity(b, n)
+            | OutputKind::NodeAcceleration(b, n)
+            | OutputKind::NodeDeformation(b, n) => (b, Some(n)),
+            _ => return Ok(()),
+        };
+        let problem = |problem: String| Err(ModelError::BadValue { element: "output", name: name.to_string(), problem });
+        let body_name = &self.bodies[body.0].name;
+        match (&self.modal[body.0], node) {
+            (None, _) => problem(format!("body '{body_name}' is rigid; this output needs a flexible body")),
+            (Some(m), Some(n)) if n >= m.nodes.len() => {
+                problem(format!("node index {n} is beyond the {} nodes of body '{body_name}'", m.nodes.len()))
+            }
+            _ => Ok(()),
+        }
+    }
+
     fn require_rotation(&self, element: &'static str, name: &str, joint: JointId) -> Result<(), ModelError> {
         let j = &self.joints[joint.0];
         if j.kind.has_rotation_about_z() {
@@ -247,69 +412,4 @@ impl ModelBuilder {
             })
         }
     }
-}
-
-fn unique_names<'a>(kind: &'static str, names: impl Iterator<Item = &'a str>) -> Result<(), ModelError> {
-    let mut seen = HashSet::new();
-    for n in names {
-        if !seen.insert(n) {
-            return Err(ModelError::DuplicateName { kind, name: n.to_string() });
-        }
-    }
-    Ok(())
-}
-
-pub(super) fn check_body(b: &RigidBody) -> Result<(), ModelError> {
-    if !(b.mass.is_finite() && b.mass > 0.0) {
-        return Err(ModelError::NonPositiveMass { body: b.name.clone(), mass: b.mass });
-    }
-    check_inertia(&b.inertia).map_err(|problem| ModelError::BadInertia { body: b.name.clone(), problem })?;
-    check_frame(&format!("body '{}' initial orientation", b.name), &b.initial.orientation.rotation_matrix())?;
-    let finite = |v: &Vec3| v.iter().all(|x| x.is_finite());
-    let vel_ok = b.initial.velocity.as_ref().is_none_or(finite)
-        && b.initial.angular_velocity.as_ref().is_none_or(finite);
-    if !finite(&b.initial.position) || !finite(&b.center_of_mass) || !vel_ok {
-        return Err(ModelError::BadValue {
-            element: "body",
-            name: b.name.clone(),
-            problem: "position, centre of mass and velocities must be finite".into(),
-        });
-    }
-    Ok(())
-}
-
-/// A physical inertia tensor: symmetric, positive definite, principal moments obeying the triangle
-/// inequality `I₁ + I₂ ≥ I₃`.
-pub(crate) fn check_inertia(j: &Mat3) -> Result<(), String> {
-    if !j.iter().all(|x| x.is_finite()) {
-        return Err("has a value that is not finite".into());
-    }
-    let scale = j.abs().max().max(f64::MIN_POSITIVE);
-    if (j - j.transpose()).abs().max() > 1e-9 * scale {
-        return Err(format!("is not symmetric: {j}"));
-    }
-    let eig = j.symmetric_eigenvalues();
-    let mut m = [eig[0], eig[1], eig[2]];
-    m.sort_by(f64::total_cmp);
-    if m[0] <= 0.0 {
-        return Err(format!("must be positive definite; principal moments are {:.6e}, {:.6e}, {:.6e}", m[0], m[1], m[2]));
-    }
-    if m[0] + m[1] < m[2] * (1.0 - 1e-9) {
-        return Err(format!(
-            "principal moments {:.6e}, {:.6e}, {:.6e} violate the triangle inequality I1 + I2 >= I3",
-            m[0], m[1], m[2]
-        ));
-    }
-    Ok(())
-}
-
-pub(super) fn check_frame(what: &str, a: &Mat3) -> Result<(), ModelError> {
-    let defect = rotation_matrix_defect(a);
-    if defect.is_nan() || defect >= 1e-6 {
-        return Err(ModelError::BadFrame {
-            what: what.to_string(),
-            problem: format!("axes are not a proper orthonormal frame (defect {defect:.2e})"),
-        });
-    }
-    Ok(())
 }

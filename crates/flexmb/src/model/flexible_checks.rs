@@ -42,7 +42,7 @@ pub(super) fn check_flexible_body(body: &RigidBody, modal: &ModalBody) -> Result
     if !(inv.mass.is_finite() && inv.mass > 0.0) {
         return Err(ModelError::NonPositiveMass { body: name.clone(), mass: inv.mass });
     }
-    super::builder::check_frame(&format!("body '{name}' initial orientation"), &body.initial.orientation.rotation_matrix())?;
+    super::rigid_checks::check_frame(&format!("body '{name}' initial orientation"), &body.initial.orientation.rotation_matrix())?;
     let mass = undeformed_mass_matrix(modal);
     if !mass.iter().all(|x| x.is_finite()) || !modal.stiffness.iter().all(|x| x.is_finite()) {
         return Err(bad(name, "the invariants or the modal stiffness are not finite".into()));

@@ -32,7 +32,9 @@ id_type!(
 /// Where a marker is fixed: on ground or on a moving body.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum BodyRef {
+    /// The inertial frame.
     Ground,
+    /// A moving body.
     Body(BodyId),
 }
 

@@ -12,6 +12,9 @@ use crate::joint::Equation;
 use crate::model::{BodyId, JointId};
 
 /// The coordinate and equation layout of a model.
+///
+/// The methods that take a [`BodyId`], a [`JointId`] or a coordinate index panic for one that is not
+/// of this model: ids come from the builder that made it, indices from its own ranges.
 #[derive(Clone, Debug)]
 pub struct Layout {
     /// Number of position coordinates (7 + m per body).

@@ -2,11 +2,15 @@
 //! coordinate layout derived from them. Build one with [`ModelBuilder`].
 
 mod builder;
+#[cfg(test)]
+mod builder_tests;
 mod error;
 mod flexible_checks;
 mod ids;
 mod layout;
 mod output;
+mod references;
+mod rigid_checks;
 
 pub use builder::ModelBuilder;
 pub use error::ModelError;
@@ -23,7 +27,9 @@ use crate::measure::Measure;
 /// A named output request.
 #[derive(Clone, Debug)]
 pub struct OutputRequest {
+    /// The name, the prefix of its columns.
     pub name: String,
+    /// What it reports.
     pub kind: OutputKind,
 }
 
@@ -48,52 +54,82 @@ pub struct Model {
 }
 
 impl Model {
+    /// The model's name.
     pub fn name(&self) -> &str {
         &self.name
     }
+    /// Gravitational acceleration, global (m/s²).
     pub fn gravity(&self) -> Vec3 {
         self.gravity
     }
+    /// Every body, rigid or flexible, in the order added; a [`BodyId`] indexes it.
     pub fn bodies(&self) -> &[RigidBody] {
         &self.bodies
     }
+    /// Every marker; a [`MarkerId`] indexes it.
     pub fn markers(&self) -> &[Marker] {
         &self.markers
     }
+    /// Every joint and driver; a [`JointId`] indexes it.
     pub fn joints(&self) -> &[Joint] {
         &self.joints
     }
+    /// Every force element; a [`ForceId`] indexes it.
     pub fn forces(&self) -> &[ForceElement] {
         &self.forces
     }
+    /// Every measure; a [`MeasureId`] indexes it.
     pub fn measures(&self) -> &[Measure] {
         &self.measures
     }
+    /// The output requests, in the order of their columns.
     pub fn outputs(&self) -> &[OutputRequest] {
         &self.outputs
     }
+    /// Where each body's coordinates and each joint's equations sit in the global vectors.
     pub fn layout(&self) -> &Layout {
         &self.layout
     }
+    /// A body of this model.
+    ///
+    /// # Panics
+    /// If `id` is not one of this model's bodies (an id from another builder).
     pub fn body(&self, id: BodyId) -> &RigidBody {
         &self.bodies[id.0]
     }
     /// The modal description of a flexible body, `None` for a rigid one.
+    ///
+    /// # Panics
+    /// If `id` is not one of this model's bodies.
     pub fn modal_body(&self, id: BodyId) -> Option<&ModalBody> {
         self.modal[id.0].as_ref()
     }
     /// The node of a flexible body a marker sits at.
+    ///
+    /// # Panics
+    /// If `id` is not one of this model's markers.
     pub fn marker_node(&self, id: MarkerId) -> Option<usize> {
         self.marker_node[id.0]
     }
+    /// A marker of this model.
+    ///
+    /// # Panics
+    /// If `id` is not one of this model's markers.
     pub fn marker(&self, id: MarkerId) -> &Marker {
         &self.markers[id.0]
     }
+    /// A joint or driver of this model.
+    ///
+    /// # Panics
+    /// If `id` is not one of this model's joints.
     pub fn joint(&self, id: JointId) -> &Joint {
         &self.joints[id.0]
     }
 
     /// Name of a body reference (`ground` for ground).
+    ///
+    /// # Panics
+    /// If the body is not one of this model's.
     pub fn body_name(&self, b: BodyRef) -> &str {
         match b {
             BodyRef::Ground => "ground",
@@ -108,6 +144,9 @@ impl Model {
 
     /// A human-readable description of the equation of velocity coordinate `k`: the equations of motion of
     /// a body, or the modal equation of one of its modes.
+    ///
+    /// # Panics
+    /// If `k` is not below [`Layout::nv`].
     pub fn describe_velocity_row(&self, k: usize) -> String {
         let b = self.layout.body_of_velocity(k);
         let local = k - self.layout.v_offset[b.0];
@@ -119,6 +158,9 @@ impl Model {
     }
 
     /// A human-readable description of constraint row `row`: joint name, kind and equation.
+    ///
+    /// # Panics
+    /// If `row` is not below [`Layout::nc`].
     pub fn describe_constraint_row(&self, row: usize) -> String {
         let (joint, eq) = self.layout.equations[row];
         let j = &self.joints[joint.0];

@@ -11,6 +11,7 @@ use crate::stage::forces::applied_load;
 /// Mechanical energy of a state (J).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Energy {
+    /// Kinetic energy of all bodies, elastic motion included.
     pub kinetic: f64,
     /// Gravity and springs.
     pub potential: f64,
@@ -19,6 +20,7 @@ pub struct Energy {
 }
 
 impl Energy {
+    /// Kinetic, potential and strain energy together.
     pub fn total(&self) -> f64 {
         self.kinetic + self.potential + self.strain
     }

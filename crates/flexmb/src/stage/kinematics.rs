@@ -45,7 +45,7 @@ pub struct MarkerState {
     /// `δθ = J_θ δv_b`: `[0, A]` (global virtual rotation).
     pub jac_rotation: Mat3x6,
     /// The node of a flexible body the marker sits at; its modal Jacobian columns are
-    /// `A Ψ` (point) and `A J Θ` (rotation), see [`modal_row`](super::modal::modal_row).
+    /// `A Ψ` (point) and `A J Θ` (rotation), see the stage function `modal_row`.
     pub node: Option<usize>,
     /// `A` of the marker's body (for the modal columns).
     pub body_rotation: Mat3,
@@ -75,7 +75,7 @@ impl Default for MarkerState {
 impl MarkerState {
     /// Generalized force on the marker's body `[F; N̄]` of a global force `f` at the origin and a
     /// global torque `tau`: `J_rᵀ f + J_θᵀ τ` (the modal part, at a node of a flexible body, is
-    /// [`modal_row`](super::modal::modal_row)).
+    /// added by the stage function `modal_row`).
     #[inline]
     pub fn generalized_force(&self, f: &Vec3, tau: &Vec3) -> nalgebra::Vector6<f64> {
         self.jac_point.transpose() * f + self.jac_rotation.transpose() * tau

@@ -34,7 +34,7 @@ pub fn rigid(
 
 /// A marker with the given axes (columns x, y, z in the body frame).
 pub fn marker_with_axes(b: &mut ModelBuilder, name: &str, body: BodyRef, origin: Vec3, axes: Mat3) -> MarkerId {
-    b.add_marker(Marker { name: name.into(), body, origin, axes })
+    b.add_marker(Marker { name: name.into(), body, origin, axes }).unwrap()
 }
 
 /// A marker with its axes parallel to the body frame.
@@ -52,7 +52,7 @@ pub fn frame_with_z(z: Vec3) -> Mat3 {
 }
 
 pub fn joint(b: &mut ModelBuilder, name: &str, kind: JointKind, i: MarkerId, j: MarkerId) -> JointId {
-    b.add_joint(Joint { name: name.into(), kind, marker_i: i, marker_j: j })
+    b.add_joint(Joint { name: name.into(), kind, marker_i: i, marker_j: j }).unwrap()
 }
 
 /// Settings with `rtol = atol = tol`.
@@ -155,8 +155,8 @@ pub fn unwrap_angles(a: &[f64]) -> Vec<f64> {
 /// inertia `ic` about its centre) released at rest `theta0` from the hanging position; gravity −y.
 pub fn pendulum(l: f64, m: f64, ic: f64, theta0: f64, g: f64) -> ModelBuilder {
     let mut b = ModelBuilder::new("pendulum").gravity(Vec3::new(0.0, -g, 0.0));
-    let pose = EulerParameters::from_axis_angle(&Vec3::z(), theta0);
-    let bob = b.add_body(rigid("bob", m, Vec3::zeros(), Mat3::from_diagonal(&Vec3::new(ic, ic, ic)), Vec3::new(l * theta0.sin(), -l * theta0.cos(), 0.0), pose, None, None));
+    let pose = EulerParameters::from_axis_angle(&Vec3::z(), theta0).unwrap();
+    let bob = b.add_body(rigid("bob", m, Vec3::zeros(), Mat3::from_diagonal(&Vec3::new(ic, ic, ic)), Vec3::new(l * theta0.sin(), -l * theta0.cos(), 0.0), pose, None, None)).unwrap();
     let gm = marker(&mut b, "pivot_ground", BodyRef::Ground, Vec3::zeros());
     let bm = marker(&mut b, "pivot_bob", BodyRef::Body(bob), Vec3::new(0.0, l, 0.0));
     marker(&mut b, "bob_centre", BodyRef::Body(bob), Vec3::zeros());
@@ -200,7 +200,7 @@ pub fn slider_crank_linkage(b: &mut ModelBuilder, r: f64, l: f64, crank_omega: O
         id,
         None,
         crank_omega,
-    ));
+    )).unwrap();
     let rod = b.add_body(rigid(
         "rod",
         0.8,
@@ -210,7 +210,7 @@ pub fn slider_crank_linkage(b: &mut ModelBuilder, r: f64, l: f64, crank_omega: O
         id,
         None,
         None,
-    ));
+    )).unwrap();
     let slider = b.add_body(rigid(
         "slider",
         1.0,
@@ -220,7 +220,7 @@ pub fn slider_crank_linkage(b: &mut ModelBuilder, r: f64, l: f64, crank_omega: O
         id,
         None,
         None,
-    ));
+    )).unwrap();
     let pivot_ground = marker(b, "crank_pivot_ground", BodyRef::Ground, Vec3::zeros());
     let pivot = marker(b, "crank_pivot", BodyRef::Body(crank), Vec3::zeros());
     let pin = marker(b, "crank_pin", BodyRef::Body(crank), Vec3::new(r, 0.0, 0.0));
@@ -258,13 +258,13 @@ pub fn lumped_flexible_pendulum(stiffness: [f64; 3], rates: [f64; 3]) -> (ModelB
             }
         })
         .collect();
-    let mut modal = ModalBody::from_lumped_nodes(&nodes, DMatrix::from_diagonal(&DVector::from_vec(stiffness.to_vec())));
+    let mut modal = ModalBody::from_lumped_nodes(&nodes, DMatrix::from_diagonal(&DVector::from_vec(stiffness.to_vec()))).unwrap();
     modal.initial_rates = DVector::from_vec(rates.to_vec());
     modal.damping = modal.damping_matrix(&ModalDamping::Ratios(vec![0.02])).unwrap();
     let mut b = ModelBuilder::new("flexible pendulum").gravity(Vec3::new(0.0, -9.81, 0.0));
-    let beam = b.add_flexible_body("beam", Default::default(), modal);
-    let hinge = b.add_node_marker("hinge", beam, 0, Mat3::identity());
-    let tip = b.add_node_marker("tip", beam, 7, Mat3::identity());
+    let beam = b.add_flexible_body("beam", Default::default(), modal).unwrap();
+    let hinge = b.add_node_marker("hinge", beam, 0, Mat3::identity()).unwrap();
+    let tip = b.add_node_marker("tip", beam, 7, Mat3::identity()).unwrap();
     let pivot = marker(&mut b, "pivot", BodyRef::Ground, Vec3::zeros());
     joint(&mut b, "hinge", JointKind::Revolute, pivot, hinge);
     (b, beam, tip)
@@ -278,7 +278,7 @@ pub fn pendulum_with_stiff_slider(x0: f64) -> Model {
     let (l, theta0, s0) = (1.0, 1.0_f64, 0.1);
     let mut b = pendulum(l, 1.0, 1e-3, theta0, 9.81);
     let bob = flexmb::model::BodyId(0);
-    let pose = flexmb::math::EulerParameters::from_axis_angle(&Vec3::z(), theta0);
+    let pose = flexmb::math::EulerParameters::from_axis_angle(&Vec3::z(), theta0).unwrap();
     let bob_position = Vec3::new(l * theta0.sin(), -l * theta0.cos(), 0.0);
     let slider = b.add_body(rigid(
         "slider",
@@ -289,7 +289,7 @@ pub fn pendulum_with_stiff_slider(x0: f64) -> Model {
         pose,
         None,
         None,
-    ));
+    )).unwrap();
     let rail = marker(&mut b, "rail", BodyRef::Body(bob), Vec3::zeros());
     let runner = marker(&mut b, "runner", BodyRef::Body(slider), Vec3::zeros());
     joint(&mut b, "slide", JointKind::Translational, rail, runner);
@@ -303,6 +303,6 @@ pub fn pendulum_with_stiff_slider(x0: f64) -> Model {
             free_length: s0,
             actuator: None,
         },
-    });
+    }).unwrap();
     b.build().unwrap()
 }

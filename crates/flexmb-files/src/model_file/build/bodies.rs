@@ -11,6 +11,7 @@ use flexmb_fem::input::Quantity;
 use toml::Spanned;
 
 use super::context::Context;
+use super::engine_errors;
 use super::inertia::inertia;
 use super::names::NameTable;
 use super::orientation::orientation;
@@ -46,7 +47,7 @@ pub(crate) fn add_bodies(
         let body = rigid_body(ctx, b, &element)?;
         check_with_engine(ctx, &body, b, &element)?;
         let shape = body_shape(ctx, b.shape.as_ref(), &element.key("shape"), base_dir, &body)?;
-        let id = builder.add_body(body);
+        let id = builder.add_body(body).map_err(engine_errors::at(ctx.source, &b.name.span(), &element))?;
         names.define(&b.name, &element, id);
         shapes.push(BodyShape { body: id, shape });
     }
@@ -116,9 +117,7 @@ fn check_with_engine(
     b: &BodySection,
     element: &KeyPath,
 ) -> Result<(), ModelFileError> {
-    let mut alone = ModelBuilder::new("body check");
-    alone.add_body(body.clone());
-    let Err(error) = alone.build() else { return Ok(()) };
+    let Err(error) = ModelBuilder::new("body check").add_body(body.clone()) else { return Ok(()) };
     let (span, key, message) = match &error {
         ModelError::NonPositiveMass { mass, .. } => {
             (b.mass.span(), element.key("mass"), format!("mass must be positive and finite, got {mass}"))

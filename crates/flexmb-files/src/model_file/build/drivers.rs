@@ -7,6 +7,7 @@ use flexmb::ModelBuilder;
 use toml::Spanned;
 
 use super::context::Context;
+use super::engine_errors;
 use super::names::NameTable;
 use crate::model_file::error::ModelFileError;
 use crate::model_file::key_path::KeyPath;
@@ -33,7 +34,7 @@ pub(crate) fn add_drivers(
         joints.check_new(&d.name, &element, ctx.source)?;
         let joint_key = element.key("joint");
         let driven = joints.resolve(&d.joint, &joint_key, ctx.source)?;
-        let joint = builder.joint(driven).clone();
+        let joint = builder.joint(driven).cloned().ok_or_else(|| joints.unknown(&d.joint, &joint_key, ctx.source, &[]))?;
         let driver_type = driver_type(ctx, d, &joint, &element)?;
         let function = ctx.time_function(&d.function, &element.key("function"))?;
         let kind = match driver_type {
@@ -45,7 +46,8 @@ pub(crate) fn add_drivers(
             kind,
             marker_i: joint.marker_i,
             marker_j: joint.marker_j,
-        });
+        })
+        .map_err(engine_errors::at(ctx.source, &d.name.span(), &element))?;
         joints.define(&d.name, &element, id);
     }
     Ok(())

@@ -1,6 +1,8 @@
 //! Errors that `ModelBuilder::build` still finds after the file layer's own checks, placed at the key
 //! of the element they name.
 
+use std::ops::Range;
+
 use flexmb::model::ModelError;
 
 use super::Names;
@@ -23,6 +25,12 @@ pub(crate) fn locate(error: &ModelError, names: &Names, source: &Source) -> Mode
     source.invalid(&span, &key, error.to_string())
 }
 
+/// Places an engine error about the element being added at `span` (its name) and its key `element`,
+/// as [`locate`] does for the elements already defined.
+pub(crate) fn at<'a>(source: &'a Source, span: &'a Range<usize>, element: &'a KeyPath) -> impl Fn(ModelError) -> ModelFileError + 'a {
+    move |error| source.invalid(span, element, error.to_string())
+}
+
 /// The kind and name of the element an engine error concerns.
 fn element_of(error: &ModelError) -> (&'static str, String) {
     match error {
@@ -34,6 +42,7 @@ fn element_of(error: &ModelError) -> (&'static str, String) {
         }
         ModelError::JointOnOneBody { joint, .. } => ("joint", joint.clone()),
         ModelError::WrongJointKind { element, name, .. }
+        | ModelError::UnknownId { element, name, .. }
         | ModelError::Expression { element, name, .. }
         | ModelError::BadValue { element, name, .. } => (element_kind(element), name.clone()),
     }

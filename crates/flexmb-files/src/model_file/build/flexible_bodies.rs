@@ -18,6 +18,7 @@ use toml::Spanned;
 use super::bodies::{initial_state, InitialKeys, GROUND};
 use super::body_cache::{basis_name, reduced_body};
 use super::context::Context;
+use super::engine_errors;
 use super::names::NameTable;
 use super::nodes::{BodyNodes, FlexibleNodes};
 use crate::fe_model_file::{load_fe_model, LoadedFeModel};
@@ -118,7 +119,9 @@ pub(crate) fn add_flexible_bodies(
         let initial = initial_state(ctx, &keys, &element)?;
         table.check_with_engine(&initial, &modal)?;
         let name = f.name.get_ref().clone();
-        let id = builder.add_flexible_body(name.clone(), initial, modal);
+        let id = builder
+            .add_flexible_body(name.clone(), initial, modal)
+            .map_err(engine_errors::at(ctx.source, &section.span(), &element))?;
         // Engine errors about the body are reported at the table's header.
         names.define(&Spanned::new(section.span(), name.clone()), &element, id);
         let body = &obtained.body;
@@ -426,8 +429,9 @@ impl Table<'_> {
     /// orientation) on this body alone, so that a problem is reported at this table.
     fn check_with_engine(&self, initial: &InitialState, modal: &ModalBody) -> Result<(), ModelFileError> {
         let mut alone = ModelBuilder::new("flexible body check");
-        alone.add_flexible_body(self.f.name.get_ref().clone(), initial.clone(), modal.clone());
-        let Err(error) = alone.build() else { return Ok(()) };
+        let Err(error) = alone.add_flexible_body(self.f.name.get_ref().clone(), initial.clone(), modal.clone()) else {
+            return Ok(());
+        };
         let (span, key, message) = match (&error, &self.f.orientation) {
             (ModelError::BadFrame { problem, .. }, Some(o)) => (o.span(), self.key("orientation"), problem.clone()),
             (ModelError::BadValue { problem, .. }, _) => (self.span.clone(), self.element.clone(), problem.clone()),

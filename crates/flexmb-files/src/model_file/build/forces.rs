@@ -9,6 +9,7 @@ use flexmb_fem::input::Quantity;
 use toml::Spanned;
 
 use super::context::Context;
+use super::engine_errors;
 use super::names::NameTable;
 use crate::model_file::error::ModelFileError;
 use crate::model_file::key_path::KeyPath;
@@ -50,7 +51,9 @@ pub(crate) fn add_forces(
         let f = section.get_ref();
         names.check_new(&f.name, &element, ctx.source)?;
         let kind = ForceBuild { ctx, f, element: &element, span: section.span(), references, builder }.kind()?;
-        let id = builder.add_force(ForceElement { name: f.name.get_ref().clone(), kind });
+        let id = builder
+            .add_force(ForceElement { name: f.name.get_ref().clone(), kind })
+            .map_err(engine_errors::at(ctx.source, &f.name.span(), &element))?;
         names.define(&f.name, &element, id);
     }
     Ok(())
@@ -88,7 +91,7 @@ impl ForceBuild<'_> {
             ForceType::TranslationalSpringDamper => {
                 let marker_i = self.marker(&f.i, "i", &description)?;
                 let marker_j = self.marker(&f.j, "j", &description)?;
-                let initial_length = self.builder.initial_distance(marker_i, marker_j);
+                let initial_length = self.builder.initial_distance(marker_i, marker_j).unwrap_or(0.0);
                 ForceKind::TranslationalSpringDamper {
                     marker_i,
                     marker_j,
@@ -117,7 +120,7 @@ impl ForceBuild<'_> {
         let name = self.ctx.required(&self.f.joint, self.element, &self.span, "joint", description)?;
         let key = self.element.key("joint");
         let id = self.references.joints.resolve(name, &key, self.ctx.source)?;
-        let kind = &self.builder.joint(id).kind;
+        let kind = &self.builder.joint(id).ok_or_else(|| self.references.joints.unknown(name, &key, self.ctx.source, &[]))?.kind;
         if kind.has_rotation_about_z() {
             Ok(id)
         } else {

@@ -7,6 +7,7 @@ use flexmb_fem::input::Quantity;
 use toml::Spanned;
 
 use super::context::Context;
+use super::engine_errors;
 use super::names::NameTable;
 use crate::model_file::error::ModelFileError;
 use crate::model_file::key_path::KeyPath;
@@ -64,7 +65,9 @@ pub(crate) fn add_joints(
         let marker_j = markers.resolve(&j.j, &element.key("j"), ctx.source)?;
         check_two_bodies(ctx, builder, bodies, (marker_i, &j.i), (marker_j, &j.j), &element.key("j"))?;
         let kind = joint_kind(ctx, j, joint_type, (marker_i, marker_j), builder, &element, &section.span())?;
-        let id = builder.add_joint(Joint { name: j.name.get_ref().clone(), kind, marker_i, marker_j });
+        let id = builder
+            .add_joint(Joint { name: j.name.get_ref().clone(), kind, marker_i, marker_j })
+            .map_err(engine_errors::at(ctx.source, &j.name.span(), &element))?;
         names.define(&j.name, &element, id);
     }
     Ok(())
@@ -80,11 +83,12 @@ fn check_two_bodies(
     (marker_j, name_j): (MarkerId, &Name),
     key: &KeyPath,
 ) -> Result<(), ModelFileError> {
-    let body_i = builder.marker(marker_i).body;
-    if body_i != builder.marker(marker_j).body {
+    let body_of = |marker| builder.marker(marker).map(|m| m.body);
+    let body_i = body_of(marker_i);
+    if body_i != body_of(marker_j) {
         return Ok(());
     }
-    let body = match body_i.body().and_then(|id| bodies.name_of(id)) {
+    let body = match body_i.and_then(|b| b.body()).and_then(|id| bodies.name_of(id)) {
         None => "ground".to_string(),
         Some(name) => format!("body `{name}`"),
     };
@@ -144,7 +148,7 @@ fn joint_kind(
                 }
                 Some(length) => ctx.time_function(length, &key)?,
                 None => {
-                    let l = builder.initial_distance(marker_i, marker_j);
+                    let l = builder.initial_distance(marker_i, marker_j).unwrap_or(0.0);
                     if l <= 0.0 {
                         return Err(ctx.invalid(
                             element_span,

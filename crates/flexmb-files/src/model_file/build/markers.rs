@@ -10,6 +10,7 @@ use toml::Spanned;
 
 use super::bodies::GROUND;
 use super::context::Context;
+use super::engine_errors;
 use super::names::NameTable;
 use super::nodes::{resolve_node, FlexibleNodes};
 use super::orientation::{axes_from_z, orientation};
@@ -49,7 +50,9 @@ pub(crate) fn add_markers(
                     ));
                 }
                 let node = resolve_node(ctx, nodes, node, &element.key("node"))?;
-                builder.add_node_marker(m.name.get_ref().clone(), body_id, node.index, axes)
+                builder
+                    .add_node_marker(m.name.get_ref().clone(), body_id, node.index, axes)
+                    .map_err(engine_errors::at(ctx.source, &m.name.span(), &element))?
             }
             (Some((_, nodes)), None) => {
                 return Err(ctx.source.error(
@@ -82,7 +85,8 @@ pub(crate) fn add_markers(
                 body,
                 origin: ctx.vector_or_zero(&m.origin, &element.key("origin"), Quantity::Length)?,
                 axes,
-            }),
+            })
+            .map_err(engine_errors::at(ctx.source, &m.name.span(), &element))?,
         };
         names.define(&m.name, &element, id);
     }

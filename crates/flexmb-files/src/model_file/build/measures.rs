@@ -7,6 +7,7 @@ use flexmb::ModelBuilder;
 use toml::Spanned;
 
 use super::context::Context;
+use super::engine_errors;
 use super::names::NameTable;
 use crate::model_file::error::ModelFileError;
 use flexmb::function::expression_text::{is_plain_identifier, BINARY_FUNCTION_NAMES, BUILTIN_NAMES};
@@ -55,7 +56,9 @@ pub(crate) fn add_measures(
         names.check_new(&m.name, &element, ctx.source)?;
         check_identifier(ctx, m, &element)?;
         let kind = measure_kind(ctx, m, joints, markers, builder, &element, &section.span())?;
-        let id = builder.add_measure(Measure { name: m.name.get_ref().clone(), kind });
+        let id = builder
+            .add_measure(Measure { name: m.name.get_ref().clone(), kind })
+            .map_err(engine_errors::at(ctx.source, &m.name.span(), &element))?;
         names.define(&m.name, &element, id);
         ctx.measures.insert(m.name.get_ref().clone(), id);
     }
@@ -104,7 +107,7 @@ fn measure_kind(
     let joint = || -> Result<JointId, ModelFileError> {
         let name = ctx.required(&m.joint, element, element_span, "joint", &description)?;
         let id = joints.resolve(name, &element.key("joint"), ctx.source)?;
-        let kind = &builder.joint(id).kind;
+        let kind = &builder.joint(id).ok_or_else(|| joints.unknown(name, &element.key("joint"), ctx.source, &[]))?.kind;
         let (fits, needs) = match measure_type {
             MeasureType::JointAngle | MeasureType::JointRate => {
                 (kind.has_rotation_about_z(), "a revolute, cylindrical or angle-driven joint (a rotation about z_i)")

@@ -47,7 +47,8 @@ pub(crate) fn orientation(
     if let Some(axis) = &o.axis {
         axis_angle(ctx, section, axis, key)
     } else if let Some(matrix) = &o.matrix {
-        rotation_matrix(ctx, matrix, &key.key("matrix")).map(|a| EulerParameters::from_rotation_matrix(&a))
+        let a = rotation_matrix(ctx, matrix, &key.key("matrix"))?;
+        EulerParameters::from_rotation_matrix(&a).map_err(|e| ctx.invalid(&matrix.span(), &key.key("matrix"), e.to_string()))
     } else if let Some(p) = &o.euler_parameters {
         euler_parameters(ctx, p, &key.key("euler_parameters"))
     } else {
@@ -80,7 +81,7 @@ fn axis_angle(
             return Err(ctx.invalid(&section.span(), &key.key("angle"), "an `axis` needs `angle` (rad) or `angle_deg`"))
         }
     };
-    Ok(EulerParameters::from_axis_angle(&u, angle))
+    EulerParameters::from_axis_angle(&u, angle).map_err(|e| ctx.invalid(&axis.span(), &key.key("axis"), e.to_string()))
 }
 
 /// A 3x3 matrix written as three rows.

@@ -6,6 +6,7 @@ use flexmb::ModelBuilder;
 use toml::Spanned;
 
 use super::context::Context;
+use super::engine_errors;
 use super::names::NameTable;
 use super::nodes::{resolve_node, BodyNodes, FlexibleNodes};
 use crate::model_file::error::{ErrorKind, ModelFileError};
@@ -77,7 +78,7 @@ pub(crate) fn add_outputs(
             }
             e
         })?;
-        builder.add_output(name.get_ref().clone(), kind);
+        builder.add_output(name.get_ref().clone(), kind).map_err(engine_errors::at(ctx.source, &name.span(), &element))?;
         names.define(&name, &element, index);
     }
     Ok(())
