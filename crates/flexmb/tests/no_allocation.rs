@@ -9,6 +9,7 @@
 
 mod support;
 
+use std::sync::Arc;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -172,7 +173,7 @@ fn in_faer_lu(trace: &str) -> bool {
 /// with their backtraces, allocations inside it).
 fn allocations_while_stepping(model: &Model, window: usize) -> (Vec<String>, usize) {
     let (state, acc) = consistent_start(model);
-    let mut bdf = Bdf::new(model, &state, &acc, BdfConfig { rtol: 1e-7, atol: 1e-7, ..Default::default() }).unwrap();
+    let mut bdf = Bdf::new(Arc::new(model.clone()), &state, &acc, BdfConfig { rtol: 1e-7, atol: 1e-7, ..Default::default() }).unwrap();
     let t_end = 3.0;
     for _ in 0..20 {
         bdf.step(t_end).unwrap();
@@ -250,7 +251,7 @@ fn bdf_step_of_a_flexible_model_does_not_allocate() {
 fn adams_allocations_while_stepping(model: &Model, window: usize) -> (Vec<String>, usize) {
     let (state, acc) = consistent_start(model);
     let config = BdfConfig { rtol: 1e-7, atol: 1e-7, ..Default::default() };
-    let mut adams = Adams::new(model, &state, &acc, config, AdamsConfig::default()).unwrap();
+    let mut adams = Adams::new(Arc::new(model.clone()), &state, &acc, config, AdamsConfig::default()).unwrap();
     let t_end = 3.0;
     for _ in 0..20 {
         adams.step(t_end).unwrap();
@@ -311,7 +312,7 @@ fn generalized_alpha_allocations_while_stepping(
 ) -> (Vec<String>, Stats) {
     let (state, acc) = consistent_start(model);
     let config = BdfConfig { rtol: 1e-7, atol: 1e-7, ..Default::default() };
-    let mut ga = GeneralizedAlpha::new(model, &state, &acc, config, alpha).unwrap();
+    let mut ga = GeneralizedAlpha::new(Arc::new(model.clone()), &state, &acc, config, alpha).unwrap();
     let t_end = 3.0;
     // faer's simplicial LU keeps its numeric storage between factorizations and grows it (doubling) when
     // a pivot sequence needs more fill than any before; on the stiff-slider pendulum that happens once,

@@ -50,7 +50,7 @@ pub enum ModalAssembly {
 }
 
 /// What the assembly did.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct AssemblyReport {
     pub iterations: usize,
     /// Largest residual before and after.

@@ -24,9 +24,11 @@ pub use memory::{dense_analysis_bytes, format_bytes, MemoryLimit};
 pub(crate) use redundancy::{dependency_of, newly_dependent_rows, violated_rows};
 pub use redundancy::{find_redundant_rows, RedundantConstraint, ViolatedEquation};
 pub use simulation::{
-    simulate, simulate_interruptible, Interruption, OutputFrame, SimulationError, SimulationFailure, SimulationReport,
-    SimulationSettings,
+    simulate, simulate_interruptible, Interruption, OutputFrame, OutputSink, OutputTable, Simulation, SimulationCheckpoint,
+    SimulationError, SimulationFailure, SimulationReport, SimulationSettings, CHECKPOINT_VERSION,
 };
 pub use state::State;
 pub use velocity::{velocity_analysis, VelocityReport};
-pub use watchdog::{Balance, Deflection, PhysicsLimits, PhysicsMeasures, SimulationWarning, Unphysical, WarningKind};
+pub use watchdog::{
+    Balance, Deflection, PhysicsLimits, PhysicsMeasures, SimulationWarning, Unphysical, WarningKind, WatchdogCheckpoint,
+};

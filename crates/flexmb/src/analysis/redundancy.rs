@@ -21,7 +21,7 @@ use crate::stage::{constraint_equations, jacobian_entries, kinematics};
 const REDUNDANCY_TOLERANCE: f64 = 1e-8;
 
 /// A constraint row that repeats what earlier rows already impose.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RedundantConstraint {
     pub row: usize,
     /// Joint, kind and equation, e.g. `joint 'rod_slider' (revolute), equation 5: dot-1(y_i, z_j)`.

@@ -69,7 +69,7 @@ impl PhysicsLimits {
 }
 
 /// What a warning is about.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum WarningKind {
     ElasticDeflection,
     EnergyBalance,
@@ -86,7 +86,7 @@ impl WarningKind {
 }
 
 /// A threshold crossed during a run, first time only (per flexible body for deflections).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SimulationWarning {
     /// Output time at which it was first seen (s).
     pub t: f64,
@@ -106,7 +106,7 @@ pub enum Unphysical {
 }
 
 /// The largest elastic displacement of a flexible body at one output time.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Deflection {
     pub t: f64,
     pub body: String,
@@ -191,7 +191,7 @@ impl Balance {
 }
 
 /// The largest values the watchdog measured, whether or not they crossed a threshold.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PhysicsMeasures {
     /// The largest elastic deflection relative to its body's size, over the flexible bodies and the
     /// output times (`None` without flexible bodies).
@@ -202,6 +202,23 @@ pub struct PhysicsMeasures {
     pub largest_balance_time: f64,
     /// The energy that flowed by the end of the run (J).
     pub energy_scale: f64,
+}
+
+/// The watchdog's running sums and the warnings it has given, for a checkpoint of a simulation.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct WatchdogCheckpoint {
+    /// The largest `T + |V| + U` seen (J).
+    pub largest_energy: f64,
+    /// `∫ |P_nc| dt` so far (J).
+    pub absolute_work: f64,
+    /// The trapezoidal rule's estimated error so far (J).
+    pub quadrature_error: f64,
+    /// The last two `(t, P_nc)`, latest first.
+    pub last_powers: [Option<(f64, f64)>; 2],
+    /// The energy-balance warning was given.
+    pub warned_energy: bool,
+    /// The deflection warning was given, per flexible body the watchdog follows.
+    pub warned_deflection: Vec<bool>,
 }
 
 /// A flexible body as the watchdog sees it.
@@ -300,6 +317,34 @@ impl Watchdog {
             .collect();
         let momentum = vec![0.0; model.layout.modes.iter().map(|m| 6 + m).max().unwrap_or(6)];
         Self { limits, atol, bodies, flow: EnergyFlow::default(), warned_energy: false, momentum }
+    }
+
+    /// Its running sums and warnings given.
+    pub(crate) fn checkpoint(&self) -> WatchdogCheckpoint {
+        WatchdogCheckpoint {
+            largest_energy: self.flow.largest_energy,
+            absolute_work: self.flow.absolute_work,
+            quadrature_error: self.flow.quadrature_error,
+            last_powers: self.flow.last,
+            warned_energy: self.warned_energy,
+            warned_deflection: self.bodies.iter().map(|b| b.warned).collect(),
+        }
+    }
+
+    /// Continues from `c`, taken of the watchdog of a run of the same model.
+    pub(crate) fn restore(&mut self, c: &WatchdogCheckpoint) -> Result<(), crate::integrate::CheckpointError> {
+        crate::integrate::check_len("the watchdog's flexible bodies", self.bodies.len(), c.warned_deflection.len())?;
+        self.flow = EnergyFlow {
+            largest_energy: c.largest_energy,
+            absolute_work: c.absolute_work,
+            quadrature_error: c.quadrature_error,
+            last: c.last_powers,
+        };
+        self.warned_energy = c.warned_energy;
+        for (body, &warned) in self.bodies.iter_mut().zip(&c.warned_deflection) {
+            body.warned = warned;
+        }
+        Ok(())
     }
 
     /// Stops at a non-finite position or velocity (after every accepted step and at output times).

@@ -1,6 +1,6 @@
 //! What every time integrator offers the simulation driver: steps, the state, dense output, statistics.
 
-use super::{IntegrationError, Stats};
+use super::{CheckpointError, IntegrationError, IntegratorCheckpoint, Stats};
 use crate::data::Data;
 
 /// A time integrator of a model's equations of motion, started at a consistent state.
@@ -21,4 +21,9 @@ pub trait Integrator {
     fn active(&self) -> &[bool];
     /// The method's name for reports: `bdf`, `adams`, `gen-alpha`.
     fn name(&self) -> &'static str;
+    /// The complete state between two steps (see [`IntegratorCheckpoint`]).
+    fn checkpoint(&self) -> Result<IntegratorCheckpoint, CheckpointError>;
+    /// Continues from `checkpoint`, taken of an integrator of the same method on the same model: the
+    /// following steps are those the checkpointed integrator would have taken.
+    fn restore(&mut self, checkpoint: &IntegratorCheckpoint) -> Result<(), CheckpointError>;
 }

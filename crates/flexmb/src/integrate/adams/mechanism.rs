@@ -31,7 +31,11 @@
 
 use crate::analysis::{Accelerations, State};
 use crate::data::Data;
-use crate::integrate::{BdfConfig, IntegrationError, Integrator, Stats};
+use std::sync::Arc;
+
+use crate::integrate::{
+    check_len, AdamsCheckpoint, BdfConfig, CheckpointError, IntegrationError, Integrator, IntegratorCheckpoint, Stats,
+};
 use crate::model::Model;
 use crate::stage::{kinematics, update_angle_references};
 
@@ -42,12 +46,12 @@ use super::projection::{ProjectedMechanism, ProjectionDrift};
 use super::{AdamsConfig, ConstraintHandling};
 
 /// The mechanism as an ODE, either way.
-enum System<'m> {
-    Projection(Box<ProjectedMechanism<'m>>),
-    Partitioning(Box<PartitionedMechanism<'m>>),
+enum System {
+    Projection(Box<ProjectedMechanism>),
+    Partitioning(Box<PartitionedMechanism>),
 }
 
-impl OdeSystem for System<'_> {
+impl OdeSystem for System {
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), EvaluationFailure> {
         match self {
             System::Projection(s) => s.rhs(t, y, dy),
@@ -62,11 +66,11 @@ impl OdeSystem for System<'_> {
     }
 }
 
-impl<'m> System<'m> {
-    fn model(&self) -> &'m Model {
+impl System {
+    fn model(&self) -> &Arc<Model> {
         match self {
-            System::Projection(s) => s.model,
-            System::Partitioning(s) => s.model,
+            System::Projection(s) => &s.model,
+            System::Partitioning(s) => &s.model,
         }
     }
     fn data(&mut self) -> &mut Data {
@@ -84,8 +88,8 @@ impl<'m> System<'m> {
 }
 
 /// The Adams method on a model; one [`step`](Self::step) is one accepted step.
-pub struct Adams<'m> {
-    system: System<'m>,
+pub struct Adams {
+    system: System,
     stepper: AdamsStepper,
     max_steps: usize,
     stats: Stats,
@@ -93,12 +97,12 @@ pub struct Adams<'m> {
     yp_interp: Vec<f64>,
 }
 
-impl<'m> Adams<'m> {
+impl Adams {
     /// Starts from a consistent state (assembled, velocity-analysed) and its accelerations, with the
     /// tolerances and step limits of `tolerances` (its `max_order` is the BDF's and is ignored) and the
     /// order limit and constraint handling of `config`.
     pub fn new(
-        model: &'m Model,
+        model: Arc<Model>,
         state: &State,
         accelerations: &Accelerations,
         tolerances: BdfConfig,
@@ -130,13 +134,13 @@ impl<'m> Adams<'m> {
         let active = state.active.clone();
         let (mut system, y0, yp0) = match config.constraints {
             ConstraintHandling::Projection => {
-                let system = ProjectedMechanism::new(model, active, tolerances.rtol, tolerances.atol);
+                let system = ProjectedMechanism::new(Arc::clone(&model), active, tolerances.rtol, tolerances.atol);
                 let mut y0 = vec![0.0; nq + nv];
                 let mut yp0 = vec![0.0; nq + nv];
                 y0[..nq].copy_from_slice(&state.q);
                 y0[nq..].copy_from_slice(&state.v);
                 yp0[nq..].copy_from_slice(&accelerations.vdot);
-                velocity_map(model, &state.q, &state.v, &mut yp0[..nq]);
+                velocity_map(&model, &state.q, &state.v, &mut yp0[..nq]);
                 (System::Projection(Box::new(system)), y0, yp0)
             }
             ConstraintHandling::Partitioning => {
@@ -145,7 +149,7 @@ impl<'m> Adams<'m> {
                     reason: format!("no partition of the coordinates: {}", e.0),
                 };
                 let mut system = PartitionedMechanism::new(
-                    model,
+                    Arc::clone(&model),
                     active,
                     tolerances.rtol,
                     tolerances.atol,
@@ -163,9 +167,9 @@ impl<'m> Adams<'m> {
         };
         // Joint angles continue from the initial configuration.
         let data = system.data();
-        kinematics(model, data, &state.q, &state.v);
+        kinematics(&model, data, &state.q, &state.v);
         data.angle_reference.fill(0.0);
-        update_angle_references(model, data);
+        update_angle_references(&model, data);
         let stepper = AdamsStepper::new(control, state.t, &y0, &yp0);
         let n = y0.len();
         let mut adams = Self {
@@ -207,6 +211,46 @@ impl<'m> Adams<'m> {
             System::Partitioning(s) => Some(&s.report),
         }
     }
+    /// The complete state between two steps; with coordinate partitioning not available (its
+    /// partition and saved factors are not part of a checkpoint).
+    pub fn checkpoint(&self) -> Result<AdamsCheckpoint, CheckpointError> {
+        let System::Projection(s) = &self.system else {
+            return Err(CheckpointError::Unsupported(
+                "a checkpoint of the Adams method is available with projection only, not with coordinate partitioning".into(),
+            ));
+        };
+        Ok(AdamsCheckpoint {
+            stepper: self.stepper.clone(),
+            drift: s.drift,
+            evaluations: s.evaluations,
+            factorizations: s.kkt.factorizations,
+            active: s.kkt.active.clone(),
+            angle_reference: s.data.angle_reference.clone(),
+            stats: self.stats,
+        })
+    }
+
+    /// Continues from `c`, taken of an Adams integrator with projection on the same model with the
+    /// same settings.
+    pub fn restore(&mut self, c: &AdamsCheckpoint) -> Result<(), CheckpointError> {
+        let System::Projection(s) = &mut self.system else {
+            return Err(CheckpointError::Unsupported(
+                "a checkpoint of the Adams method is available with projection only, not with coordinate partitioning".into(),
+            ));
+        };
+        check_len("the integrated variables", self.stepper.y().len(), c.stepper.y().len())?;
+        check_len("the constraint rows in force", s.kkt.active.len(), c.active.len())?;
+        check_len("the joint angles", s.data.angle_reference.len(), c.angle_reference.len())?;
+        self.stepper = c.stepper.clone();
+        s.drift = c.drift;
+        s.evaluations = c.evaluations;
+        s.kkt.factorizations = c.factorizations;
+        s.kkt.active.copy_from_slice(&c.active);
+        s.data.angle_reference.copy_from_slice(&c.angle_reference);
+        self.stats = c.stats;
+        Ok(())
+    }
+
     /// The statistics so far.
     pub fn stats(&self) -> &Stats {
         &self.stats
@@ -303,15 +347,24 @@ impl<'m> Adams<'m> {
     /// position explains a singular matrix).
     fn dependent_constraints(&mut self, t: f64) -> String {
         let q = Integrator::state(self).0.to_vec();
-        let model = self.system.model();
+        let model = Arc::clone(self.system.model());
         let active = self.system.active().to_vec();
-        crate::analysis::newly_dependent_rows(model, self.system.data(), t, &q, &active)
+        crate::analysis::newly_dependent_rows(&model, self.system.data(), t, &q, &active)
             .map(|note| format!("; {note}"))
             .unwrap_or_default()
     }
 }
 
-impl Integrator for Adams<'_> {
+impl Integrator for Adams {
+    fn checkpoint(&self) -> Result<IntegratorCheckpoint, CheckpointError> {
+        Adams::checkpoint(self).map(IntegratorCheckpoint::Adams)
+    }
+    fn restore(&mut self, checkpoint: &IntegratorCheckpoint) -> Result<(), CheckpointError> {
+        match checkpoint {
+            IntegratorCheckpoint::Adams(c) => Adams::restore(self, c),
+            other => Err(CheckpointError::Method { expected: "adams", found: other.method() }),
+        }
+    }
     fn t(&self) -> f64 {
         self.stepper.t()
     }

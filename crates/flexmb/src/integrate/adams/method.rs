@@ -73,7 +73,7 @@ pub trait OdeSystem {
 }
 
 /// Tolerances and step limits of [`AdamsStepper`].
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct StepControl {
     /// Relative tolerance of the local error (per unit step, in STEP's generalized sense).
     pub rtol: f64,
@@ -82,6 +82,7 @@ pub struct StepControl {
     /// Highest order, 1 to [`MAX_ORDER`].
     pub max_order: usize,
     /// Largest step.
+    #[serde(with = "crate::integrate::extended_float")]
     pub h_max: f64,
     /// First step; chosen from the initial derivative when `None` (STEP: `¼ √(tol/‖f‖)`).
     pub h_init: Option<f64>,
@@ -94,7 +95,7 @@ impl Default for StepControl {
 }
 
 /// Counters of the stepper.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct StepperStats {
     /// Accepted steps.
     pub steps: usize,
@@ -134,7 +135,7 @@ pub enum StepFailure {
 }
 
 /// The Shampine–Gordon Adams PECE stepper with its workspaces.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct AdamsStepper {
     n: usize,
     control: StepControl,
@@ -171,6 +172,7 @@ pub struct AdamsStepper {
     nornd: bool,
     started: bool,
     /// After [`restart`](AdamsStepper::restart): the largest first step (else infinite).
+    #[serde(with = "crate::integrate::extended_float")]
     h_restart_cap: f64,
     pub stats: StepperStats,
 }

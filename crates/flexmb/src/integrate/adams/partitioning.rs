@@ -20,6 +20,8 @@
 use crate::data::Data;
 use crate::math::euler_parameters::g_matrix;
 use crate::math::{Vec3, Vec4};
+use std::sync::Arc;
+
 use crate::model::Model;
 use crate::stage::{constraint_equations, jacobian_entries, kinematics, update_angle_references};
 
@@ -115,8 +117,8 @@ impl DenseLu {
 }
 
 /// The mechanism on its independent coordinates and their rates.
-pub(super) struct PartitionedMechanism<'m> {
-    pub model: &'m Model,
+pub(super) struct PartitionedMechanism {
+    pub model: Arc<Model>,
     pub data: Data,
     pub kkt: Kkt,
     nq: usize,
@@ -161,10 +163,10 @@ pub(super) struct PartitionedMechanism<'m> {
     pub needs_repartition: bool,
 }
 
-impl<'m> PartitionedMechanism<'m> {
+impl PartitionedMechanism {
     /// The system at a consistent state `(t, q, v)` with the partition chosen there.
     pub fn new(
-        model: &'m Model,
+        model: Arc<Model>,
         active: Vec<bool>,
         rtol: f64,
         atol: f64,
@@ -177,11 +179,11 @@ impl<'m> PartitionedMechanism<'m> {
         let rows: Vec<usize> = (0..l.nc).filter(|r| active[*r]).collect();
         let m = rows.len() + model.bodies.len();
         let mut qdot = vec![0.0; nq];
-        velocity_map(model, q, v, &mut qdot);
+        velocity_map(&model, q, v, &mut qdot);
         let mut s = Self {
+            data: Data::new(&model),
+            kkt: Kkt::new(&model, active),
             model,
-            data: Data::new(model),
-            kkt: Kkt::new(model, active),
             nq,
             nv,
             b_dense: vec![0.0; rows.len() * nv],
@@ -216,9 +218,9 @@ impl<'m> PartitionedMechanism<'m> {
             needs_repartition: false,
         };
         // Joint angles continue from the initial configuration.
-        kinematics(model, &mut s.data, q, v);
+        kinematics(&s.model, &mut s.data, q, v);
         s.data.angle_reference.fill(0.0);
-        update_angle_references(model, &mut s.data);
+        update_angle_references(&s.model, &mut s.data);
         s.choose_partition()?;
         s.report.repartitions = 0;
         Ok(s)
@@ -291,8 +293,8 @@ impl<'m> PartitionedMechanism<'m> {
 
     /// Kinematics and constraint stages at `self.q` (velocities `self.v`), and `Φ̂` into `phi`.
     fn constraint_stage(&mut self, t: f64) {
-        kinematics(self.model, &mut self.data, &self.q, &self.v);
-        constraint_equations(self.model, &mut self.data, t);
+        kinematics(&self.model, &mut self.data, &self.q, &self.v);
+        constraint_equations(&self.model, &mut self.data, t);
         let nr = self.rows.len();
         for (k, &r) in self.rows.iter().enumerate() {
             self.phi[k] = self.data.equations[r].phi;
@@ -310,7 +312,7 @@ impl<'m> PartitionedMechanism<'m> {
         let l = &self.model.layout;
         self.b_dense.fill(0.0);
         let (b_dense, rows) = (&mut self.b_dense, &self.rows);
-        jacobian_entries(self.model, &self.data, |r, c, x| {
+        jacobian_entries(&self.model, &self.data, |r, c, x| {
             if let Ok(k) = rows.binary_search(&r) {
                 b_dense[k * nv + c] += x;
             }
@@ -447,10 +449,10 @@ impl<'m> PartitionedMechanism<'m> {
         if !accelerations {
             return Ok(());
         }
-        kinematics(self.model, &mut self.data, &self.q, &self.v);
-        constraint_equations(self.model, &mut self.data, t);
-        self.kkt.factor(self.model, &self.data)?;
-        self.kkt.accelerations(self.model, &mut self.data, t, &mut self.vdot)?;
+        kinematics(&self.model, &mut self.data, &self.q, &self.v);
+        constraint_equations(&self.model, &mut self.data, t);
+        self.kkt.factor(&self.model, &self.data)?;
+        self.kkt.accelerations(&self.model, &mut self.data, t, &mut self.vdot)?;
         self.evaluations += 1;
         // q̈ = [R̈, ½ Gᵀ(p) ω̄̇ + ½ Gᵀ(ṗ) ω̄, ä].
         for b in 0..self.model.bodies.len() {
@@ -491,7 +493,7 @@ impl<'m> PartitionedMechanism<'m> {
     }
 }
 
-impl OdeSystem for PartitionedMechanism<'_> {
+impl OdeSystem for PartitionedMechanism {
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), EvaluationFailure> {
         self.complete_state(t, y, true)?;
         let nd = self.independent.len();
@@ -504,7 +506,7 @@ impl OdeSystem for PartitionedMechanism<'_> {
 
     fn accept(&mut self, t: f64, y: &mut [f64], dy: &mut [f64]) -> Result<(), EvaluationFailure> {
         self.rhs(t, y, dy)?;
-        update_angle_references(self.model, &mut self.data);
+        update_angle_references(&self.model, &mut self.data);
         self.q_accepted.copy_from_slice(&self.q);
         self.v_accepted.copy_from_slice(&self.v);
         self.qdot_accepted.copy_from_slice(&self.qdot);

@@ -399,6 +399,19 @@ impl IterationMatrix {
         }
     }
 
+    /// The stored stiffness and damping parts and the constraint Jacobian at the start of the step (for
+    /// a checkpoint).
+    pub fn stored_parts(&self) -> (&[f64], &[f64], &[f64]) {
+        (&self.stiffness, &self.damping, &self.b_start)
+    }
+
+    /// Replaces the stored parts (from a checkpoint; their lengths checked by the caller).
+    pub fn set_stored_parts(&mut self, stiffness: &[f64], damping: &[f64], b_start: &[f64]) {
+        self.stiffness.copy_from_slice(stiffness);
+        self.damping.copy_from_slice(damping);
+        self.b_start.copy_from_slice(b_start);
+    }
+
     /// Solves with the current factors in place.
     pub fn solve_in_place(&mut self, rhs: &mut [f64]) -> Result<(), SingularMatrix> {
         self.lu.solve_in_place(rhs)
