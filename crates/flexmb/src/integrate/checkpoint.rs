@@ -18,7 +18,7 @@ pub enum IntegratorCheckpoint {
     /// The BDF's state.
     Bdf(BdfCheckpoint),
     /// The Adams method's state (constraints kept by projection).
-    Adams(AdamsCheckpoint),
+    Adams(Box<AdamsCheckpoint>),
     /// The generalized-α method's state.
     GeneralizedAlpha(GeneralizedAlphaCheckpoint),
 }

@@ -357,7 +357,7 @@ impl Adams {
 
 impl Integrator for Adams {
     fn checkpoint(&self) -> Result<IntegratorCheckpoint, CheckpointError> {
-        Adams::checkpoint(self).map(IntegratorCheckpoint::Adams)
+        Adams::checkpoint(self).map(|c| IntegratorCheckpoint::Adams(Box::new(c)))
     }
     fn restore(&mut self, checkpoint: &IntegratorCheckpoint) -> Result<(), CheckpointError> {
         match checkpoint {

@@ -1,0 +1,228 @@
+//! Restart: a simulation checkpointed after any step, the checkpoint written to JSON and read back,
+//! and resumed in a new `Simulation`, continues with the same steps and the same outputs as the run
+//! that was never stopped — for the BDF, the Adams method and the generalized-α method, on a rigid
+//! closed loop (a slider-crank) and on a model with a flexible body.
+
+mod support;
+
+use std::sync::Arc;
+
+use flexmb::analysis::{
+    simulate, OutputSink, OutputTable, Simulation, SimulationCheckpoint, SimulationFailure, SimulationSettings,
+};
+use flexmb::integrate::adams::ConstraintHandling;
+use flexmb::integrate::{AdamsConfig, CheckpointError, Method, Stats};
+use flexmb::math::Vec3;
+use flexmb::model::{Model, OutputKind};
+use support::{lumped_flexible_pendulum, settings, slider_crank_linkage};
+
+/// Agreement asked of the split run: the resumed integrator has the same history, step size, order and
+/// Jacobian, so its steps are the uninterrupted run's to round-off (they come out bitwise equal; the
+/// bound leaves room for a different summation order of a platform's LU).
+const TOLERANCE: f64 = 1e-10;
+
+/// The state after every accepted step: time, positions, velocities.
+#[derive(Default)]
+struct Trajectory {
+    steps: Vec<(f64, Vec<f64>, Vec<f64>)>,
+}
+
+impl Trajectory {
+    fn record(&mut self, simulation: &Simulation) {
+        self.steps.push((simulation.time(), simulation.positions().to_vec(), simulation.velocities().to_vec()));
+    }
+}
+
+/// Steps `simulation` to its end, recording every step.
+fn finish(simulation: &mut Simulation, table: &mut dyn OutputSink, trajectory: &mut Trajectory) {
+    while !simulation.is_finished() {
+        simulation.step(table).unwrap();
+        trajectory.record(simulation);
+    }
+}
+
+/// One uninterrupted run: its steps, its outputs (with states), its final counters.
+fn uninterrupted(model: &Arc<Model>, settings: SimulationSettings) -> (Trajectory, OutputTable, Stats) {
+    let mut simulation = Simulation::new(model.clone(), settings).unwrap();
+    let mut table = OutputTable::with_states(model);
+    let mut trajectory = Trajectory::default();
+    finish(&mut simulation, &mut table, &mut trajectory);
+    (trajectory, table, *simulation.stats())
+}
+
+/// A run paused at the first step at or after `t_split`, checkpointed, the checkpoint sent through
+/// JSON, and resumed in a new simulation.
+fn split(model: &Arc<Model>, settings: SimulationSettings, t_split: f64) -> (Trajectory, OutputTable, Stats) {
+    let mut table = OutputTable::with_states(model);
+    let mut trajectory = Trajectory::default();
+    let json = {
+        let mut first = Simulation::new(model.clone(), settings).unwrap();
+        // Step by step to record the trajectory (advance_to does the same steps).
+        first.advance_to(0.0, &mut table).unwrap();
+        while first.time() < t_split {
+            first.step(&mut table).unwrap();
+            trajectory.record(&first);
+        }
+        serde_json::to_string(&first.checkpoint().unwrap()).unwrap()
+    };
+    let checkpoint: SimulationCheckpoint = serde_json::from_str(&json).unwrap();
+    let mut second = Simulation::resume(model.clone(), settings, &checkpoint).unwrap();
+    assert_eq!(second.time(), checkpoint.t);
+    finish(&mut second, &mut table, &mut trajectory);
+    (trajectory, table, *second.stats())
+}
+
+fn close(a: &[f64], b: &[f64]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| (x - y).abs() <= TOLERANCE * (1.0 + x.abs()))
+}
+
+/// The split runs at `splits` equal the uninterrupted run: every step (time, q, v), every output row
+/// (time, values, q, v), the counters.
+fn assert_restart_continues(name: &str, model: Model, settings: SimulationSettings, splits: &[f64]) {
+    let model = Arc::new(model);
+    let (reference, table, stats) = uninterrupted(&model, settings);
+    assert!(reference.steps.len() > 20, "{name}: only {} steps", reference.steps.len());
+    for &t_split in splits {
+        let (trajectory, split_table, split_stats) = split(&model, settings, t_split);
+        let what = format!("{name}, split at {t_split} s");
+        assert_eq!(trajectory.steps.len(), reference.steps.len(), "{what}: number of steps");
+        for (k, ((t, q, v), (t_ref, q_ref, v_ref))) in trajectory.steps.iter().zip(&reference.steps).enumerate() {
+            assert!(close(&[*t], &[*t_ref]), "{what}: step {k} ends at {t}, uninterrupted at {t_ref}");
+            assert!(close(q, q_ref) && close(v, v_ref), "{what}: state after step {k} (t = {t}) differs");
+        }
+        assert_eq!(split_table.len(), table.len(), "{what}: number of outputs");
+        for i in 0..table.len() {
+            let row = split_table.row(i);
+            assert!(close(row, table.row(i)), "{what}: output row {i} (t = {}) differs", row[0]);
+            assert!(close(split_table.positions(i).unwrap(), table.positions(i).unwrap()), "{what}: q of row {i}");
+            assert!(close(split_table.velocities(i).unwrap(), table.velocities(i).unwrap()), "{what}: v of row {i}");
+        }
+        assert_eq!(split_stats, stats, "{what}: counters");
+    }
+}
+
+/// The slider-crank (a closed loop: revolute, spherical, universal, translational) started spinning,
+/// under gravity across the slide, with the slider's position, the crank's reaction and the energy as
+/// outputs.
+fn slider_crank() -> Model {
+    let mut b = flexmb::ModelBuilder::new("slider-crank").gravity(Vec3::new(0.0, -9.81, 0.0));
+    let crank = slider_crank_linkage(&mut b, 0.1, 0.3, Some(Vec3::new(0.0, 0.0, 12.0)));
+    b.add_output("slider", OutputKind::MarkerPosition(crank.slider_pin));
+    b.add_output("crank", OutputKind::JointReaction(crank.crank_joint));
+    b.add_output("energy", OutputKind::Energy);
+    b.build().unwrap()
+}
+
+/// The lumped flexible pendulum (3 modes, 2 % damping) with the tip's position, the modal coordinates
+/// and the energy as outputs.
+fn flexible_pendulum() -> Model {
+    let (mut b, beam, tip) = lumped_flexible_pendulum([400.0, 3000.0, 9000.0], [0.1, 0.0, 0.0]);
+    b.add_output("tip", OutputKind::MarkerPosition(tip));
+    b.add_output("modes", OutputKind::ModalCoordinates(beam));
+    b.add_output("energy", OutputKind::Energy);
+    b.build().unwrap()
+}
+
+fn with_method(mut settings: SimulationSettings, method: Method) -> SimulationSettings {
+    settings.method = method;
+    settings
+}
+
+/// Splits: before the first step's end (at 0: a checkpoint of the started integrator), before the
+/// first output, mid-interval between outputs, on an output time, late in the run.
+const SPLITS: [f64; 5] = [0.0, 0.003, 0.137, 0.2, 0.41];
+
+#[test]
+fn bdf_restart_continues_the_same_steps_on_a_closed_loop() {
+    assert_restart_continues("bdf, slider-crank", slider_crank(), settings(0.5, 0.05, 1e-7), &SPLITS);
+}
+
+#[test]
+fn bdf_restart_continues_the_same_steps_on_a_flexible_body() {
+    let model = flexible_pendulum();
+    let mut s = settings(0.5, 0.05, 1e-7);
+    s.integrator = flexmb::integrate::BdfConfig { stability_limits: true, ..s.integrator };
+    assert_restart_continues("bdf, flexible pendulum", model, s, &SPLITS);
+}
+
+#[test]
+fn adams_restart_continues_the_same_steps_on_a_closed_loop() {
+    let s = with_method(settings(0.5, 0.05, 1e-7), Method::Adams(AdamsConfig::default()));
+    assert_restart_continues("adams, slider-crank", slider_crank(), s, &SPLITS);
+}
+
+#[test]
+fn adams_restart_continues_the_same_steps_on_a_flexible_body() {
+    let s = with_method(settings(0.5, 0.05, 1e-7), Method::Adams(AdamsConfig::default()));
+    assert_restart_continues("adams, flexible pendulum", flexible_pendulum(), s, &SPLITS);
+}
+
+#[test]
+fn generalized_alpha_restart_continues_the_same_steps_on_a_closed_loop() {
+    let s = with_method(settings(0.5, 0.05, 1e-6), Method::GeneralizedAlpha { spectral_radius: 0.8 });
+    assert_restart_continues("gen-alpha, slider-crank", slider_crank(), s, &SPLITS);
+}
+
+#[test]
+fn generalized_alpha_restart_continues_the_same_steps_on_a_flexible_body() {
+    let s = with_method(settings(0.5, 0.05, 1e-6), Method::GeneralizedAlpha { spectral_radius: 0.8 });
+    assert_restart_continues("gen-alpha, flexible pendulum", flexible_pendulum(), s, &SPLITS);
+}
+
+/// The `simulate` wrapper is the `Simulation` run to its end: the same outputs, the same counters.
+#[test]
+fn simulate_is_a_simulation_run_to_its_end() {
+    let model = slider_crank();
+    let s = settings(0.5, 0.05, 1e-7);
+    let mut rows = Vec::new();
+    let report = simulate(&model, &s, &mut |f| rows.push([&[f.t][..], f.values].concat())).unwrap();
+    let model = Arc::new(model);
+    let (_, table, stats) = uninterrupted(&model, s);
+    assert_eq!(report.stats, stats);
+    assert_eq!(rows.len(), table.len());
+    assert!((0..rows.len()).all(|i| rows[i] == table.row(i)));
+}
+
+/// A run resumed with a later end time continues past the old one; its outputs take up the grid where
+/// the first run left it.
+#[test]
+fn a_finished_run_resumes_to_a_later_end_time() {
+    let model = Arc::new(slider_crank());
+    let short = settings(0.3, 0.05, 1e-7);
+    let mut first = Simulation::new(model.clone(), short).unwrap();
+    let mut table = OutputTable::new(&model);
+    first.advance_to(1.0, &mut table).unwrap();
+    assert!(first.is_finished() && first.time() == 0.3);
+    let checkpoint = first.checkpoint().unwrap();
+    let long = SimulationSettings { t_end: 0.5, ..short };
+    let mut second = Simulation::resume(model.clone(), long, &checkpoint).unwrap();
+    second.advance_to(0.5, &mut table).unwrap();
+    let t = table.column("t").unwrap();
+    let expected: Vec<f64> = (0..=10).map(|k| k as f64 * 0.05).collect();
+    assert!(close(&t, &expected), "output times {t:?}");
+    assert!(second.report().output_frames == 11 && second.is_finished());
+}
+
+/// What cannot be resumed says why: a checkpoint of another method, and the Adams method with
+/// coordinate partitioning (whose partition is not part of a checkpoint).
+#[test]
+fn checkpoints_that_cannot_be_resumed_say_why() {
+    let model = Arc::new(slider_crank());
+    let bdf = settings(0.2, 0.05, 1e-7);
+    let mut simulation = Simulation::new(model.clone(), bdf).unwrap();
+    simulation.advance_to(0.1, &mut |_: &flexmb::analysis::OutputFrame| {}).unwrap();
+    let checkpoint = simulation.checkpoint().unwrap();
+    let gen_alpha = with_method(bdf, Method::GeneralizedAlpha { spectral_radius: 0.8 });
+    let error = Simulation::resume(model.clone(), gen_alpha, &checkpoint).err().unwrap();
+    assert_eq!(
+        error.cause,
+        SimulationFailure::Checkpoint(CheckpointError::Method { expected: "gen-alpha", found: "bdf" })
+    );
+    assert_eq!(error.to_string(), "the checkpoint is of the bdf method, the simulation uses gen-alpha");
+
+    let partitioning = AdamsConfig { constraints: ConstraintHandling::Partitioning, ..Default::default() };
+    let mut simulation = Simulation::new(model, with_method(bdf, Method::Adams(partitioning))).unwrap();
+    simulation.advance_to(0.1, &mut |_: &flexmb::analysis::OutputFrame| {}).unwrap();
+    let error = simulation.checkpoint().err().unwrap();
+    assert!(matches!(error, SimulationFailure::Checkpoint(CheckpointError::Unsupported(_))), "{error}");
+}
