@@ -64,6 +64,7 @@ fn measure_unit(model: &Model, m: crate::model::MeasureId) -> &'static str {
         JointRate(_) => "rad/s",
         JointDisplacement(_) | Distance(..) | Position(..) => "m",
         JointVelocity(_) | DistanceRate(..) | Velocity(..) | Speed(_) => "m/s",
+        Parameter(_) => "-",
     }
 }
 

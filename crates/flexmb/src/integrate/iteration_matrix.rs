@@ -290,6 +290,7 @@ pub(crate) fn force_couplings(model: &Model) -> Vec<(Vec<usize>, Vec<usize>)> {
             | MeasureKind::JointVelocity(j) => joint_bodies(j).to_vec(),
             MeasureKind::Distance(a, b) | MeasureKind::DistanceRate(a, b) => vec![marker_body(a), marker_body(b)],
             MeasureKind::Position(a, _) | MeasureKind::Velocity(a, _) | MeasureKind::Speed(a) => vec![marker_body(a)],
+            MeasureKind::Parameter(_) => Vec::new(),
         }
     };
     model

@@ -4,13 +4,13 @@ use std::collections::HashSet;
 
 use super::{
     BodyId, BodyRef, ForceId, JointId, Layout, MarkerId, MeasureId, Model, ModelError, OutputKind,
-    OutputRequest,
+    OutputRequest, ParameterId,
 };
 use crate::body::{InitialState, Marker, ModalBody, RigidBody};
 use crate::force::{ForceElement, ForceKind};
 use crate::joint::Joint;
 use crate::math::{euler_parameters::rotation_matrix_defect, Mat3, Vec3};
-use crate::measure::{Measure, MeasureKind};
+use crate::measure::{Measure, MeasureKind, Parameter};
 
 /// Collects the elements of a model; [`build`](Self::build) validates them and derives the layout.
 #[derive(Clone, Debug, Default)]
@@ -25,6 +25,7 @@ pub struct ModelBuilder {
     joints: Vec<Joint>,
     forces: Vec<ForceElement>,
     measures: Vec<Measure>,
+    parameters: Vec<Parameter>,
     outputs: Vec<OutputRequest>,
 }
 
@@ -97,6 +98,16 @@ impl ModelBuilder {
     pub fn add_measure(&mut self, measure: Measure) -> MeasureId {
         self.measures.push(measure);
         MeasureId(self.measures.len() - 1)
+    }
+
+    /// Declares a parameter of initial value `value`, changeable between the steps of a simulation
+    /// ([`Simulation::set_parameter`](crate::analysis::Simulation::set_parameter)), and a measure of the
+    /// same name through which expressions (a force law's actuator, an applied load) read its current
+    /// value.
+    pub fn add_parameter(&mut self, name: impl Into<String>, value: f64) -> MeasureId {
+        let name = name.into();
+        self.parameters.push(Parameter { name: name.clone(), value });
+        self.add_measure(Measure { name, kind: MeasureKind::Parameter(ParameterId(self.parameters.len() - 1)) })
     }
 
     pub fn add_output(&mut self, name: impl Into<String>, kind: OutputKind) {
@@ -228,6 +239,7 @@ impl ModelBuilder {
             joints: self.joints,
             forces: self.forces,
             measures: self.measures,
+            parameters: self.parameters,
             outputs: self.outputs,
             layout,
         })

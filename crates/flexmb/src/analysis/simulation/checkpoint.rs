@@ -33,6 +33,8 @@ pub struct SimulationCheckpoint {
     pub report: SimulationReport,
     /// The watchdog's running sums.
     pub watchdog: WatchdogCheckpoint,
+    /// The current value of each parameter of the model (changed or not).
+    pub parameters: Vec<f64>,
     /// Index of the next output time on the grid `k · output_step` (0: the initial state).
     pub next_output: usize,
     /// Whether the output at the end time (off the grid) was reported.

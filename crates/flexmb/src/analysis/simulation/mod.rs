@@ -92,6 +92,9 @@ pub struct Simulation {
     end_reported: bool,
     /// A step or an output failed: the simulation cannot continue.
     failed: bool,
+    /// The current value of each parameter (also in the integrator's scratch data, where the stages
+    /// read it).
+    parameters: Vec<f64>,
     /// Output values, positions and velocities of the frame being reported.
     values: Vec<f64>,
     q: Vec<f64>,
@@ -140,7 +143,6 @@ impl Simulation {
             values: vec![0.0; output_columns(&model).len()],
             q: vec![0.0; nq],
             v: vec![0.0; nv],
-            model,
             settings,
             integrator,
             accelerations,
@@ -150,6 +152,8 @@ impl Simulation {
             next_output: 0,
             end_reported: false,
             failed: false,
+            parameters: model.parameters.iter().map(|p| p.value).collect(),
+            model,
         }
     }
 
@@ -171,6 +175,7 @@ impl Simulation {
             ("the velocities", l.nv, checkpoint.v.len()),
             ("the multipliers", l.nc, checkpoint.multipliers.len()),
             ("the constraint rows in force", l.nc, checkpoint.active.len()),
+            ("the parameters", model.parameters.len(), checkpoint.parameters.len()),
         ] {
             crate::integrate::check_len(what, expected, found).map_err(|e| fail(e.into()))?;
         }
@@ -186,6 +191,9 @@ impl Simulation {
         let mut simulation = Self::with_integrator(model, settings, integrator, accelerations, report);
         simulation.integrator.restore(&checkpoint.integrator).map_err(|e| fail(e.into()))?;
         simulation.watchdog.restore(&checkpoint.watchdog).map_err(|e| fail(e.into()))?;
+        for (p, &value) in checkpoint.parameters.iter().enumerate() {
+            simulation.write_parameter(p, value);
+        }
         simulation.next_output = checkpoint.next_output;
         simulation.end_reported = checkpoint.end_reported;
         Ok(simulation)
@@ -209,6 +217,7 @@ impl Simulation {
             integrator,
             report: self.report.clone(),
             watchdog: self.watchdog.checkpoint(),
+            parameters: self.parameters.clone(),
             next_output: self.next_output,
             end_reported: self.end_reported,
         })
@@ -275,6 +284,34 @@ impl Simulation {
         self.accelerations
             .solve(&self.model, self.integrator.data_mut(), t, &self.q, &self.v, &self.active)
             .map_err(|_| SimulationFailure::SingularAccelerations { t, detail: String::new() })
+    }
+
+    /// The current value of the parameter named `name` (declared with
+    /// [`ModelBuilder::add_parameter`](crate::ModelBuilder::add_parameter)).
+    pub fn parameter(&self, name: &str) -> Option<f64> {
+        self.model.find_parameter(name).map(|p| self.parameters[p.0])
+    }
+
+    /// Changes the parameter named `name` to `value` from the next step on (the expressions that read
+    /// it see the new value in every later evaluation). The integrator keeps its history: a change that
+    /// makes the forces jump is absorbed by its error control, which shortens the steps after it.
+    pub fn set_parameter(&mut self, name: &str, value: f64) -> Result<(), SimulationFailure> {
+        self.usable()?;
+        let Some(p) = self.model.find_parameter(name) else {
+            let names: Vec<&str> = self.model.parameters.iter().map(|p| p.name.as_str()).collect();
+            let known = if names.is_empty() { "it has none".to_string() } else { format!("it has {}", names.join(", ")) };
+            return Err(SimulationFailure::Invalid(format!("the model has no parameter '{name}': {known}")));
+        };
+        if !value.is_finite() {
+            return Err(SimulationFailure::Invalid(format!("parameter '{name}' must be finite, got {value}")));
+        }
+        self.write_parameter(p.0, value);
+        Ok(())
+    }
+
+    fn write_parameter(&mut self, p: usize, value: f64) {
+        self.parameters[p] = value;
+        self.integrator.data_mut().parameters[p] = value;
     }
 
     /// The integrator's counters so far.
