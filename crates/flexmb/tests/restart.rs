@@ -226,3 +226,23 @@ fn checkpoints_that_cannot_be_resumed_say_why() {
     let error = simulation.checkpoint().err().unwrap();
     assert!(matches!(error, SimulationFailure::Checkpoint(CheckpointError::Unsupported(_))), "{error}");
 }
+
+/// A simulation is `Send`: started on one thread and finished on another (as a Python binding or a
+/// sweep may do), it takes the steps of a run on one thread.
+#[test]
+fn a_simulation_finishes_on_another_thread() {
+    let model = Arc::new(flexible_pendulum());
+    let s = settings(0.3, 0.05, 1e-7);
+    let (reference, _, stats) = uninterrupted(&model, s);
+    let mut simulation = Simulation::new(model.clone(), s).unwrap();
+    simulation.advance_to(0.1, &mut |_: &flexmb::analysis::OutputFrame| {}).unwrap();
+    let finished = std::thread::spawn(move || {
+        simulation.advance_to(1.0, &mut |_: &flexmb::analysis::OutputFrame| {}).unwrap();
+        simulation
+    })
+    .join()
+    .unwrap();
+    let (t, q, v) = reference.steps.last().unwrap();
+    assert_eq!((finished.time(), finished.positions(), finished.velocities()), (*t, &q[..], &v[..]));
+    assert_eq!(*finished.stats(), stats);
+}

@@ -3,8 +3,9 @@
 use super::{CheckpointError, IntegrationError, IntegratorCheckpoint, Stats};
 use crate::data::Data;
 
-/// A time integrator of a model's equations of motion, started at a consistent state.
-pub trait Integrator {
+/// A time integrator of a model's equations of motion, started at a consistent state. `Send`, so that
+/// a simulation may move between threads (a binding, a sweep).
+pub trait Integrator: Send {
     /// Current time (s).
     fn t(&self) -> f64;
     /// Takes one accepted step, not passing `t_stop`; a failure says when and why.
