@@ -9,6 +9,14 @@
 //! [`analysis`] module assembles the mechanism, finds consistent velocities and runs the dynamics with
 //! the integrators of [`integrate`].
 //!
+//! A run is an [`analysis::Simulation`]: built from a shared model (`Arc<Model>`) and
+//! [`analysis::SimulationSettings`], stepped ([`step`](analysis::Simulation::step),
+//! [`advance_to`](analysis::Simulation::advance_to), [`run`](analysis::Simulation::run)) with its
+//! outputs streamed to any [`analysis::OutputSink`] (an [`analysis::OutputTable`] keeps them in
+//! memory by column name), its state, parameters and report readable between steps, and its complete
+//! state saved as an [`analysis::SimulationCheckpoint`] (serde) and resumed with the same steps. See
+//! `examples/pendulum.rs`.
+//!
 //! References: E. J. Haug, *Computer Aided Kinematics and Dynamics of Mechanical Systems* (1989);
 //! W. S. Yoo and E. J. Haug, *Dynamics of Articulated Structures* (1986); K. E. Brenan, S. L. Campbell,
 //! L. R. Petzold, *Numerical Solution of Initial-Value Problems in DAEs* (1996); L. F. Shampine and

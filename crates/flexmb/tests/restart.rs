@@ -246,3 +246,45 @@ fn a_simulation_finishes_on_another_thread() {
     assert_eq!((finished.time(), finished.positions(), finished.velocities()), (*t, &q[..], &v[..]));
     assert_eq!(*finished.stats(), stats);
 }
+
+/// The command line's path: `run` stopped by its interrupt after some steps (as by SIGINT), the
+/// checkpoint taken there, and `run` again on the resumed simulation; the outputs together are those of
+/// the uninterrupted run, the report of the resumed run is not marked interrupted.
+#[test]
+fn a_run_checkpointed_at_an_interruption_resumes_to_the_uninterrupted_results() {
+    let model = Arc::new(flexible_pendulum());
+    let s = settings(0.5, 0.05, 1e-7);
+    let (_, reference, stats) = uninterrupted(&model, s);
+    let mut table = OutputTable::with_states(&model);
+    let mut first = Simulation::new(model.clone(), s).unwrap();
+    let calls = std::cell::Cell::new(0);
+    let interrupt = || {
+        calls.set(calls.get() + 1);
+        (calls.get() == 37).then(|| "SIGINT".to_string())
+    };
+    first.run(&mut table, &interrupt).unwrap();
+    let interruption = first.report().interrupted.clone().unwrap();
+    assert_eq!((interruption.t, interruption.reason.as_str()), (first.time(), "SIGINT"));
+    assert!(first.time() < 0.5 && !first.is_finished());
+    let json = serde_json::to_string(&first.checkpoint().unwrap()).unwrap();
+    let mut second = Simulation::resume(model, s, &serde_json::from_str(&json).unwrap()).unwrap();
+    second.run(&mut table, &|| None).unwrap();
+    assert!(second.is_finished() && second.report().interrupted.is_none());
+    assert_eq!(*second.stats(), stats);
+    assert_eq!(table.len(), reference.len());
+    assert!((0..table.len()).all(|i| close(table.row(i), reference.row(i))));
+}
+
+/// A checkpoint of one model does not resume on another: the sizes are checked and named.
+#[test]
+fn a_checkpoint_of_another_model_is_refused() {
+    let s = settings(0.2, 0.05, 1e-7);
+    let mut simulation = Simulation::new(Arc::new(slider_crank()), s).unwrap();
+    simulation.advance_to(0.1, &mut |_: &flexmb::analysis::OutputFrame| {}).unwrap();
+    let checkpoint = simulation.checkpoint().unwrap();
+    let error = Simulation::resume(Arc::new(flexible_pendulum()), s, &checkpoint).err().unwrap();
+    assert_eq!(
+        error.to_string(),
+        "the checkpoint does not fit the model: it has 21 values for the positions, the model 10"
+    );
+}

@@ -172,7 +172,7 @@ pub enum CheckpointError {
         found: &'static str,
     },
     /// An array's length does not fit the model.
-    #[error("the checkpoint does not fit the model: {what} has {found} values, the model needs {expected}")]
+    #[error("the checkpoint does not fit the model: it has {found} values for {what}, the model {expected}")]
     Size {
         /// Which array.
         what: &'static str,
