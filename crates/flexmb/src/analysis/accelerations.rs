@@ -90,10 +90,12 @@ pub struct AccelerationSolver {
     kkt: KktMatrix,
     rhs: Vec<f64>,
     zero_v: Vec<f64>,
+    /// The last solution.
     pub result: Accelerations,
 }
 
 impl AccelerationSolver {
+    /// A solver for `model`, its matrix pattern made once.
     pub fn new(model: &Model) -> Self {
         let l = &model.layout;
         Self {

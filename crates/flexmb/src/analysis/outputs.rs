@@ -9,7 +9,9 @@ use crate::stage::{energy, measure_value};
 /// One column of the results table.
 #[derive(Clone, Debug, PartialEq)]
 pub struct OutputColumn {
+    /// The output's name and component, e.g. `tip.x`.
     pub name: String,
+    /// Its unit, e.g. `m/s`.
     pub unit: &'static str,
 }
 

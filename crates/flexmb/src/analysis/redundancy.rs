@@ -23,6 +23,7 @@ const REDUNDANCY_TOLERANCE: f64 = 1e-8;
 /// A constraint row that repeats what earlier rows already impose.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RedundantConstraint {
+    /// The row of `Φ`.
     pub row: usize,
     /// Joint, kind and equation, e.g. `joint 'rod_slider' (revolute), equation 5: dot-1(y_i, z_j)`.
     pub description: String,

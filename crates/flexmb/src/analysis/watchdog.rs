@@ -71,7 +71,9 @@ impl PhysicsLimits {
 /// What a warning is about.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum WarningKind {
+    /// A flexible body's elastic displacement.
     ElasticDeflection,
+    /// The energy balance.
     EnergyBalance,
 }
 
@@ -90,17 +92,29 @@ impl WarningKind {
 pub struct SimulationWarning {
     /// Output time at which it was first seen (s).
     pub t: f64,
+    /// What it is about.
     pub kind: WarningKind,
+    /// What was seen and what to do, for a person.
     pub message: String,
 }
 
 /// Why the watchdog stopped a run.
 #[derive(Clone, Debug, thiserror::Error, PartialEq)]
 pub enum Unphysical {
+    /// A position, velocity, energy or power is NaN or infinite.
     #[error("the state is not finite at t = {t:.6} s: {what} is {value}; the equations of motion produced NaN or infinity (a force or driver expression that is not finite there, or an instability)")]
-    NonFinite { t: f64, what: String, value: f64 },
+    NonFinite {
+        /// Time (s).
+        t: f64,
+        /// What is not finite.
+        what: String,
+        /// Its value.
+        value: f64,
+    },
+    /// A flexible body deflected beyond the limit.
     #[error("the run has left physics: {}", .0.describe("elastic_deflection_limit"))]
     ElasticDeflection(Box<Deflection>),
+    /// The energy balance is off beyond the limit.
     #[error("the run has left physics: {}", .0.describe("energy_balance_limit"))]
     EnergyBalance(Balance),
 }
@@ -108,7 +122,9 @@ pub enum Unphysical {
 /// The largest elastic displacement of a flexible body at one output time.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Deflection {
+    /// Output time (s).
     pub t: f64,
+    /// The flexible body.
     pub body: String,
     /// Label of the node that moved most.
     pub node: u64,
@@ -164,6 +180,7 @@ impl Deflection {
 /// The energy balance at one output time.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Balance {
+    /// Output time (s).
     pub t: f64,
     /// `E(t) − E(0) − W_nc(t)` (J).
     pub error: f64,
@@ -199,6 +216,7 @@ pub struct PhysicsMeasures {
     /// The largest energy-balance error `|E − E0 − W_nc|` beyond what the quadrature and the tolerance
     /// explain, relative to the energy that flowed, and when.
     pub largest_balance_fraction: f64,
+    /// The output time of that largest error (s).
     pub largest_balance_time: f64,
     /// The energy that flowed by the end of the run (J).
     pub energy_scale: f64,

@@ -112,6 +112,7 @@ pub struct Bdf {
     yp: Vec<f64>,
     scale: Vec<f64>,
     change_tmp: Vec<f64>,
+    /// The counters so far.
     pub stats: Stats,
 }
 

@@ -115,7 +115,10 @@ pub struct StepperStats {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum AttemptFailure {
     /// The local error test failed with this weighted error (1 = the tolerance).
-    ErrorTest { error: f64 },
+    ErrorTest {
+        /// The weighted error.
+        error: f64,
+    },
     /// `f` could not be evaluated at the predicted solution.
     Evaluation(EvaluationFailure),
     /// The accepted solution could not be adjusted (or `f` evaluated there).
@@ -126,10 +129,22 @@ pub enum AttemptFailure {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum StepFailure {
     /// The step size fell below `4u|t|`; the last attempt failed for `last` (if any attempt was made).
-    StepSizeTooSmall { t: f64, h: f64, last: Option<AttemptFailure> },
+    StepSizeTooSmall {
+        /// Time (s).
+        t: f64,
+        /// The step size (s).
+        h: f64,
+        /// Why the last attempt failed.
+        last: Option<AttemptFailure>,
+    },
     /// The tolerance is below what the precision allows at this solution: the weighted unit round-off
     /// `2u ‖y‖` exceeds half the tolerance; STEP's suggestion for a workable tolerance factor is given.
-    ToleranceTooSmall { t: f64, factor: f64 },
+    ToleranceTooSmall {
+        /// Time (s).
+        t: f64,
+        /// The factor to multiply the tolerances by.
+        factor: f64,
+    },
     /// `f` could not be evaluated at the initial point.
     Start(EvaluationFailure),
 }
@@ -174,6 +189,7 @@ pub struct AdamsStepper {
     /// After [`restart`](AdamsStepper::restart): the largest first step (else infinite).
     #[serde(with = "crate::integrate::extended_float")]
     h_restart_cap: f64,
+    /// Its counters.
     pub stats: StepperStats,
 }
 

@@ -189,6 +189,7 @@ pub struct GeneralizedAlpha {
     mu: Vec<f64>,
     /// Scratch of length `nv` (error estimate, increments, interpolation).
     work: Vec<f64>,
+    /// The counters so far.
     pub stats: Stats,
 }
 
