@@ -288,3 +288,28 @@ fn a_checkpoint_of_another_model_is_refused() {
         "the checkpoint does not fit the model: it has 21 values for the positions, the model 10"
     );
 }
+
+/// A run resumed with another output step reports on its own grid after the checkpoint's time; the
+/// output step does not change the steps, so those rows are the rows of a run on that grid throughout.
+#[test]
+fn a_run_resumes_with_another_output_step() {
+    let model = Arc::new(slider_crank());
+    let coarse = settings(0.5, 0.05, 1e-7);
+    let fine = SimulationSettings { output_step: 0.02, ..coarse };
+    let (_, reference, stats) = uninterrupted(&model, fine);
+    let mut first = Simulation::new(model.clone(), coarse).unwrap();
+    let mut table = OutputTable::with_states(&model);
+    first.advance_to(0.21, &mut table).unwrap();
+    let t_split = first.time();
+    let before = table.len();
+    let mut second = Simulation::resume(model.clone(), fine, &first.checkpoint().unwrap()).unwrap();
+    second.advance_to(0.5, &mut table).unwrap();
+    assert_eq!(*second.stats(), stats);
+    let t = table.column("t").unwrap();
+    assert!(t[..before].iter().enumerate().all(|(k, t)| (t - k as f64 * 0.05).abs() < 1e-12), "{t:?}");
+    let first_fine = (t_split / 0.02).floor() as usize + 1;
+    assert_eq!(table.len() - before, reference.len() - first_fine);
+    for (i, j) in (before..table.len()).zip(first_fine..) {
+        assert!(close(table.row(i), reference.row(j)), "row {i} (t = {}) against {}", t[i], reference.row(j)[0]);
+    }
+}

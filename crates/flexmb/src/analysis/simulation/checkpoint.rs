@@ -37,6 +37,9 @@ pub struct SimulationCheckpoint {
     pub parameters: Vec<f64>,
     /// Index of the next output time on the grid `k · output_step` (0: the initial state).
     pub next_output: usize,
+    /// The output step of that grid (s); a run resumed with another output step takes up its own grid
+    /// after `t`.
+    pub output_step: f64,
     /// Whether the output at the end time (off the grid) was reported.
     pub end_reported: bool,
 }

@@ -159,7 +159,9 @@ impl Simulation {
 
     /// Continues a run from `checkpoint`, taken of a simulation of the same model with the same
     /// method and tolerances: the following steps and outputs are those the checkpointed simulation
-    /// would have produced. `settings.t_end` may differ from the checkpointed run's (to run further).
+    /// would have produced. `settings.t_end` may differ from the checkpointed run's (to run further), and
+    /// so may `output_step` (the outputs continue on the new grid after the checkpoint's time); other
+    /// tolerances than the checkpointed run's give other steps from the checkpoint on.
     pub fn resume(model: Arc<Model>, settings: SimulationSettings, checkpoint: &SimulationCheckpoint) -> Result<Self, SimulationError> {
         let fail = |cause| SimulationError { cause, report: Box::new(checkpoint.report.clone()) };
         settings.validate().map_err(|e| fail(SimulationFailure::Invalid(e)))?;
@@ -194,7 +196,21 @@ impl Simulation {
         for (p, &value) in checkpoint.parameters.iter().enumerate() {
             simulation.write_parameter(p, value);
         }
-        simulation.next_output = checkpoint.next_output;
+        simulation.next_output = if checkpoint.output_step == settings.output_step || checkpoint.next_output == 0 {
+            checkpoint.next_output
+        } else {
+            // The outputs up to `t` were reported on the old grid: the new grid's first time after `t`,
+            // by the test the output loop makes.
+            let reported = |k: usize| k as f64 * settings.output_step <= checkpoint.t * (1.0 + 1e-12);
+            let mut k = (checkpoint.t / settings.output_step).floor() as usize;
+            while k > 0 && !reported(k) {
+                k -= 1;
+            }
+            while reported(k + 1) {
+                k += 1;
+            }
+            k + 1
+        };
         simulation.end_reported = checkpoint.end_reported;
         Ok(simulation)
     }
@@ -219,6 +235,7 @@ impl Simulation {
             watchdog: self.watchdog.checkpoint(),
             parameters: self.parameters.clone(),
             next_output: self.next_output,
+            output_step: self.settings.output_step,
             end_reported: self.end_reported,
         })
     }
