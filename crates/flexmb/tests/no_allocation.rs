@@ -392,3 +392,26 @@ fn counting_allocator_sees_allocations() {
     assert!(count >= 1, "a Vec allocation is counted");
     assert!(!traces.is_empty() && traces[0].contains("counting_allocator_sees_allocations"), "with its backtrace");
 }
+
+/// `Simulation::step` adds nothing that allocates to the integrator's step: the outputs at the output
+/// times (accelerations, output values, energies, the watchdog's checks) and the frame handed to a sink
+/// are evaluated in workspaces made once.
+#[test]
+fn simulation_step_with_its_outputs_does_not_allocate() {
+    use flexmb::analysis::{OutputFrame, Simulation};
+    let model = Arc::new(loaded_slider_crank(false));
+    let mut simulation = Simulation::new(model.clone(), settings(3.0, 0.002, 1e-7)).unwrap();
+    let mut sink = |_: &OutputFrame| {};
+    for _ in 0..20 {
+        simulation.step(&mut sink).unwrap();
+    }
+    let (steps, frames_before) = (simulation.stats().steps, simulation.report().output_frames);
+    let (count, traces, ()) = count_allocations(|| {
+        for _ in 0..400 {
+            simulation.step(&mut sink).unwrap();
+        }
+    });
+    let counted_frames = simulation.report().output_frames - frames_before;
+    assert!(simulation.stats().steps - steps == 400 && counted_frames > 100, "{counted_frames} frames counted");
+    assert!(count == 0, "Simulation::step allocated {count} times; first:\n{}", first_traces(&traces));
+}
