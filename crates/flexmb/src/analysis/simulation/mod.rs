@@ -21,7 +21,7 @@ pub use settings::SimulationSettings;
 
 use super::outputs::{constraint_residuals, evaluate_outputs, output_columns};
 use super::watchdog::Watchdog;
-use super::{assemble, velocity_analysis, AccelerationSolver, Accelerations, State};
+use super::{assemble, linearize, velocity_analysis, AccelerationSolver, Accelerations, Linearization, State};
 use crate::data::Data;
 use crate::integrate::Adams;
 use crate::integrate::{Bdf, Integrator, Method};
@@ -329,6 +329,14 @@ impl Simulation {
     fn write_parameter(&mut self, p: usize, value: f64) {
         self.parameters[p] = value;
         self.integrator.data_mut().parameters[p] = value;
+    }
+
+    /// The equations of motion linearized at the last accepted step, with its accelerations and
+    /// multipliers and the current parameter values (see [`linearize`](crate::analysis::linearize)).
+    pub fn linearize(&mut self) -> Result<Linearization, SimulationFailure> {
+        let acc = self.solve_accelerations()?.clone();
+        let state = State { t: self.integrator.t(), q: self.q.clone(), v: self.v.clone(), active: self.active.clone() };
+        Ok(linearize(&self.model, self.integrator.data_mut(), &state, &acc))
     }
 
     /// The integrator's counters so far.

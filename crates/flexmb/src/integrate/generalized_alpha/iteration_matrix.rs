@@ -22,6 +22,8 @@
 
 use std::ops::Range;
 
+use faer::Mat;
+
 use super::lie_group::{quaternion_product, right_jacobian, rotation_quaternion};
 use super::Coefficients;
 use crate::data::Data;
@@ -35,7 +37,7 @@ use crate::stage::{
 };
 
 /// The iteration matrix on its fixed sparse pattern, with the stored finite-difference parts.
-pub(super) struct IterationMatrix {
+pub(crate) struct IterationMatrix {
     lu: SparseLu,
     nv: usize,
     nc: usize,
@@ -410,6 +412,26 @@ impl IterationMatrix {
         self.stiffness.copy_from_slice(stiffness);
         self.damping.copy_from_slice(damping);
         self.b_start.copy_from_slice(b_start);
+    }
+
+    /// `K`, `C` (dynamic rows) and `K_B` (velocity-constraint rows) of the last
+    /// [`evaluate_derivatives`](Self::evaluate_derivatives), as dense matrices with columns in velocity
+    /// space: `(K, C, K_B)`.
+    pub fn dense_derivatives(&self) -> (Mat<f64>, Mat<f64>, Mat<f64>) {
+        let (nv, nc) = (self.nv, self.nc);
+        let (mut k, mut c, mut k_b) = (Mat::zeros(nv, nv), Mat::zeros(nv, nv), Mat::zeros(nc, nv));
+        for col in 0..nv {
+            let (range, rows) = self.lu.column(col);
+            for (s, &r) in range.zip(rows) {
+                if r < nv {
+                    k[(r, col)] = self.stiffness[s];
+                    c[(r, col)] = self.damping[s];
+                } else if r < nv + nc {
+                    k_b[(r - nv, col)] = self.stiffness[s];
+                }
+            }
+        }
+        (k, c, k_b)
     }
 
     /// Solves with the current factors in place.

@@ -83,8 +83,10 @@
 mod iteration_matrix;
 mod lie_group;
 
-use iteration_matrix::{equations_of_motion, IterationMatrix};
-use lie_group::{position_sum_of_squares, retract, right_jacobian_inverse};
+pub(crate) use iteration_matrix::IterationMatrix;
+use iteration_matrix::equations_of_motion;
+pub(crate) use lie_group::retract;
+use lie_group::{position_sum_of_squares, right_jacobian_inverse};
 
 use crate::analysis::{Accelerations, State};
 use crate::data::Data;
