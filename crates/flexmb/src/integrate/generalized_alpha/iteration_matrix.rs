@@ -31,10 +31,7 @@ use crate::integrate::iteration_matrix::force_couplings;
 use crate::linalg::{SingularMatrix, SparseLu};
 use crate::math::{Mat3, Vec3, Vec4};
 use crate::model::{BodyId, Model};
-use crate::stage::{
-    add_jacobian_transpose, applied_forces, body_mass_entries, constraint_equations, inertia_forces, jacobian_entries,
-    kinematics, measures,
-};
+use crate::stage::{add_jacobian_transpose, body_mass_entries, forward, jacobian_entries};
 
 /// The iteration matrix on its fixed sparse pattern, with the stored finite-difference parts.
 pub(crate) struct IterationMatrix {
@@ -461,11 +458,7 @@ pub(super) fn equations_of_motion(
     g: &mut [f64],
 ) {
     let nv = model.layout.nv;
-    kinematics(model, data, q, v);
-    constraint_equations(model, data, t);
-    measures(model, data);
-    applied_forces(model, data, t);
-    inertia_forces(model, data, vdot);
+    forward(model, data, t, q, v, vdot);
     for k in 0..nv {
         g[k] = data.inertia[k] - data.applied[k];
     }
