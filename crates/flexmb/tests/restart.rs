@@ -313,3 +313,31 @@ fn a_run_resumes_with_another_output_step() {
         assert!(close(table.row(i), reference.row(j)), "row {i} (t = {}) against {}", t[i], reference.row(j)[0]);
     }
 }
+
+/// Taking a checkpoint (and reading the multipliers, accelerations and linearization) between steps does
+/// not disturb the run: one that does so after every step takes the steps of one that does not.
+#[test]
+fn checkpoints_and_readings_between_steps_leave_the_run_unchanged() {
+    for (name, model, method) in [
+        ("bdf, flexible pendulum", flexible_pendulum(), Method::Bdf),
+        ("adams, slider-crank", slider_crank(), Method::Adams(AdamsConfig::default())),
+        ("gen-alpha, slider-crank", slider_crank(), Method::GeneralizedAlpha { spectral_radius: 0.8 }),
+    ] {
+        let model = Arc::new(model);
+        let s = with_method(settings(0.3, 0.05, 1e-7), method);
+        let (reference, table, stats) = uninterrupted(&model, s);
+        let mut simulation = Simulation::new(model.clone(), s).unwrap();
+        let mut observed = OutputTable::with_states(&model);
+        let mut trajectory = Trajectory::default();
+        while !simulation.is_finished() {
+            simulation.step(&mut observed).unwrap();
+            trajectory.record(&simulation);
+            simulation.checkpoint().unwrap();
+            simulation.accelerations().unwrap();
+            simulation.linearize().unwrap();
+        }
+        assert_eq!(*simulation.stats(), stats, "{name}: counters");
+        assert!(trajectory.steps.iter().zip(&reference.steps).all(|(a, b)| a == b), "{name}: steps");
+        assert!((0..table.len()).all(|i| observed.row(i) == table.row(i)), "{name}: outputs");
+    }
+}
