@@ -203,8 +203,8 @@ fn a_finished_run_resumes_to_a_later_end_time() {
     assert!(second.report().output_frames == 11 && second.is_finished());
 }
 
-/// What cannot be resumed says why: a checkpoint of another method, and the Adams method with
-/// coordinate partitioning (whose partition is not part of a checkpoint).
+/// What cannot be resumed says why: a checkpoint of another method, or of the Adams method with another
+/// constraint handling.
 #[test]
 fn checkpoints_that_cannot_be_resumed_say_why() {
     let model = Arc::new(slider_crank());
@@ -221,10 +221,22 @@ fn checkpoints_that_cannot_be_resumed_say_why() {
     assert_eq!(error.to_string(), "the checkpoint is of the bdf method, the simulation uses gen-alpha");
 
     let partitioning = AdamsConfig { constraints: ConstraintHandling::Partitioning, ..Default::default() };
-    let mut simulation = Simulation::new(model, with_method(bdf, Method::Adams(partitioning))).unwrap();
+    let projection = with_method(bdf, Method::Adams(AdamsConfig::default()));
+    let mut simulation = Simulation::new(model.clone(), projection).unwrap();
     simulation.advance_to(0.1, &mut |_: &flexmb::analysis::OutputFrame| {}).unwrap();
-    let error = simulation.checkpoint().err().unwrap();
-    assert!(matches!(error, SimulationFailure::Checkpoint(CheckpointError::Unsupported(_))), "{error}");
+    let checkpoint = simulation.checkpoint().unwrap();
+    let error = Simulation::resume(model, with_method(bdf, Method::Adams(partitioning)), &checkpoint).err().unwrap();
+    assert!(matches!(error.cause, SimulationFailure::Checkpoint(CheckpointError::Unsupported(_))), "{error}");
+}
+
+/// The Adams method with generalized coordinate partitioning: the partition, its factors and the last
+/// evaluation travel with the checkpoint, and the resumed run takes the same steps.
+#[test]
+fn adams_with_partitioning_restart_continues_the_same_steps() {
+    let partitioning = AdamsConfig { constraints: ConstraintHandling::Partitioning, ..Default::default() };
+    let s = with_method(settings(0.5, 0.05, 1e-7), Method::Adams(partitioning));
+    assert_restart_continues("adams with partitioning, slider-crank", slider_crank(), s, &SPLITS);
+    assert_restart_continues("adams with partitioning, flexible pendulum", flexible_pendulum(), s, &SPLITS);
 }
 
 /// A simulation is `Send`: started on one thread and finished on another (as a Python binding or a

@@ -8,8 +8,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::adams::AdamsStepper;
-use super::adams::ProjectionDrift;
+use super::adams::{AdamsStepper, PartitionCheckpoint, ProjectionDrift};
 use super::Stats;
 
 /// The state of one integrator between two steps, by method.
@@ -17,7 +16,7 @@ use super::Stats;
 pub enum IntegratorCheckpoint {
     /// The BDF's state.
     Bdf(BdfCheckpoint),
-    /// The Adams method's state (constraints kept by projection).
+    /// The Adams method's state.
     Adams(Box<AdamsCheckpoint>),
     /// The generalized-α method's state.
     GeneralizedAlpha(GeneralizedAlphaCheckpoint),
@@ -92,13 +91,15 @@ pub struct BdfCheckpoint {
 }
 
 /// The Adams method's state: the Shampine–Gordon stepper with its difference table, the projection's
-/// records and counters.
+/// records or the coordinate partition, and the counters.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct AdamsCheckpoint {
     /// The stepper: solution, modified divided differences, order, step size, counters.
     pub stepper: AdamsStepper,
-    /// The projections' records.
+    /// The projections' records (with projection).
     pub drift: ProjectionDrift,
+    /// The partition, its factors and the last evaluation (with coordinate partitioning).
+    pub partition: Option<PartitionCheckpoint>,
     /// Evaluations of the accelerations.
     pub evaluations: usize,
     /// Factorizations of the KKT matrix.
@@ -181,7 +182,8 @@ pub enum CheckpointError {
         /// The checkpoint's length.
         found: usize,
     },
-    /// The method's configuration cannot be restored (e.g. the Adams method with coordinate partitioning).
+    /// The checkpoint's configuration differs from the integrator's (e.g. the Adams method's constraint
+    /// handling).
     #[error("{0}")]
     Unsupported(String),
 }

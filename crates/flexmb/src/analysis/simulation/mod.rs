@@ -216,8 +216,7 @@ impl Simulation {
     }
 
     /// The complete state after the last accepted step (also after an interruption), to save and
-    /// [`resume`](Self::resume). Fails for the Adams method with coordinate partitioning, and after a
-    /// failure.
+    /// [`resume`](Self::resume). Fails after a failure.
     pub fn checkpoint(&mut self) -> Result<SimulationCheckpoint, SimulationFailure> {
         self.usable()?;
         let integrator = self.integrator.checkpoint()?;

@@ -208,45 +208,53 @@ impl Adams {
     pub fn partition(&self) -> Option<&PartitionReport> {
         match &self.system {
             System::Projection(_) => None,
-            System::Partitioning(s) => Some(&s.report),
+            System::Partitioning(s) => Some(&s.state.report),
         }
     }
-    /// The complete state between two steps; with coordinate partitioning not available (its
-    /// partition and saved factors are not part of a checkpoint).
-    pub fn checkpoint(&self) -> Result<AdamsCheckpoint, CheckpointError> {
-        let System::Projection(s) = &self.system else {
-            return Err(CheckpointError::Unsupported(
-                "a checkpoint of the Adams method is available with projection only, not with coordinate partitioning".into(),
-            ));
+    /// The complete state between two steps.
+    pub fn checkpoint(&self) -> AdamsCheckpoint {
+        let (drift, partition, evaluations, kkt, data) = match &self.system {
+            System::Projection(s) => (s.drift, None, s.evaluations, &s.kkt, &s.data),
+            System::Partitioning(s) => (ProjectionDrift::default(), Some(s.state.clone()), s.evaluations, &s.kkt, &s.data),
         };
-        Ok(AdamsCheckpoint {
+        AdamsCheckpoint {
             stepper: self.stepper.clone(),
-            drift: s.drift,
-            evaluations: s.evaluations,
-            factorizations: s.kkt.factorizations,
-            active: s.kkt.active.clone(),
-            angle_reference: s.data.angle_reference.clone(),
+            drift,
+            partition,
+            evaluations,
+            factorizations: kkt.factorizations,
+            active: kkt.active.clone(),
+            angle_reference: data.angle_reference.clone(),
             stats: self.stats,
-        })
+        }
     }
 
-    /// Continues from `c`, taken of an Adams integrator with projection on the same model with the
-    /// same settings.
+    /// Continues from `c`, taken of an Adams integrator on the same model with the same settings.
     pub fn restore(&mut self, c: &AdamsCheckpoint) -> Result<(), CheckpointError> {
-        let System::Projection(s) = &mut self.system else {
+        if matches!(self.system, System::Partitioning(_)) != c.partition.is_some() {
             return Err(CheckpointError::Unsupported(
-                "a checkpoint of the Adams method is available with projection only, not with coordinate partitioning".into(),
+                "the checkpoint's constraint handling (projection or partitioning) differs from the simulation's".into(),
             ));
-        };
+        }
         check_len("the integrated variables", self.stepper.y().len(), c.stepper.y().len())?;
-        check_len("the constraint rows in force", s.kkt.active.len(), c.active.len())?;
-        check_len("the joint angles", s.data.angle_reference.len(), c.angle_reference.len())?;
+        let (evaluations, kkt, data) = match (&mut self.system, &c.partition) {
+            (System::Projection(s), None) => {
+                s.drift = c.drift;
+                (&mut s.evaluations, &mut s.kkt, &mut s.data)
+            }
+            (System::Partitioning(s), Some(partition)) => {
+                s.restore(partition)?;
+                (&mut s.evaluations, &mut s.kkt, &mut s.data)
+            }
+            _ => unreachable!("the constraint handling was compared above"),
+        };
+        check_len("the constraint rows in force", kkt.active.len(), c.active.len())?;
+        check_len("the joint angles", data.angle_reference.len(), c.angle_reference.len())?;
+        *evaluations = c.evaluations;
+        kkt.factorizations = c.factorizations;
+        kkt.active.copy_from_slice(&c.active);
+        data.angle_reference.copy_from_slice(&c.angle_reference);
         self.stepper = c.stepper.clone();
-        s.drift = c.drift;
-        s.evaluations = c.evaluations;
-        s.kkt.factorizations = c.factorizations;
-        s.kkt.active.copy_from_slice(&c.active);
-        s.data.angle_reference.copy_from_slice(&c.angle_reference);
         self.stats = c.stats;
         Ok(())
     }
@@ -277,7 +285,7 @@ impl Adams {
     /// restart of the stepper there. Returns whether it repartitioned.
     fn repartition_if_needed(&mut self) -> Result<bool, IntegrationError> {
         let System::Partitioning(s) = &mut self.system else { return Ok(false) };
-        if !s.needs_repartition {
+        if !s.state.needs_repartition {
             return Ok(false);
         }
         let t = self.stepper.t();
@@ -289,7 +297,7 @@ impl Adams {
         s.choose_partition().map_err(fail)?;
         s.accepted_y(&mut self.y_interp);
         s.rhs(t, &self.y_interp, &mut self.yp_interp).map_err(fail)?;
-        s.needs_repartition = false;
+        s.state.needs_repartition = false;
         self.stepper.restart(t, &self.y_interp, &self.yp_interp);
         Ok(true)
     }
@@ -309,9 +317,9 @@ impl Adams {
                 s.factorizations = p.kkt.factorizations;
             }
             System::Partitioning(p) => {
-                s.newton_iterations = p.report.newton_iterations;
+                s.newton_iterations = p.state.report.newton_iterations;
                 s.residual_evaluations = p.evaluations;
-                s.factorizations = p.kkt.factorizations + p.report.factorizations;
+                s.factorizations = p.kkt.factorizations + p.state.report.factorizations;
             }
         }
     }
@@ -357,7 +365,7 @@ impl Adams {
 
 impl Integrator for Adams {
     fn checkpoint(&self) -> Result<IntegratorCheckpoint, CheckpointError> {
-        Adams::checkpoint(self).map(|c| IntegratorCheckpoint::Adams(Box::new(c)))
+        Ok(IntegratorCheckpoint::Adams(Box::new(Adams::checkpoint(self))))
     }
     fn restore(&mut self, checkpoint: &IntegratorCheckpoint) -> Result<(), CheckpointError> {
         match checkpoint {
@@ -374,7 +382,7 @@ impl Integrator for Adams {
     fn state(&self) -> (&[f64], &[f64]) {
         match &self.system {
             System::Projection(s) => self.stepper.y().split_at(s.nq),
-            System::Partitioning(s) => (&s.q_accepted, &s.v_accepted),
+            System::Partitioning(s) => (&s.state.q_accepted, &s.state.v_accepted),
         }
     }
     fn interpolate(&mut self, t: f64, q: &mut [f64], v: &mut [f64]) {
