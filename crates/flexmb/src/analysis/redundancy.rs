@@ -29,7 +29,7 @@ pub struct RedundantConstraint {
     pub description: String,
 }
 
-/// Rows of the velocity Jacobian at `(q, t)` that depend on rows kept before them in [`keep_order`]
+/// Rows of the velocity Jacobian at `(q, t)` that depend on rows kept before them in `keep_order`
 /// (rows with `|Φ| > satisfied_tolerance` first, then drivers, then joints); also returns the rank.
 /// The result lists the rows in row order.
 pub fn find_redundant_rows(
