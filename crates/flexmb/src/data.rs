@@ -16,6 +16,9 @@ pub struct Data {
     pub(crate) markers: Vec<MarkerState>,
     /// Current value of each named measure (measures).
     pub(crate) measures: Vec<f64>,
+    /// Current value of each parameter of the model (set by the simulation's owner; initially the
+    /// model's values).
+    pub(crate) parameters: Vec<f64>,
     /// Last accepted relative angle of each joint, for continuing angles past ±π (kept by the analyses).
     pub(crate) angle_reference: Vec<f64>,
     /// Value and derivatives of each constraint row (constraints).
@@ -37,6 +40,7 @@ impl Data {
             modal: (0..model.bodies.len()).map(|b| ModalState::new(model.layout.modes[b])).collect(),
             markers: vec![MarkerState::default(); model.markers.len()],
             measures: vec![0.0; model.measures.len()],
+            parameters: model.parameters.iter().map(|p| p.value).collect(),
             angle_reference: vec![0.0; model.joints.len()],
             equations: vec![EquationTerms::default(); model.layout.nc],
             applied: vec![0.0; nv],

@@ -13,6 +13,14 @@
 //! that names it (an id the builder did not hand out, a name used twice, a mass, inertia, frame or
 //! spring constant out of range): its documentation builds a pendulum.
 //!
+//! A run is an [`analysis::Simulation`]: built from a shared model (`Arc<Model>`) and
+//! [`analysis::SimulationSettings`], stepped ([`step`](analysis::Simulation::step),
+//! [`advance_to`](analysis::Simulation::advance_to), [`run`](analysis::Simulation::run)) with its
+//! outputs streamed to any [`analysis::OutputSink`] (an [`analysis::OutputTable`] keeps them in
+//! memory by column name), its state, parameters and report readable between steps, and its complete
+//! state saved as an [`analysis::SimulationCheckpoint`] (serde) and resumed with the same steps. See
+//! `examples/pendulum.rs`.
+//!
 //! References: E. J. Haug, *Computer Aided Kinematics and Dynamics of Mechanical Systems* (1989);
 //! W. S. Yoo and E. J. Haug, *Dynamics of Articulated Structures* (1986); K. E. Brenan, S. L. Campbell,
 //! L. R. Petzold, *Numerical Solution of Initial-Value Problems in DAEs* (1996); L. F. Shampine and
@@ -21,15 +29,11 @@
 
 #![warn(missing_docs)]
 
-// Documented in branch issue15-engine; the lead removes this allow at merge.
-#[allow(missing_docs)]
 pub mod analysis;
 pub mod body;
 mod data;
 pub mod force;
 pub mod function;
-// Documented in branch issue15-engine; the lead removes this allow at merge.
-#[allow(missing_docs)]
 pub mod integrate;
 pub mod joint;
 pub mod linalg;

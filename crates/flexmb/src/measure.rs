@@ -1,7 +1,7 @@
 //! Named measures: scalar functions of the state that force expressions and outputs read
 //! (joint angle and rate, distance and speed between markers, marker position and velocity components).
 
-use crate::model::{JointId, MarkerId};
+use crate::model::{JointId, MarkerId, ParameterId};
 
 /// What a measure reads.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -24,6 +24,19 @@ pub enum MeasureKind {
     Velocity(MarkerId, usize),
     /// Speed `|ṙ|` of a marker origin (m/s).
     Speed(MarkerId),
+    /// The current value of a parameter (declared with
+    /// [`ModelBuilder::add_parameter`](crate::ModelBuilder::add_parameter)).
+    Parameter(ParameterId),
+}
+
+/// A named value that may be changed between the steps of a simulation (e.g. a gain of a force law's
+/// actuator expression); expressions read it through the measure of the same name.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Parameter {
+    /// Its name, as expressions name it.
+    pub name: String,
+    /// Its initial value.
+    pub value: f64,
 }
 
 /// A named measure.

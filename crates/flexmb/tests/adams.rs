@@ -6,6 +6,7 @@
 
 mod support;
 
+use std::sync::Arc;
 use flexmb::analysis::test_models::pendulum_with_stiff_slider_of;
 use flexmb::analysis::{SimulationReport, SimulationSettings};
 use flexmb::force::{ForceElement, ForceKind};
@@ -273,7 +274,7 @@ fn projection_moves_the_state_by_much_less_than_the_tolerance() {
     eprintln!("free slider-crank, 2 s: drift before projection and the projection's change");
     for tol in [1e-5, 1e-8] {
         let config = BdfConfig { rtol: tol, atol: tol, ..Default::default() };
-        let mut adams = Adams::new(&model, &state, &acc, config, AdamsConfig::default()).unwrap();
+        let mut adams = Adams::new(Arc::new(model.clone()), &state, &acc, config, AdamsConfig::default()).unwrap();
         while adams.t() < 2.0 {
             adams.step(2.0).unwrap();
         }
@@ -386,7 +387,7 @@ fn partitioning_against_projection() {
         // The partition's history, from a direct run.
         let (state, acc) = consistent_start(&model);
         let config = BdfConfig { rtol: tol, atol: tol, ..Default::default() };
-        let mut direct = Adams::new(&model, &state, &acc, config, partitioning_config).unwrap();
+        let mut direct = Adams::new(Arc::new(model.clone()), &state, &acc, config, partitioning_config).unwrap();
         while direct.t() < t_end {
             direct.step(t_end).unwrap();
         }

@@ -8,6 +8,7 @@
 
 mod support;
 
+use std::sync::Arc;
 use flexmb::force::{ForceElement, ForceKind};
 use flexmb::integrate::{Bdf, BdfConfig};
 use flexmb::joint::JointKind;
@@ -56,7 +57,7 @@ fn oscillator() -> Model {
 fn run_at(model: &Model, max_order: usize, tol: f64) -> (usize, f64, f64) {
     let (state, acc) = consistent_start(model);
     let config = BdfConfig { rtol: tol, atol: tol, max_order, ..Default::default() };
-    let mut bdf = Bdf::new(model, &state, &acc, config).unwrap();
+    let mut bdf = Bdf::new(Arc::new(model.clone()), &state, &acc, config).unwrap();
     while bdf.t() < T_END {
         bdf.step(T_END).unwrap();
     }

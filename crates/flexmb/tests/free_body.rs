@@ -12,6 +12,7 @@
 
 mod support;
 
+use std::sync::Arc;
 use flexmb::analysis::{assemble, velocity_analysis, AccelerationSolver, State};
 use flexmb::integrate::{Bdf, BdfConfig};
 use flexmb::math::{EulerParameters, Mat3, Vec3, Vec4};
@@ -80,7 +81,7 @@ fn drifts(tol: f64) -> Drifts {
         .unwrap()
         .clone();
     let config = BdfConfig { rtol: tol, atol: tol, ..Default::default() };
-    let mut bdf = Bdf::new(&model, &state, &acc, config).unwrap();
+    let mut bdf = Bdf::new(Arc::new(model.clone()), &state, &acc, config).unwrap();
 
     let global_omega = |y: &[f64]| {
         EulerParameters(Vec4::new(y[3], y[4], y[5], y[6])).rotation_matrix() * Vec3::new(y[10], y[11], y[12])

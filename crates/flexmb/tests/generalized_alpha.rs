@@ -6,6 +6,7 @@
 
 mod support;
 
+use std::sync::Arc;
 use flexmb::analysis::{
     SimulationFailure, SimulationSettings,
 };
@@ -22,11 +23,11 @@ use support::*;
 const G: f64 = 9.81;
 
 /// Generalized-α at the fixed step `h` to `t_end`, Newton tolerance `tol`.
-fn fixed_step_run<'m>(model: &'m Model, rho: f64, h: f64, t_end: f64, tol: f64) -> GeneralizedAlpha<'m> {
+fn fixed_step_run(model: &Model, rho: f64, h: f64, t_end: f64, tol: f64) -> GeneralizedAlpha {
     let (state, acc) = consistent_start(model);
     let config = BdfConfig { rtol: tol, atol: tol, ..Default::default() };
     let alpha = GeneralizedAlphaConfig { spectral_radius: rho, fixed_step: Some(h) };
-    let mut ga = GeneralizedAlpha::new(model, &state, &acc, config, alpha).unwrap();
+    let mut ga = GeneralizedAlpha::new(Arc::new(model.clone()), &state, &acc, config, alpha).unwrap();
     while ga.t() < t_end {
         ga.step(t_end).unwrap();
     }
@@ -37,7 +38,7 @@ fn fixed_step_run<'m>(model: &'m Model, rho: f64, h: f64, t_end: f64, tol: f64) 
 /// `(q, v, λ)` at `t_end` from the BDF at tolerance `tol`.
 fn bdf_reference(model: &Model, t_end: f64, tol: f64) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
     let (state, acc) = consistent_start(model);
-    let mut bdf = Bdf::new(model, &state, &acc, BdfConfig { rtol: tol, atol: tol, ..Default::default() }).unwrap();
+    let mut bdf = Bdf::new(Arc::new(model.clone()), &state, &acc, BdfConfig { rtol: tol, atol: tol, ..Default::default() }).unwrap();
     while bdf.t() < t_end {
         bdf.step(t_end).unwrap();
     }
@@ -243,7 +244,7 @@ fn energy_of_a_conservative_pendulum_does_not_drift_at_rho_one() {
         let (state, acc) = consistent_start(&model);
         let config = BdfConfig { rtol: 1e-11, atol: 1e-11, ..Default::default() };
         let alpha = GeneralizedAlphaConfig { spectral_radius: rho, fixed_step: Some(h) };
-        let mut ga = GeneralizedAlpha::new(&model, &state, &acc, config, alpha).unwrap();
+        let mut ga = GeneralizedAlpha::new(Arc::new(model.clone()), &state, &acc, config, alpha).unwrap();
         let e0 = pendulum_energy(ga.q(), ga.v(), m, ic);
         let scale = m * G * l * (1.0 - theta0.cos());
         let mut per_period = Vec::new();
@@ -295,7 +296,7 @@ fn rho_half_damps_an_unresolved_stiff_spring_and_keeps_the_swing() {
         let fast0 = slow_and_fast(&state.q, &state.v).1;
         let config = BdfConfig { rtol: 1e-9, atol: 1e-9, ..Default::default() };
         let alpha = GeneralizedAlphaConfig { spectral_radius: rho, fixed_step: Some(h) };
-        let mut ga = GeneralizedAlpha::new(&excited, &state, &acc, config, alpha).unwrap();
+        let mut ga = GeneralizedAlpha::new(Arc::new(excited.clone()), &state, &acc, config, alpha).unwrap();
         let mut fast_after_half = 0.0_f64;
         while ga.t() < t_end {
             ga.step(t_end).unwrap();

@@ -9,6 +9,7 @@
 
 mod support;
 
+use std::sync::Arc;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -172,7 +173,7 @@ fn in_faer_lu(trace: &str) -> bool {
 /// with their backtraces, allocations inside it).
 fn allocations_while_stepping(model: &Model, window: usize) -> (Vec<String>, usize) {
     let (state, acc) = consistent_start(model);
-    let mut bdf = Bdf::new(model, &state, &acc, BdfConfig { rtol: 1e-7, atol: 1e-7, ..Default::default() }).unwrap();
+    let mut bdf = Bdf::new(Arc::new(model.clone()), &state, &acc, BdfConfig { rtol: 1e-7, atol: 1e-7, ..Default::default() }).unwrap();
     let t_end = 3.0;
     for _ in 0..20 {
         bdf.step(t_end).unwrap();
@@ -250,7 +251,7 @@ fn bdf_step_of_a_flexible_model_does_not_allocate() {
 fn adams_allocations_while_stepping(model: &Model, window: usize) -> (Vec<String>, usize) {
     let (state, acc) = consistent_start(model);
     let config = BdfConfig { rtol: 1e-7, atol: 1e-7, ..Default::default() };
-    let mut adams = Adams::new(model, &state, &acc, config, AdamsConfig::default()).unwrap();
+    let mut adams = Adams::new(Arc::new(model.clone()), &state, &acc, config, AdamsConfig::default()).unwrap();
     let t_end = 3.0;
     for _ in 0..20 {
         adams.step(t_end).unwrap();
@@ -311,7 +312,7 @@ fn generalized_alpha_allocations_while_stepping(
 ) -> (Vec<String>, Stats) {
     let (state, acc) = consistent_start(model);
     let config = BdfConfig { rtol: 1e-7, atol: 1e-7, ..Default::default() };
-    let mut ga = GeneralizedAlpha::new(model, &state, &acc, config, alpha).unwrap();
+    let mut ga = GeneralizedAlpha::new(Arc::new(model.clone()), &state, &acc, config, alpha).unwrap();
     let t_end = 3.0;
     // faer's simplicial LU keeps its numeric storage between factorizations and grows it (doubling) when
     // a pivot sequence needs more fill than any before; on the stiff-slider pendulum that happens once,
@@ -390,4 +391,27 @@ fn counting_allocator_sees_allocations() {
     assert_eq!(v.len(), 100);
     assert!(count >= 1, "a Vec allocation is counted");
     assert!(!traces.is_empty() && traces[0].contains("counting_allocator_sees_allocations"), "with its backtrace");
+}
+
+/// `Simulation::step` adds nothing that allocates to the integrator's step: the outputs at the output
+/// times (accelerations, output values, energies, the watchdog's checks) and the frame handed to a sink
+/// are evaluated in workspaces made once.
+#[test]
+fn simulation_step_with_its_outputs_does_not_allocate() {
+    use flexmb::analysis::{OutputFrame, Simulation};
+    let model = Arc::new(loaded_slider_crank(false));
+    let mut simulation = Simulation::new(model.clone(), settings(3.0, 0.002, 1e-7)).unwrap();
+    let mut sink = |_: &OutputFrame| {};
+    for _ in 0..20 {
+        simulation.step(&mut sink).unwrap();
+    }
+    let (steps, frames_before) = (simulation.stats().steps, simulation.report().output_frames);
+    let (count, traces, ()) = count_allocations(|| {
+        for _ in 0..400 {
+            simulation.step(&mut sink).unwrap();
+        }
+    });
+    let counted_frames = simulation.report().output_frames - frames_before;
+    assert!(simulation.stats().steps - steps == 400 && counted_frames > 100, "{counted_frames} frames counted");
+    assert!(count == 0, "Simulation::step allocated {count} times; first:\n{}", first_traces(&traces));
 }

@@ -11,7 +11,7 @@ use crate::data::Data;
 use crate::linalg::{SingularMatrix, SparseLu};
 use crate::model::Model;
 use crate::model::BodyId;
-use crate::stage::{applied_forces, body_mass_entries, constraint_equations, inertia_forces, jacobian_entries, kinematics, measures};
+use crate::stage::{body_mass_entries, forward, jacobian_entries};
 
 /// Result of an acceleration solve.
 #[derive(Clone, Debug)]
@@ -90,10 +90,12 @@ pub struct AccelerationSolver {
     kkt: KktMatrix,
     rhs: Vec<f64>,
     zero_v: Vec<f64>,
+    /// The last solution.
     pub result: Accelerations,
 }
 
 impl AccelerationSolver {
+    /// A solver for `model`, its matrix pattern made once.
     pub fn new(model: &Model) -> Self {
         let l = &model.layout;
         Self {
@@ -115,11 +117,7 @@ impl AccelerationSolver {
         active: &[bool],
     ) -> Result<&Accelerations, SingularMatrix> {
         let nv = model.layout.nv;
-        kinematics(model, data, q, v);
-        constraint_equations(model, data, t);
-        measures(model, data);
-        applied_forces(model, data, t);
-        inertia_forces(model, data, &self.zero_v);
+        forward(model, data, t, q, v, &self.zero_v);
         self.kkt.factor(model, data, active)?;
         for k in 0..nv {
             self.rhs[k] = data.applied[k] - data.inertia[k];

@@ -21,6 +21,7 @@ use crate::stage::{constraint_equations, jacobian_entries, kinematics};
 pub struct AssemblySettings {
     /// Largest absolute constraint residual accepted (m for point equations, dimensionless for dot-1).
     pub tolerance: f64,
+    /// Most Newton iterations before giving up.
     pub max_iterations: usize,
     /// What the assembly may change in flexible bodies.
     pub modal: ModalAssembly,
@@ -50,12 +51,15 @@ pub enum ModalAssembly {
 }
 
 /// What the assembly did.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct AssemblyReport {
+    /// Newton iterations made.
     pub iterations: usize,
-    /// Largest residual before and after.
+    /// Largest residual before the assembly.
     pub initial_residual: f64,
+    /// Largest residual after it.
     pub residual: f64,
+    /// The constraint rows found redundant and switched off.
     pub redundant: Vec<RedundantConstraint>,
     /// Degrees of freedom: velocity coordinates minus independent constraints.
     pub degrees_of_freedom: usize,
@@ -64,19 +68,33 @@ pub struct AssemblyReport {
 /// Why the assembly (or the velocity analysis after it) failed.
 #[derive(Clone, Debug, thiserror::Error, PartialEq)]
 pub enum AssemblyError {
+    /// The Newton iteration did not bring the residuals below the tolerance.
     #[error(
         "assembly did not converge in {iterations} iterations: largest residual {residual:.3e} in {worst}; \
          check that the markers of that joint can be brought together from the given initial poses"
     )]
-    NotConverged { iterations: usize, residual: f64, worst: String },
+    NotConverged {
+        /// Iterations made.
+        iterations: usize,
+        /// The largest residual left.
+        residual: f64,
+        /// The equation that has it.
+        worst: String,
+    },
     /// A linear system of the analysis is singular although the redundant rows were removed: rows in
     /// force have become dependent during the iteration (`dependent` names them when they are found).
     #[error("{what}: the constraint matrix is singular even after removing redundant rows{dependent}")]
-    Singular { what: &'static str, dependent: String },
+    Singular {
+        /// Which analysis.
+        what: &'static str,
+        /// The dependent rows, as a clause (may be empty).
+        dependent: String,
+    },
     /// Declared equations that depend on the others at the assembled configuration do not hold there
     /// (position or velocity level): the mechanism is at a singular position where they cannot all hold.
     #[error("{}", singular_position_message(*t, level, violated, dependency))]
     SingularPosition {
+        /// Time (s).
         t: f64,
         /// `"position"` or `"velocity"`.
         level: &'static str,
@@ -92,7 +110,16 @@ pub enum AssemblyError {
          function of time at this time (sqrt or ln of a negative number, a division by zero) and the \
          positions of its markers"
     )]
-    NonFinite { t: f64, equation: String, what: &'static str, value: f64 },
+    NonFinite {
+        /// Time (s).
+        t: f64,
+        /// The equation.
+        equation: String,
+        /// `value` or `time derivative`.
+        what: &'static str,
+        /// What it is.
+        value: f64,
+    },
     /// The dense analyses would need more memory than the machine has.
     #[error(
         "the model is too large for the dense initial-condition analyses: they need about {} for {nc} \
@@ -103,11 +130,15 @@ pub enum AssemblyError {
         if *machine { "is available on this machine" } else { "is the memory limit given" }
     )]
     TooLarge {
+        /// Bytes needed.
         needed: u64,
+        /// Bytes available.
         available: u64,
         /// Whether `available` is the machine's available memory (else a limit the caller gave).
         machine: bool,
+        /// Constraint equations.
         nc: usize,
+        /// Velocity coordinates.
         nv: usize,
     },
 }

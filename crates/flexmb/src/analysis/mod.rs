@@ -1,8 +1,9 @@
 //! Analyses of a model: redundancy check, assembly (position analysis), velocity analysis,
-//! accelerations and reaction forces, and the dynamic simulation.
+//! accelerations and reaction forces, the linearized equations of motion, and the dynamic simulation.
 
 mod accelerations;
 mod assembly;
+mod linearization;
 mod memory;
 mod outputs;
 mod redundancy;
@@ -19,14 +20,17 @@ pub mod test_models;
 pub(crate) use accelerations::KktMatrix;
 pub use accelerations::{AccelerationSolver, Accelerations};
 pub use assembly::{assemble, AssemblyError, AssemblyReport, AssemblySettings, ModalAssembly};
+pub use linearization::{displaced_positions, linearize, Linearization};
 pub use outputs::{output_columns, OutputColumn};
 pub use memory::{dense_analysis_bytes, format_bytes, MemoryLimit};
 pub(crate) use redundancy::{dependency_of, newly_dependent_rows, violated_rows};
 pub use redundancy::{find_redundant_rows, RedundantConstraint, ViolatedEquation};
 pub use simulation::{
-    simulate, simulate_interruptible, Interruption, OutputFrame, SimulationError, SimulationFailure, SimulationReport,
-    SimulationSettings,
+    simulate, simulate_interruptible, Interruption, OutputFrame, OutputSink, OutputTable, Simulation, SimulationCheckpoint,
+    SimulationError, SimulationFailure, SimulationReport, SimulationSettings, CHECKPOINT_VERSION,
 };
 pub use state::State;
 pub use velocity::{velocity_analysis, VelocityReport};
-pub use watchdog::{Balance, Deflection, PhysicsLimits, PhysicsMeasures, SimulationWarning, Unphysical, WarningKind};
+pub use watchdog::{
+    Balance, Deflection, PhysicsLimits, PhysicsMeasures, SimulationWarning, Unphysical, WarningKind, WatchdogCheckpoint,
+};

@@ -9,7 +9,9 @@ use crate::stage::{energy, measure_value};
 /// One column of the results table.
 #[derive(Clone, Debug, PartialEq)]
 pub struct OutputColumn {
+    /// The output's name and component, e.g. `tip.x`.
     pub name: String,
+    /// Its unit, e.g. `m/s`.
     pub unit: &'static str,
 }
 
@@ -64,6 +66,7 @@ fn measure_unit(model: &Model, m: crate::model::MeasureId) -> &'static str {
         JointRate(_) => "rad/s",
         JointDisplacement(_) | Distance(..) | Position(..) => "m",
         JointVelocity(_) | DistanceRate(..) | Velocity(..) | Speed(_) => "m/s",
+        Parameter(_) => "-",
     }
 }
 

@@ -21,14 +21,15 @@ use crate::stage::{constraint_equations, jacobian_entries, kinematics};
 const REDUNDANCY_TOLERANCE: f64 = 1e-8;
 
 /// A constraint row that repeats what earlier rows already impose.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RedundantConstraint {
+    /// The row of `Φ`.
     pub row: usize,
     /// Joint, kind and equation, e.g. `joint 'rod_slider' (revolute), equation 5: dot-1(y_i, z_j)`.
     pub description: String,
 }
 
-/// Rows of the velocity Jacobian at `(q, t)` that depend on rows kept before them in [`keep_order`]
+/// Rows of the velocity Jacobian at `(q, t)` that depend on rows kept before them in `keep_order`
 /// (rows with `|Φ| > satisfied_tolerance` first, then drivers, then joints); also returns the rank.
 /// The result lists the rows in row order.
 pub fn find_redundant_rows(

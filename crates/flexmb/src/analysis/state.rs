@@ -6,8 +6,11 @@ use crate::model::Model;
 /// Positions `q`, velocities `v` and the constraint rows in force (redundant rows are switched off).
 #[derive(Clone, Debug)]
 pub struct State {
+    /// Time (s).
     pub t: f64,
+    /// Positions, per body `R, p, a`.
     pub q: Vec<f64>,
+    /// Velocities, per body `Ṙ, ω̄, ȧ`.
     pub v: Vec<f64>,
     /// `false` for a constraint row found redundant: its multiplier is held at zero.
     pub active: Vec<bool>,

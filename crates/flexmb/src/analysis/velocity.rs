@@ -12,7 +12,7 @@ use crate::stage::{constraint_equations, jacobian_entries, kinematics};
 const GIVEN_WEIGHT: f64 = 1e6;
 
 /// What the velocity analysis changed.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct VelocityReport {
     /// Given velocities the constraints did not allow, with what they became.
     pub adjusted: Vec<String>,

@@ -70,9 +70,11 @@ impl PhysicsLimits {
 }
 
 /// What a warning is about.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum WarningKind {
+    /// A flexible body's elastic displacement.
     ElasticDeflection,
+    /// The energy balance.
     EnergyBalance,
 }
 
@@ -87,29 +89,43 @@ impl WarningKind {
 }
 
 /// A threshold crossed during a run, first time only (per flexible body for deflections).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SimulationWarning {
     /// Output time at which it was first seen (s).
     pub t: f64,
+    /// What it is about.
     pub kind: WarningKind,
+    /// What was seen and what to do, for a person.
     pub message: String,
 }
 
 /// Why the watchdog stopped a run.
 #[derive(Clone, Debug, thiserror::Error, PartialEq)]
 pub enum Unphysical {
+    /// A position, velocity, energy or power is NaN or infinite.
     #[error("the state is not finite at t = {t:.6} s: {what} is {value}; the equations of motion produced NaN or infinity (a force or driver expression that is not finite there, or an instability)")]
-    NonFinite { t: f64, what: String, value: f64 },
+    NonFinite {
+        /// Time (s).
+        t: f64,
+        /// What is not finite.
+        what: String,
+        /// Its value.
+        value: f64,
+    },
+    /// A flexible body deflected beyond the limit.
     #[error("the run has left physics: {}", .0.describe("elastic_deflection_limit"))]
     ElasticDeflection(Box<Deflection>),
+    /// The energy balance is off beyond the limit.
     #[error("the run has left physics: {}", .0.describe("energy_balance_limit"))]
     EnergyBalance(Balance),
 }
 
 /// The largest elastic displacement of a flexible body at one output time.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Deflection {
+    /// Output time (s).
     pub t: f64,
+    /// The flexible body.
     pub body: String,
     /// Label of the node that moved most.
     pub node: u64,
@@ -165,6 +181,7 @@ impl Deflection {
 /// The energy balance at one output time.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Balance {
+    /// Output time (s).
     pub t: f64,
     /// `E(t) − E(0) − W_nc(t)` (J).
     pub error: f64,
@@ -192,7 +209,7 @@ impl Balance {
 }
 
 /// The largest values the watchdog measured, whether or not they crossed a threshold.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PhysicsMeasures {
     /// The largest elastic deflection relative to its body's size, over the flexible bodies and the
     /// output times (`None` without flexible bodies).
@@ -200,9 +217,27 @@ pub struct PhysicsMeasures {
     /// The largest energy-balance error `|E − E0 − W_nc|` beyond what the quadrature and the tolerance
     /// explain, relative to the energy that flowed, and when.
     pub largest_balance_fraction: f64,
+    /// The output time of that largest error (s).
     pub largest_balance_time: f64,
     /// The energy that flowed by the end of the run (J).
     pub energy_scale: f64,
+}
+
+/// The watchdog's running sums and the warnings it has given, for a checkpoint of a simulation.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct WatchdogCheckpoint {
+    /// The largest `T + |V| + U` seen (J).
+    pub largest_energy: f64,
+    /// `∫ |P_nc| dt` so far (J).
+    pub absolute_work: f64,
+    /// The trapezoidal rule's estimated error so far (J).
+    pub quadrature_error: f64,
+    /// The last two `(t, P_nc)`, latest first.
+    pub last_powers: [Option<(f64, f64)>; 2],
+    /// The energy-balance warning was given.
+    pub warned_energy: bool,
+    /// The deflection warning was given, per flexible body the watchdog follows.
+    pub warned_deflection: Vec<bool>,
 }
 
 /// A flexible body as the watchdog sees it.
@@ -301,6 +336,34 @@ impl Watchdog {
             .collect();
         let momentum = vec![0.0; model.layout.modes.iter().map(|m| 6 + m).max().unwrap_or(6)];
         Self { limits, atol, bodies, flow: EnergyFlow::default(), warned_energy: false, momentum }
+    }
+
+    /// Its running sums and warnings given.
+    pub(crate) fn checkpoint(&self) -> WatchdogCheckpoint {
+        WatchdogCheckpoint {
+            largest_energy: self.flow.largest_energy,
+            absolute_work: self.flow.absolute_work,
+            quadrature_error: self.flow.quadrature_error,
+            last_powers: self.flow.last,
+            warned_energy: self.warned_energy,
+            warned_deflection: self.bodies.iter().map(|b| b.warned).collect(),
+        }
+    }
+
+    /// Continues from `c`, taken of the watchdog of a run of the same model.
+    pub(crate) fn restore(&mut self, c: &WatchdogCheckpoint) -> Result<(), crate::integrate::CheckpointError> {
+        crate::integrate::check_len("the watchdog's flexible bodies", self.bodies.len(), c.warned_deflection.len())?;
+        self.flow = EnergyFlow {
+            largest_energy: c.largest_energy,
+            absolute_work: c.absolute_work,
+            quadrature_error: c.quadrature_error,
+            last: c.last_powers,
+        };
+        self.warned_energy = c.warned_energy;
+        for (body, &warned) in self.bodies.iter_mut().zip(&c.warned_deflection) {
+            body.warned = warned;
+        }
+        Ok(())
     }
 
     /// Stops at a non-finite position or velocity (after every accepted step and at output times).

@@ -22,9 +22,13 @@ use crate::analysis::{Accelerations, State};
 use crate::data::Data;
 use crate::integrate::iteration_matrix::IterationMatrix;
 use crate::integrate::newton::{ConvergenceTest, Verdict};
-use crate::integrate::{AttemptFailure, BdfConfig, IntegrationError, Integrator, Stats};
+use crate::integrate::{
+    check_len, AttemptFailure, BdfCheckpoint, BdfConfig, CheckpointError, IntegrationError, Integrator, IntegratorCheckpoint, Stats,
+};
 use crate::math::euler_parameters::g_matrix;
 use crate::math::{Vec3, Vec4};
+use std::sync::Arc;
+
 use crate::model::Model;
 use crate::stage::{residual, update_angle_references, YLayout};
 
@@ -63,8 +67,8 @@ fn error_const(k: usize) -> f64 {
 }
 
 /// The BDF integrator with all its workspaces; one [`step`](Self::step) is one accepted step.
-pub struct Bdf<'m> {
-    model: &'m Model,
+pub struct Bdf {
+    model: Arc<Model>,
     data: Data,
     /// Scratch for [`Integrator::interpolate`].
     y_interp: Vec<f64>,
@@ -108,18 +112,19 @@ pub struct Bdf<'m> {
     yp: Vec<f64>,
     scale: Vec<f64>,
     change_tmp: Vec<f64>,
+    /// The counters so far.
     pub stats: Stats,
 }
 
-impl<'m> Bdf<'m> {
+impl Bdf {
     /// Starts from a consistent state (assembled, velocity-analysed) and its accelerations.
     pub fn new(
-        model: &'m Model,
+        model: Arc<Model>,
         state: &State,
         accelerations: &Accelerations,
         config: BdfConfig,
     ) -> Result<Self, IntegrationError> {
-        let yl = YLayout::new(model);
+        let yl = YLayout::new(&model);
         let n = yl.len();
         let n_diff = yl.n_differential();
         let mut y0 = vec![0.0; n];
@@ -152,10 +157,10 @@ impl<'m> Bdf<'m> {
         for k in 0..n {
             d[n + k] = h0 * yp0[k];
         }
-        let mut data = Data::new(model);
-        let references = state_angle_references(model, &mut data, state);
+        let mut data = Data::new(&model);
+        let references = state_angle_references(&model, &mut data, state);
         data.angle_reference.copy_from_slice(&references);
-        let jac = IterationMatrix::new(model, &yl);
+        let jac = IterationMatrix::new(&model, &yl);
         let newton_tol = (10.0 * f64::EPSILON / config.rtol).max(config.rtol.sqrt().min(0.03));
         let mut bdf = Self {
             model,
@@ -228,6 +233,71 @@ impl<'m> Bdf<'m> {
     pub fn data_mut(&mut self) -> &mut Data {
         &mut self.data
     }
+    /// The complete state between two steps.
+    pub fn checkpoint(&self) -> BdfCheckpoint {
+        let (f_y, f_yp) = self.jac.stored_parts();
+        BdfCheckpoint {
+            t: self.t,
+            t_old: self.t_old,
+            h: self.h,
+            order: self.order,
+            n_equal_steps: self.n_equal_steps,
+            differences: self.d.clone(),
+            jacobian: f_y.to_vec(),
+            jacobian_derivative: f_yp.to_vec(),
+            factored_c: self.factored_c,
+            jacobian_at_attempt: self.jac_at_attempt,
+            jacobian_age: self.jac_age,
+            first_reuse_failures: self.first_reuse_failures,
+            refresh_ahead: self.refresh_ahead,
+            filter_steps: self.filter_steps,
+            step_limits: self.h_limit.to_vec(),
+            last_h: self.last_h,
+            last_error: self.last_error,
+            active: self.active.clone(),
+            angle_reference: self.data.angle_reference.clone(),
+            stats: self.stats,
+        }
+    }
+
+    /// Continues from `c`, taken of a BDF on the same model with the same settings; the factors in use
+    /// are made again from the stored Jacobian.
+    pub fn restore(&mut self, c: &BdfCheckpoint) -> Result<(), CheckpointError> {
+        let (f_y, f_yp) = self.jac.stored_parts();
+        check_len("the backward differences", self.d.len(), c.differences.len())?;
+        check_len("the Jacobian", f_y.len(), c.jacobian.len())?;
+        check_len("the Jacobian's derivative part", f_yp.len(), c.jacobian_derivative.len())?;
+        check_len("the stability limits", self.h_limit.len(), c.step_limits.len())?;
+        check_len("the constraint rows in force", self.active.len(), c.active.len())?;
+        check_len("the joint angles", self.data.angle_reference.len(), c.angle_reference.len())?;
+        if !(1..=self.config.max_order).contains(&c.order) {
+            return Err(CheckpointError::Unsupported(format!(
+                "the checkpoint's BDF order {} exceeds max_order {}",
+                c.order, self.config.max_order
+            )));
+        }
+        self.t = c.t;
+        self.t_old = c.t_old;
+        self.h = c.h;
+        self.order = c.order;
+        self.n_equal_steps = c.n_equal_steps;
+        self.d.copy_from_slice(&c.differences);
+        self.jac.set_stored_parts(&c.jacobian, &c.jacobian_derivative);
+        self.factored_c = c.factored_c.filter(|&cf| self.jac.factor(cf).is_ok());
+        self.jac_at_attempt = c.jacobian_at_attempt;
+        self.jac_age = c.jacobian_age;
+        self.first_reuse_failures = c.first_reuse_failures;
+        self.refresh_ahead = c.refresh_ahead;
+        self.filter_steps = c.filter_steps;
+        self.h_limit.copy_from_slice(&c.step_limits);
+        self.last_h = c.last_h;
+        self.last_error = c.last_error;
+        self.active.copy_from_slice(&c.active);
+        self.data.angle_reference.copy_from_slice(&c.angle_reference);
+        self.stats = c.stats;
+        Ok(())
+    }
+
     /// Residual evaluations one Jacobian costs.
     pub fn evaluations_per_jacobian(&self) -> usize {
         self.jac.evaluations_per_jacobian()
@@ -249,7 +319,7 @@ impl<'m> Bdf<'m> {
     }
 
     fn evaluate_jacobian_at(&mut self, t: f64, y: &[f64], yp: &[f64]) {
-        let evals = self.jac.evaluate(self.model, &mut self.data, &self.yl, &self.active, t, y, yp);
+        let evals = self.jac.evaluate(&self.model, &mut self.data, &self.yl, &self.active, t, y, yp);
         self.stats.jacobian_evaluations += 1;
         self.stats.residual_evaluations += evals;
         self.factored_c = None;
@@ -504,7 +574,7 @@ impl<'m> Bdf<'m> {
             for i in 0..self.n {
                 self.yp[i] = (self.psi[i] + self.corr[i]) / c;
             }
-            residual(self.model, &mut self.data, &self.yl, &self.active, t_new, &self.y_new, &self.yp, &mut self.res);
+            residual(&self.model, &mut self.data, &self.yl, &self.active, t_new, &self.y_new, &self.yp, &mut self.res);
             self.stats.residual_evaluations += 1;
             if !self.res.iter().all(|x| x.is_finite()) {
                 return (false, k + 1);
@@ -606,7 +676,7 @@ impl<'m> Bdf<'m> {
                 self.d[i * n + k] += self.d[(i + 1) * n + k];
             }
         }
-        update_angle_references(self.model, &mut self.data);
+        update_angle_references(&self.model, &mut self.data);
     }
 
     /// The message of a step-size underflow after `failure`. The predictor of the failed attempt is still
@@ -622,7 +692,7 @@ impl<'m> Bdf<'m> {
         for k in 0..self.n {
             self.yp[k] = self.psi[k] / c;
         }
-        residual(self.model, &mut self.data, &self.yl, &self.active, t_new, &self.y_pred, &self.yp, &mut self.res);
+        residual(&self.model, &mut self.data, &self.yl, &self.active, t_new, &self.y_pred, &self.yp, &mut self.res);
         let worst = |rows: std::ops::Range<usize>, scale: f64| {
             rows.map(|i| (i, (scale * self.res[i]).abs())).fold((usize::MAX, 0.0), |a, x| if x.1 > a.1 { x } else { a })
         };
@@ -630,16 +700,16 @@ impl<'m> Bdf<'m> {
         let (row_c, value_c) = worst(self.yl.lambda.start..self.n, 1.0);
         let mut text = String::new();
         if row_d != usize::MAX {
-            text += &format!("largest residual {value_d:.3e} in {}", describe_y_row(self.model, &self.yl, row_d));
+            text += &format!("largest residual {value_d:.3e} in {}", describe_y_row(&self.model, &self.yl, row_d));
         }
         if row_c != usize::MAX {
             text += &format!(
                 "; largest constraint residual {value_c:.3e} in {}",
-                describe_y_row(self.model, &self.yl, row_c)
+                describe_y_row(&self.model, &self.yl, row_c)
             );
         }
         let q = self.y_pred[self.yl.q.clone()].to_vec();
-        if let Some(note) = crate::analysis::newly_dependent_rows(self.model, &mut self.data, t_new, &q, &self.active) {
+        if let Some(note) = crate::analysis::newly_dependent_rows(&self.model, &mut self.data, t_new, &q, &self.active) {
             text += "; ";
             text += &note;
         }
@@ -709,7 +779,7 @@ fn state_angle_references(model: &Model, data: &mut Data, state: &State) -> Vec<
     data.angle_reference.clone()
 }
 
-impl Integrator for Bdf<'_> {
+impl Integrator for Bdf {
     fn t(&self) -> f64 {
         self.t
     }
@@ -738,6 +808,15 @@ impl Integrator for Bdf<'_> {
     }
     fn name(&self) -> &'static str {
         "bdf"
+    }
+    fn checkpoint(&self) -> Result<IntegratorCheckpoint, CheckpointError> {
+        Ok(IntegratorCheckpoint::Bdf(Bdf::checkpoint(self)))
+    }
+    fn restore(&mut self, checkpoint: &IntegratorCheckpoint) -> Result<(), CheckpointError> {
+        match checkpoint {
+            IntegratorCheckpoint::Bdf(c) => Bdf::restore(self, c),
+            other => Err(CheckpointError::Method { expected: "bdf", found: other.method() }),
+        }
     }
 }
 

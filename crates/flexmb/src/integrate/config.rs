@@ -70,7 +70,10 @@ pub enum Method {
     /// Generalized-α (Arnold–Brüls, stabilized index-2 constraints, Lie-group position update) with
     /// high-frequency spectral radius `spectral_radius` ∈ [0, 1], fixed second order, step size from a
     /// local error estimate; see [`GeneralizedAlphaConfig`].
-    GeneralizedAlpha { spectral_radius: f64 },
+    GeneralizedAlpha {
+        /// `ρ∞` ∈ [0, 1].
+        spectral_radius: f64,
+    },
 }
 
 /// Settings of the generalized-α method; the tolerances and step limits are those of [`BdfConfig`].

@@ -4,11 +4,31 @@
 #[derive(Clone, Debug, thiserror::Error, PartialEq)]
 pub enum IntegrationError {
     #[error("step size {h:.3e} s too small at t = {t:.6} s: {reason}")]
-    StepSizeTooSmall { t: f64, h: f64, reason: String },
+    /// The step size fell below what the time resolves, for `reason`.
+    StepSizeTooSmall {
+        /// Time (s).
+        t: f64,
+        /// The step size (s).
+        h: f64,
+        /// Why the last attempt failed.
+        reason: String,
+    },
     #[error("more than {max_steps} steps before t = {t:.6} s")]
-    TooManySteps { t: f64, max_steps: usize },
+    /// The step limit was reached.
+    TooManySteps {
+        /// Time (s).
+        t: f64,
+        /// The limit.
+        max_steps: usize,
+    },
     #[error("inconsistent initial conditions at t = {t:.6} s: {reason}")]
-    InitialConditions { t: f64, reason: String },
+    /// The integrator cannot start from the state given.
+    InitialConditions {
+        /// Time (s).
+        t: f64,
+        /// Why.
+        reason: String,
+    },
 }
 
 /// Why the last attempt at a step of an implicit method failed, kept without allocating so that

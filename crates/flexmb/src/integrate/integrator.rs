@@ -1,10 +1,11 @@
 //! What every time integrator offers the simulation driver: steps, the state, dense output, statistics.
 
-use super::{IntegrationError, Stats};
+use super::{CheckpointError, IntegrationError, IntegratorCheckpoint, Stats};
 use crate::data::Data;
 
-/// A time integrator of a model's equations of motion, started at a consistent state.
-pub trait Integrator {
+/// A time integrator of a model's equations of motion, started at a consistent state. `Send`, so that
+/// a simulation may move between threads (a binding, a sweep).
+pub trait Integrator: Send {
     /// Current time (s).
     fn t(&self) -> f64;
     /// Takes one accepted step, not passing `t_stop`; a failure says when and why.
@@ -21,4 +22,9 @@ pub trait Integrator {
     fn active(&self) -> &[bool];
     /// The method's name for reports: `bdf`, `adams`, `gen-alpha`.
     fn name(&self) -> &'static str;
+    /// The complete state between two steps (see [`IntegratorCheckpoint`]).
+    fn checkpoint(&self) -> Result<IntegratorCheckpoint, CheckpointError>;
+    /// Continues from `checkpoint`, taken of an integrator of the same method on the same model: the
+    /// following steps are those the checkpointed integrator would have taken.
+    fn restore(&mut self, checkpoint: &IntegratorCheckpoint) -> Result<(), CheckpointError>;
 }

@@ -247,6 +247,17 @@ impl IterationMatrix {
         }
     }
 
+    /// The stored `∂F/∂y` and `∂F/∂ẏ`, in the order of the sparse pattern (for a checkpoint).
+    pub fn stored_parts(&self) -> (&[f64], &[f64]) {
+        (&self.f_y, &self.f_yp)
+    }
+
+    /// Replaces the stored `∂F/∂y` and `∂F/∂ẏ` (from a checkpoint; their lengths checked by the caller).
+    pub fn set_stored_parts(&mut self, f_y: &[f64], f_yp: &[f64]) {
+        self.f_y.copy_from_slice(f_y);
+        self.f_yp.copy_from_slice(f_yp);
+    }
+
     /// Solves with the current factors in place.
     pub fn solve_in_place(&mut self, rhs: &mut [f64]) -> Result<(), SingularMatrix> {
         self.lu.solve_in_place(rhs)
@@ -279,6 +290,7 @@ pub(crate) fn force_couplings(model: &Model) -> Vec<(Vec<usize>, Vec<usize>)> {
             | MeasureKind::JointVelocity(j) => joint_bodies(j).to_vec(),
             MeasureKind::Distance(a, b) | MeasureKind::DistanceRate(a, b) => vec![marker_body(a), marker_body(b)],
             MeasureKind::Position(a, _) | MeasureKind::Velocity(a, _) | MeasureKind::Speed(a) => vec![marker_body(a)],
+            MeasureKind::Parameter(_) => Vec::new(),
         }
     };
     model

@@ -23,6 +23,7 @@
 
 pub mod adams;
 mod bdf;
+mod checkpoint;
 mod config;
 mod error;
 pub mod generalized_alpha;
@@ -33,6 +34,8 @@ mod stats;
 
 pub use adams::{Adams, AdamsConfig};
 pub use bdf::Bdf;
+pub(crate) use checkpoint::{check_len, extended_float};
+pub use checkpoint::{AdamsCheckpoint, BdfCheckpoint, CheckpointError, GeneralizedAlphaCheckpoint, IntegratorCheckpoint};
 pub use config::{BdfConfig, Method};
 pub use config::GeneralizedAlphaConfig;
 pub(crate) use error::AttemptFailure;

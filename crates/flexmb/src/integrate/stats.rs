@@ -1,7 +1,7 @@
 //! Solver statistics, the same record for every method.
 
 /// Counters of one integration.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Stats {
     /// Accepted steps.
     pub steps: usize,
@@ -9,9 +9,13 @@ pub struct Stats {
     pub error_test_failures: usize,
     /// Step attempts abandoned because the Newton iteration did not converge.
     pub newton_failures: usize,
+    /// Newton iterations (projection iterations for the Adams method).
     pub newton_iterations: usize,
+    /// Evaluations of the equations of motion.
     pub residual_evaluations: usize,
+    /// Evaluations of the iteration matrix's Jacobian.
     pub jacobian_evaluations: usize,
+    /// LU factorizations.
     pub factorizations: usize,
     /// Accepted steps taken at each order (index = order): 1–5 for the BDF, 1–12 for the Adams method.
     pub order_counts: [usize; 13],

@@ -7,13 +7,13 @@ use super::references::{self, Counts, Reference};
 use super::rigid_checks::{check_body, check_frame};
 use super::{
     BodyId, BodyRef, ForceId, JointId, Layout, MarkerId, MeasureId, Model, ModelError, OutputKind,
-    OutputRequest,
+    OutputRequest, ParameterId,
 };
 use crate::body::{InitialState, Marker, ModalBody, RigidBody};
 use crate::force::{ForceElement, ForceKind};
 use crate::joint::Joint;
 use crate::math::{Mat3, Vec3};
-use crate::measure::{Measure, MeasureKind};
+use crate::measure::{Measure, MeasureKind, Parameter};
 
 /// Collects the elements of a model, checking each as it is added; [`build`](Self::build) derives
 /// the coordinate layout and returns the immutable [`Model`].
@@ -76,6 +76,7 @@ pub struct ModelBuilder {
     joints: Vec<Joint>,
     forces: Vec<ForceElement>,
     measures: Vec<Measure>,
+    parameters: Vec<Parameter>,
     outputs: Vec<OutputRequest>,
     /// `(kind, name)` of every element added, for unique names per kind.
     names: HashSet<(&'static str, String)>,
@@ -221,6 +222,28 @@ impl ModelBuilder {
         Ok(MeasureId(self.measures.len() - 1))
     }
 
+    /// Declares a parameter of initial value `value`, changeable between the steps of a simulation
+    /// ([`Simulation::set_parameter`](crate::analysis::Simulation::set_parameter)), and a measure of the
+    /// same name through which expressions (a force law's actuator, an applied load) read its current
+    /// value. The value must be finite and the name not used by another measure.
+    pub fn add_parameter(&mut self, name: impl Into<String>, value: f64) -> Result<MeasureId, ModelError> {
+        let name = name.into();
+        if !value.is_finite() {
+            return Err(ModelError::BadValue {
+                element: "parameter",
+                name,
+                problem: format!("the value must be finite, got {value}"),
+            });
+        }
+        let id = ParameterId(self.parameters.len());
+        self.parameters.push(Parameter { name: name.clone(), value });
+        let measure = self.add_measure(Measure { name, kind: MeasureKind::Parameter(id) });
+        if measure.is_err() {
+            self.parameters.pop();
+        }
+        measure
+    }
+
     /// Adds an output request. What it reports must be this builder's; modal coordinates, node
     /// motions and strain energy need a flexible body and a node index within its nodes.
     pub fn add_output(&mut self, name: impl Into<String>, kind: OutputKind) -> Result<(), ModelError> {
@@ -311,6 +334,7 @@ impl ModelBuilder {
             joints: self.joints,
             forces: self.forces,
             measures: self.measures,
+            parameters: self.parameters,
             outputs: self.outputs,
             layout,
         })
@@ -322,6 +346,7 @@ impl ModelBuilder {
             markers: self.markers.len(),
             joints: self.joints.len(),
             measures: self.measures.len(),
+            parameters: self.parameters.len(),
         }
     }
 

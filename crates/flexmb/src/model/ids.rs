@@ -28,6 +28,10 @@ id_type!(
     /// A named measure that expressions may read.
     MeasureId
 );
+id_type!(
+    /// A parameter: a value that may be changed between the steps of a simulation.
+    ParameterId
+);
 
 /// Where a marker is fixed: on ground or on a moving body.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

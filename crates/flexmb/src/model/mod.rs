@@ -14,7 +14,7 @@ mod rigid_checks;
 
 pub use builder::ModelBuilder;
 pub use error::ModelError;
-pub use ids::{BodyId, BodyRef, ForceId, JointId, MarkerId, MeasureId};
+pub use ids::{BodyId, BodyRef, ForceId, JointId, MarkerId, MeasureId, ParameterId};
 pub use layout::Layout;
 pub use output::OutputKind;
 
@@ -22,7 +22,7 @@ use crate::body::{Marker, ModalBody, RigidBody};
 use crate::force::ForceElement;
 use crate::joint::Joint;
 use crate::math::Vec3;
-use crate::measure::Measure;
+use crate::measure::{Measure, Parameter};
 
 /// A named output request.
 #[derive(Clone, Debug)]
@@ -49,6 +49,8 @@ pub struct Model {
     pub(crate) joints: Vec<Joint>,
     pub(crate) forces: Vec<ForceElement>,
     pub(crate) measures: Vec<Measure>,
+    /// The parameters, with their initial values (their current values live in [`Data`](crate::Data)).
+    pub(crate) parameters: Vec<Parameter>,
     pub(crate) outputs: Vec<OutputRequest>,
     pub(crate) layout: Layout,
 }
@@ -81,6 +83,14 @@ impl Model {
     /// Every measure; a [`MeasureId`] indexes it.
     pub fn measures(&self) -> &[Measure] {
         &self.measures
+    }
+    /// The parameters that may be changed between the steps of a simulation, with their initial values.
+    pub fn parameters(&self) -> &[Parameter] {
+        &self.parameters
+    }
+    /// The parameter named `name`.
+    pub fn find_parameter(&self, name: &str) -> Option<ParameterId> {
+        self.parameters.iter().position(|p| p.name == name).map(ParameterId)
     }
     /// The output requests, in the order of their columns.
     pub fn outputs(&self) -> &[OutputRequest] {

@@ -1,7 +1,7 @@
 //! The ids an element refers to, checked against what the builder holds when it is added: an id the
 //! builder did not hand out is an error that names the element, never a panic later.
 
-use super::{BodyId, BodyRef, JointId, MarkerId, MeasureId, ModelError, OutputKind};
+use super::{BodyId, BodyRef, JointId, MarkerId, MeasureId, ModelError, OutputKind, ParameterId};
 use crate::force::ForceKind;
 use crate::measure::MeasureKind;
 
@@ -12,6 +12,7 @@ pub(super) enum Reference {
     Marker(MarkerId),
     Joint(JointId),
     Measure(MeasureId),
+    Parameter(ParameterId),
 }
 
 /// How many elements of each kind the builder holds.
@@ -21,6 +22,7 @@ pub(super) struct Counts {
     pub markers: usize,
     pub joints: usize,
     pub measures: usize,
+    pub parameters: usize,
 }
 
 impl Counts {
@@ -31,6 +33,7 @@ impl Counts {
             Reference::Marker(id) => ("marker", id.0, self.markers),
             Reference::Joint(id) => ("joint", id.0, self.joints),
             Reference::Measure(id) => ("measure", id.0, self.measures),
+            Reference::Parameter(id) => ("parameter", id.0, self.parameters),
         };
         if index < count {
             Ok(())
@@ -83,6 +86,7 @@ pub(super) fn of_measure(kind: &MeasureKind) -> Vec<Reference> {
         MeasureKind::Position(m, _) | MeasureKind::Velocity(m, _) | MeasureKind::Speed(m) => {
             vec![Reference::Marker(m)]
         }
+        MeasureKind::Parameter(p) => vec![Reference::Parameter(p)],
     }
 }
 

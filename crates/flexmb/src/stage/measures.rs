@@ -50,6 +50,7 @@ pub(crate) fn measure_value(model: &Model, data: &Data, kind: MeasureKind) -> f6
         MeasureKind::Position(m, c) => mk(m).position[c],
         MeasureKind::Velocity(m, c) => mk(m).velocity[c],
         MeasureKind::Speed(m) => mk(m).velocity.norm(),
+        MeasureKind::Parameter(p) => data.parameters[p.0],
     }
 }
 

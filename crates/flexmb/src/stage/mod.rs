@@ -1,10 +1,11 @@
 //! The forward pipeline, one stage per file, each `fn(&Model, &mut Data, …)`:
-//! kinematics → constraints → measures → forces → inertia; the DAE residual and the index-1
-//! acceleration solve are built from them.
+//! kinematics → constraints → measures → forces → inertia, run in that order by `forward`; the DAE
+//! residual, the index-1 acceleration solve and the generalized-α equations of motion are built on it.
 
 mod constraints;
 mod energy;
 mod forces;
+mod forward;
 mod inertia;
 mod kinematics;
 mod measures;
@@ -15,6 +16,7 @@ pub(crate) use constraints::{add_jacobian_transpose, constraint_equations, jacob
 pub use energy::Energy;
 pub(crate) use energy::{energy, nonconservative_power};
 pub(crate) use forces::applied_forces;
+pub(crate) use forward::forward;
 pub(crate) use inertia::{body_mass_entries, inertia_forces};
 pub use kinematics::{BodyState, MarkerState};
 pub(crate) use kinematics::kinematics;

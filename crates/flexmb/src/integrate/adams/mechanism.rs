@@ -31,7 +31,11 @@
 
 use crate::analysis::{Accelerations, State};
 use crate::data::Data;
-use crate::integrate::{BdfConfig, IntegrationError, Integrator, Stats};
+use std::sync::Arc;
+
+use crate::integrate::{
+    check_len, AdamsCheckpoint, BdfConfig, CheckpointError, IntegrationError, Integrator, IntegratorCheckpoint, Stats,
+};
 use crate::model::Model;
 use crate::stage::{kinematics, update_angle_references};
 
@@ -42,12 +46,12 @@ use super::projection::{ProjectedMechanism, ProjectionDrift};
 use super::{AdamsConfig, ConstraintHandling};
 
 /// The mechanism as an ODE, either way.
-enum System<'m> {
-    Projection(Box<ProjectedMechanism<'m>>),
-    Partitioning(Box<PartitionedMechanism<'m>>),
+enum System {
+    Projection(Box<ProjectedMechanism>),
+    Partitioning(Box<PartitionedMechanism>),
 }
 
-impl OdeSystem for System<'_> {
+impl OdeSystem for System {
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), EvaluationFailure> {
         match self {
             System::Projection(s) => s.rhs(t, y, dy),
@@ -62,11 +66,11 @@ impl OdeSystem for System<'_> {
     }
 }
 
-impl<'m> System<'m> {
-    fn model(&self) -> &'m Model {
+impl System {
+    fn model(&self) -> &Arc<Model> {
         match self {
-            System::Projection(s) => s.model,
-            System::Partitioning(s) => s.model,
+            System::Projection(s) => &s.model,
+            System::Partitioning(s) => &s.model,
         }
     }
     fn data(&mut self) -> &mut Data {
@@ -84,8 +88,8 @@ impl<'m> System<'m> {
 }
 
 /// The Adams method on a model; one [`step`](Self::step) is one accepted step.
-pub struct Adams<'m> {
-    system: System<'m>,
+pub struct Adams {
+    system: System,
     stepper: AdamsStepper,
     max_steps: usize,
     stats: Stats,
@@ -93,12 +97,12 @@ pub struct Adams<'m> {
     yp_interp: Vec<f64>,
 }
 
-impl<'m> Adams<'m> {
+impl Adams {
     /// Starts from a consistent state (assembled, velocity-analysed) and its accelerations, with the
     /// tolerances and step limits of `tolerances` (its `max_order` is the BDF's and is ignored) and the
     /// order limit and constraint handling of `config`.
     pub fn new(
-        model: &'m Model,
+        model: Arc<Model>,
         state: &State,
         accelerations: &Accelerations,
         tolerances: BdfConfig,
@@ -130,13 +134,13 @@ impl<'m> Adams<'m> {
         let active = state.active.clone();
         let (mut system, y0, yp0) = match config.constraints {
             ConstraintHandling::Projection => {
-                let system = ProjectedMechanism::new(model, active, tolerances.rtol, tolerances.atol);
+                let system = ProjectedMechanism::new(Arc::clone(&model), active, tolerances.rtol, tolerances.atol);
                 let mut y0 = vec![0.0; nq + nv];
                 let mut yp0 = vec![0.0; nq + nv];
                 y0[..nq].copy_from_slice(&state.q);
                 y0[nq..].copy_from_slice(&state.v);
                 yp0[nq..].copy_from_slice(&accelerations.vdot);
-                velocity_map(model, &state.q, &state.v, &mut yp0[..nq]);
+                velocity_map(&model, &state.q, &state.v, &mut yp0[..nq]);
                 (System::Projection(Box::new(system)), y0, yp0)
             }
             ConstraintHandling::Partitioning => {
@@ -145,7 +149,7 @@ impl<'m> Adams<'m> {
                     reason: format!("no partition of the coordinates: {}", e.0),
                 };
                 let mut system = PartitionedMechanism::new(
-                    model,
+                    Arc::clone(&model),
                     active,
                     tolerances.rtol,
                     tolerances.atol,
@@ -163,9 +167,9 @@ impl<'m> Adams<'m> {
         };
         // Joint angles continue from the initial configuration.
         let data = system.data();
-        kinematics(model, data, &state.q, &state.v);
+        kinematics(&model, data, &state.q, &state.v);
         data.angle_reference.fill(0.0);
-        update_angle_references(model, data);
+        update_angle_references(&model, data);
         let stepper = AdamsStepper::new(control, state.t, &y0, &yp0);
         let n = y0.len();
         let mut adams = Self {
@@ -204,9 +208,57 @@ impl<'m> Adams<'m> {
     pub fn partition(&self) -> Option<&PartitionReport> {
         match &self.system {
             System::Projection(_) => None,
-            System::Partitioning(s) => Some(&s.report),
+            System::Partitioning(s) => Some(&s.state.report),
         }
     }
+    /// The complete state between two steps.
+    pub fn checkpoint(&self) -> AdamsCheckpoint {
+        let (drift, partition, evaluations, kkt, data) = match &self.system {
+            System::Projection(s) => (s.drift, None, s.evaluations, &s.kkt, &s.data),
+            System::Partitioning(s) => (ProjectionDrift::default(), Some(s.state.clone()), s.evaluations, &s.kkt, &s.data),
+        };
+        AdamsCheckpoint {
+            stepper: self.stepper.clone(),
+            drift,
+            partition,
+            evaluations,
+            factorizations: kkt.factorizations,
+            active: kkt.active.clone(),
+            angle_reference: data.angle_reference.clone(),
+            stats: self.stats,
+        }
+    }
+
+    /// Continues from `c`, taken of an Adams integrator on the same model with the same settings.
+    pub fn restore(&mut self, c: &AdamsCheckpoint) -> Result<(), CheckpointError> {
+        if matches!(self.system, System::Partitioning(_)) != c.partition.is_some() {
+            return Err(CheckpointError::Unsupported(
+                "the checkpoint's constraint handling (projection or partitioning) differs from the simulation's".into(),
+            ));
+        }
+        check_len("the integrated variables", self.stepper.y().len(), c.stepper.y().len())?;
+        let (evaluations, kkt, data) = match (&mut self.system, &c.partition) {
+            (System::Projection(s), None) => {
+                s.drift = c.drift;
+                (&mut s.evaluations, &mut s.kkt, &mut s.data)
+            }
+            (System::Partitioning(s), Some(partition)) => {
+                s.restore(partition)?;
+                (&mut s.evaluations, &mut s.kkt, &mut s.data)
+            }
+            _ => unreachable!("the constraint handling was compared above"),
+        };
+        check_len("the constraint rows in force", kkt.active.len(), c.active.len())?;
+        check_len("the joint angles", data.angle_reference.len(), c.angle_reference.len())?;
+        *evaluations = c.evaluations;
+        kkt.factorizations = c.factorizations;
+        kkt.active.copy_from_slice(&c.active);
+        data.angle_reference.copy_from_slice(&c.angle_reference);
+        self.stepper = c.stepper.clone();
+        self.stats = c.stats;
+        Ok(())
+    }
+
     /// The statistics so far.
     pub fn stats(&self) -> &Stats {
         &self.stats
@@ -233,7 +285,7 @@ impl<'m> Adams<'m> {
     /// restart of the stepper there. Returns whether it repartitioned.
     fn repartition_if_needed(&mut self) -> Result<bool, IntegrationError> {
         let System::Partitioning(s) = &mut self.system else { return Ok(false) };
-        if !s.needs_repartition {
+        if !s.state.needs_repartition {
             return Ok(false);
         }
         let t = self.stepper.t();
@@ -245,7 +297,7 @@ impl<'m> Adams<'m> {
         s.choose_partition().map_err(fail)?;
         s.accepted_y(&mut self.y_interp);
         s.rhs(t, &self.y_interp, &mut self.yp_interp).map_err(fail)?;
-        s.needs_repartition = false;
+        s.state.needs_repartition = false;
         self.stepper.restart(t, &self.y_interp, &self.yp_interp);
         Ok(true)
     }
@@ -265,9 +317,9 @@ impl<'m> Adams<'m> {
                 s.factorizations = p.kkt.factorizations;
             }
             System::Partitioning(p) => {
-                s.newton_iterations = p.report.newton_iterations;
+                s.newton_iterations = p.state.report.newton_iterations;
                 s.residual_evaluations = p.evaluations;
-                s.factorizations = p.kkt.factorizations + p.report.factorizations;
+                s.factorizations = p.kkt.factorizations + p.state.report.factorizations;
             }
         }
     }
@@ -303,15 +355,24 @@ impl<'m> Adams<'m> {
     /// position explains a singular matrix).
     fn dependent_constraints(&mut self, t: f64) -> String {
         let q = Integrator::state(self).0.to_vec();
-        let model = self.system.model();
+        let model = Arc::clone(self.system.model());
         let active = self.system.active().to_vec();
-        crate::analysis::newly_dependent_rows(model, self.system.data(), t, &q, &active)
+        crate::analysis::newly_dependent_rows(&model, self.system.data(), t, &q, &active)
             .map(|note| format!("; {note}"))
             .unwrap_or_default()
     }
 }
 
-impl Integrator for Adams<'_> {
+impl Integrator for Adams {
+    fn checkpoint(&self) -> Result<IntegratorCheckpoint, CheckpointError> {
+        Ok(IntegratorCheckpoint::Adams(Box::new(Adams::checkpoint(self))))
+    }
+    fn restore(&mut self, checkpoint: &IntegratorCheckpoint) -> Result<(), CheckpointError> {
+        match checkpoint {
+            IntegratorCheckpoint::Adams(c) => Adams::restore(self, c),
+            other => Err(CheckpointError::Method { expected: "adams", found: other.method() }),
+        }
+    }
     fn t(&self) -> f64 {
         self.stepper.t()
     }
@@ -321,7 +382,7 @@ impl Integrator for Adams<'_> {
     fn state(&self) -> (&[f64], &[f64]) {
         match &self.system {
             System::Projection(s) => self.stepper.y().split_at(s.nq),
-            System::Partitioning(s) => (&s.q_accepted, &s.v_accepted),
+            System::Partitioning(s) => (&s.state.q_accepted, &s.state.v_accepted),
         }
     }
     fn interpolate(&mut self, t: f64, q: &mut [f64], v: &mut [f64]) {

@@ -73,7 +73,7 @@ pub trait OdeSystem {
 }
 
 /// Tolerances and step limits of [`AdamsStepper`].
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct StepControl {
     /// Relative tolerance of the local error (per unit step, in STEP's generalized sense).
     pub rtol: f64,
@@ -82,6 +82,7 @@ pub struct StepControl {
     /// Highest order, 1 to [`MAX_ORDER`].
     pub max_order: usize,
     /// Largest step.
+    #[serde(with = "crate::integrate::extended_float")]
     pub h_max: f64,
     /// First step; chosen from the initial derivative when `None` (STEP: `¼ √(tol/‖f‖)`).
     pub h_init: Option<f64>,
@@ -94,7 +95,7 @@ impl Default for StepControl {
 }
 
 /// Counters of the stepper.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct StepperStats {
     /// Accepted steps.
     pub steps: usize,
@@ -114,7 +115,10 @@ pub struct StepperStats {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum AttemptFailure {
     /// The local error test failed with this weighted error (1 = the tolerance).
-    ErrorTest { error: f64 },
+    ErrorTest {
+        /// The weighted error.
+        error: f64,
+    },
     /// `f` could not be evaluated at the predicted solution.
     Evaluation(EvaluationFailure),
     /// The accepted solution could not be adjusted (or `f` evaluated there).
@@ -125,16 +129,28 @@ pub enum AttemptFailure {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum StepFailure {
     /// The step size fell below `4u|t|`; the last attempt failed for `last` (if any attempt was made).
-    StepSizeTooSmall { t: f64, h: f64, last: Option<AttemptFailure> },
+    StepSizeTooSmall {
+        /// Time (s).
+        t: f64,
+        /// The step size (s).
+        h: f64,
+        /// Why the last attempt failed.
+        last: Option<AttemptFailure>,
+    },
     /// The tolerance is below what the precision allows at this solution: the weighted unit round-off
     /// `2u ‖y‖` exceeds half the tolerance; STEP's suggestion for a workable tolerance factor is given.
-    ToleranceTooSmall { t: f64, factor: f64 },
+    ToleranceTooSmall {
+        /// Time (s).
+        t: f64,
+        /// The factor to multiply the tolerances by.
+        factor: f64,
+    },
     /// `f` could not be evaluated at the initial point.
     Start(EvaluationFailure),
 }
 
 /// The Shampine–Gordon Adams PECE stepper with its workspaces.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct AdamsStepper {
     n: usize,
     control: StepControl,
@@ -171,7 +187,9 @@ pub struct AdamsStepper {
     nornd: bool,
     started: bool,
     /// After [`restart`](AdamsStepper::restart): the largest first step (else infinite).
+    #[serde(with = "crate::integrate::extended_float")]
     h_restart_cap: f64,
+    /// Its counters.
     pub stats: StepperStats,
 }
 

@@ -36,7 +36,7 @@ pub use mechanism::Adams;
 pub use method::{
     AdamsStepper, AttemptFailure, EvaluationFailure, OdeSystem, StepControl, StepFailure, StepperStats, MAX_ORDER,
 };
-pub use partitioning::PartitionReport;
+pub use partitioning::{PartitionCheckpoint, PartitionReport};
 pub use projection::ProjectionDrift;
 
 /// Settings of the Adams method that the BDF does not share (tolerances, step limits and the step

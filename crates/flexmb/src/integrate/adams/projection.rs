@@ -33,6 +33,8 @@
 //! about a tenth of the tolerance per step (RMS), at most about one tolerance.
 
 use crate::data::Data;
+use std::sync::Arc;
+
 use crate::model::Model;
 use crate::stage::{constraint_equations, kinematics, update_angle_references};
 
@@ -51,7 +53,7 @@ const NO_CONVERGENCE: EvaluationFailure =
 
 /// How far the solution strayed from the constraints before each projection, and how much the
 /// projection moved it: the cost of keeping the difference table while the state is projected.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ProjectionDrift {
     /// Projections made (one per accepted step).
     pub projections: usize,
@@ -86,8 +88,8 @@ impl ProjectionDrift {
 
 /// The mechanism on `y = [q, v]` with projection after each step: evaluations and projections with
 /// their workspaces.
-pub(super) struct ProjectedMechanism<'m> {
-    pub model: &'m Model,
+pub(super) struct ProjectedMechanism {
+    pub model: Arc<Model>,
     pub data: Data,
     pub kkt: Kkt,
     /// The state before the projection, for the weighted size of its change.
@@ -100,16 +102,16 @@ pub(super) struct ProjectedMechanism<'m> {
     pub drift: ProjectionDrift,
 }
 
-impl<'m> ProjectedMechanism<'m> {
-    pub fn new(model: &'m Model, active: Vec<bool>, rtol: f64, atol: f64) -> Self {
-        let l = &model.layout;
+impl ProjectedMechanism {
+    pub fn new(model: Arc<Model>, active: Vec<bool>, rtol: f64, atol: f64) -> Self {
+        let (nq, nv) = (model.layout.nq, model.layout.nv);
         Self {
+            data: Data::new(&model),
+            kkt: Kkt::new(&model, active),
             model,
-            data: Data::new(model),
-            kkt: Kkt::new(model, active),
-            y_before: vec![0.0; l.nq + l.nv],
-            nq: l.nq,
-            nv: l.nv,
+            y_before: vec![0.0; nq + nv],
+            nq,
+            nv,
             rtol,
             atol,
             evaluations: 0,
@@ -121,14 +123,14 @@ impl<'m> ProjectedMechanism<'m> {
     fn derivatives(&mut self, t: f64, q: &[f64], v: &[f64], dy: &mut [f64]) -> Result<(), EvaluationFailure> {
         self.evaluations += 1;
         let nq = self.nq;
-        self.kkt.accelerations(self.model, &mut self.data, t, &mut dy[nq..])?;
-        velocity_map(self.model, q, v, &mut dy[..nq]);
+        self.kkt.accelerations(&self.model, &mut self.data, t, &mut dy[nq..])?;
+        velocity_map(&self.model, q, v, &mut dy[..nq]);
         Ok(())
     }
 
     /// Newton on `Φ(q, t) = 0` by minimum-norm (mass metric) corrections; `v` only feeds the kinematics.
     fn project_positions(&mut self, t: f64, q: &mut [f64], v: &[f64]) -> Result<(), EvaluationFailure> {
-        let model = self.model;
+        let model = &*self.model;
         let mut previous = f64::INFINITY;
         let mut fresh = false;
         for it in 0..PROJECTION_ITERATIONS {
@@ -164,7 +166,7 @@ impl<'m> ProjectedMechanism<'m> {
     /// Corrects `v` at the (projected) positions `q` by the minimum-norm change that satisfies the
     /// velocity constraints, with the KKT factors made there; returns the residual before.
     fn project_velocities(&mut self, t: f64, q: &[f64], v: &mut [f64]) -> Result<f64, EvaluationFailure> {
-        let model = self.model;
+        let model = &*self.model;
         kinematics(model, &mut self.data, q, v);
         constraint_equations(model, &mut self.data, t);
         self.kkt.factor(model, &self.data)?;
@@ -184,7 +186,7 @@ impl<'m> ProjectedMechanism<'m> {
     /// only to the local error. The drift statistics, which describe the accepted steps, are left as
     /// they were.
     pub fn project_output(&mut self, t: f64, q: &mut [f64], v: &mut [f64]) -> Result<(), EvaluationFailure> {
-        let model = self.model;
+        let model = &*self.model;
         let drift = self.drift;
         normalize_euler_parameters(model, q);
         let projected = self.project_positions(t, q, v);
@@ -194,17 +196,18 @@ impl<'m> ProjectedMechanism<'m> {
     }
 }
 
-impl OdeSystem for ProjectedMechanism<'_> {
+impl OdeSystem for ProjectedMechanism {
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), EvaluationFailure> {
         let (q, v) = y.split_at(self.nq);
-        kinematics(self.model, &mut self.data, q, v);
-        constraint_equations(self.model, &mut self.data, t);
-        self.kkt.factor(self.model, &self.data)?;
+        kinematics(&self.model, &mut self.data, q, v);
+        constraint_equations(&self.model, &mut self.data, t);
+        self.kkt.factor(&self.model, &self.data)?;
         self.derivatives(t, q, v, dy)
     }
 
     fn accept(&mut self, t: f64, y: &mut [f64], dy: &mut [f64]) -> Result<(), EvaluationFailure> {
-        let model = self.model;
+        let model = Arc::clone(&self.model);
+        let model = &*model;
         self.y_before.copy_from_slice(y);
         let (q, v) = y.split_at_mut(self.nq);
         let normalization = normalize_euler_parameters(model, q);

@@ -2,6 +2,7 @@
 //! leaves the constraints at a rate set by the local error, and the violation grows along the run;
 //! with projection it stays at the projection's tolerance.
 
+use std::sync::Arc;
 use super::kkt::{constraint_rate, position_residual, velocity_map};
 use super::method::{AdamsStepper, EvaluationFailure, OdeSystem, StepControl};
 use super::projection::ProjectedMechanism;
@@ -12,9 +13,9 @@ use crate::model::Model;
 use crate::stage::{constraint_equations, kinematics};
 
 /// The same system with the projection switched off (the accepted solution is only evaluated).
-struct Unprojected<'m>(ProjectedMechanism<'m>);
+struct Unprojected(ProjectedMechanism);
 
-impl OdeSystem for Unprojected<'_> {
+impl OdeSystem for Unprojected {
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), EvaluationFailure> {
         self.0.rhs(t, y, dy)
     }
@@ -59,10 +60,10 @@ fn projection_removes_the_drift_of_the_index_one_equations() {
         let mut worst = [(0.0_f64, 0.0_f64, 0.0_f64); 2];
         let mut steps = [0; 2];
         for (k, worst) in worst.iter_mut().enumerate() {
-            let system = ProjectedMechanism::new(&model, state.active.clone(), tol, tol);
+            let system = ProjectedMechanism::new(Arc::new(model.clone()), state.active.clone(), tol, tol);
             let mut stepper = AdamsStepper::new(control, 0.0, &y0, &yp0);
             let mut projected = system;
-            let mut unprojected = Unprojected(ProjectedMechanism::new(&model, state.active.clone(), tol, tol));
+            let mut unprojected = Unprojected(ProjectedMechanism::new(Arc::new(model.clone()), state.active.clone(), tol, tol));
             while stepper.t() < t_end {
                 if k == 0 {
                     stepper.step(&mut unprojected, t_end).unwrap();

@@ -22,6 +22,8 @@
 
 use std::ops::Range;
 
+use faer::Mat;
+
 use super::lie_group::{quaternion_product, right_jacobian, rotation_quaternion};
 use super::Coefficients;
 use crate::data::Data;
@@ -29,13 +31,10 @@ use crate::integrate::iteration_matrix::force_couplings;
 use crate::linalg::{SingularMatrix, SparseLu};
 use crate::math::{Mat3, Vec3, Vec4};
 use crate::model::{BodyId, Model};
-use crate::stage::{
-    add_jacobian_transpose, applied_forces, body_mass_entries, constraint_equations, inertia_forces, jacobian_entries,
-    kinematics, measures,
-};
+use crate::stage::{add_jacobian_transpose, body_mass_entries, forward, jacobian_entries};
 
 /// The iteration matrix on its fixed sparse pattern, with the stored finite-difference parts.
-pub(super) struct IterationMatrix {
+pub(crate) struct IterationMatrix {
     lu: SparseLu,
     nv: usize,
     nc: usize,
@@ -399,6 +398,39 @@ impl IterationMatrix {
         }
     }
 
+    /// The stored stiffness and damping parts and the constraint Jacobian at the start of the step (for
+    /// a checkpoint).
+    pub fn stored_parts(&self) -> (&[f64], &[f64], &[f64]) {
+        (&self.stiffness, &self.damping, &self.b_start)
+    }
+
+    /// Replaces the stored parts (from a checkpoint; their lengths checked by the caller).
+    pub fn set_stored_parts(&mut self, stiffness: &[f64], damping: &[f64], b_start: &[f64]) {
+        self.stiffness.copy_from_slice(stiffness);
+        self.damping.copy_from_slice(damping);
+        self.b_start.copy_from_slice(b_start);
+    }
+
+    /// `K`, `C` (dynamic rows) and `K_B` (velocity-constraint rows) of the last
+    /// [`evaluate_derivatives`](Self::evaluate_derivatives), as dense matrices with columns in velocity
+    /// space: `(K, C, K_B)`.
+    pub fn dense_derivatives(&self) -> (Mat<f64>, Mat<f64>, Mat<f64>) {
+        let (nv, nc) = (self.nv, self.nc);
+        let (mut k, mut c, mut k_b) = (Mat::zeros(nv, nv), Mat::zeros(nv, nv), Mat::zeros(nc, nv));
+        for col in 0..nv {
+            let (range, rows) = self.lu.column(col);
+            for (s, &r) in range.zip(rows) {
+                if r < nv {
+                    k[(r, col)] = self.stiffness[s];
+                    c[(r, col)] = self.damping[s];
+                } else if r < nv + nc {
+                    k_b[(r - nv, col)] = self.stiffness[s];
+                }
+            }
+        }
+        (k, c, k_b)
+    }
+
     /// Solves with the current factors in place.
     pub fn solve_in_place(&mut self, rhs: &mut [f64]) -> Result<(), SingularMatrix> {
         self.lu.solve_in_place(rhs)
@@ -426,11 +458,7 @@ pub(super) fn equations_of_motion(
     g: &mut [f64],
 ) {
     let nv = model.layout.nv;
-    kinematics(model, data, q, v);
-    constraint_equations(model, data, t);
-    measures(model, data);
-    applied_forces(model, data, t);
-    inertia_forces(model, data, vdot);
+    forward(model, data, t, q, v, vdot);
     for k in 0..nv {
         g[k] = data.inertia[k] - data.applied[k];
     }

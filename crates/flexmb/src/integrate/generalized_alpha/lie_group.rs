@@ -32,7 +32,7 @@ pub(super) fn rotation_quaternion(theta: &Vec3) -> Vec4 {
 }
 
 /// `out = q ∘ exp(d)`: every body moved by the velocity-space increment `d` (length `nv`).
-pub(super) fn retract(layout: &Layout, q: &[f64], d: &[f64], out: &mut [f64]) {
+pub(crate) fn retract(layout: &Layout, q: &[f64], d: &[f64], out: &mut [f64]) {
     for b in 0..layout.n_bodies() {
         let (qo, vo, m) = (layout.q_offset[b], layout.v_offset[b], layout.modes[b]);
         for k in 0..3 {

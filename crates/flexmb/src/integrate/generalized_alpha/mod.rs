@@ -83,13 +83,20 @@
 mod iteration_matrix;
 mod lie_group;
 
-use iteration_matrix::{equations_of_motion, IterationMatrix};
-use lie_group::{position_sum_of_squares, retract, right_jacobian_inverse};
+pub(crate) use iteration_matrix::IterationMatrix;
+use iteration_matrix::equations_of_motion;
+pub(crate) use lie_group::retract;
+use lie_group::{position_sum_of_squares, right_jacobian_inverse};
 
 use crate::analysis::{Accelerations, State};
 use crate::data::Data;
 use crate::integrate::newton::{ConvergenceTest, Verdict};
-use crate::integrate::{AttemptFailure, BdfConfig, GeneralizedAlphaConfig, IntegrationError, Integrator, Stats};
+use std::sync::Arc;
+
+use crate::integrate::{
+    check_len, AttemptFailure, BdfConfig, CheckpointError, GeneralizedAlphaCheckpoint, GeneralizedAlphaConfig, IntegrationError,
+    Integrator, IntegratorCheckpoint, Stats,
+};
 use crate::math::Vec3;
 use crate::model::Model;
 use crate::stage::{add_jacobian_transpose, constraint_equations, kinematics, update_angle_references};
@@ -135,8 +142,8 @@ impl Coefficients {
 }
 
 /// The generalized-α integrator with its workspaces; one [`step`](Self::step) is one accepted step.
-pub struct GeneralizedAlpha<'m> {
-    model: &'m Model,
+pub struct GeneralizedAlpha {
+    model: Arc<Model>,
     data: Data,
     active: Vec<bool>,
     config: BdfConfig,
@@ -184,13 +191,14 @@ pub struct GeneralizedAlpha<'m> {
     mu: Vec<f64>,
     /// Scratch of length `nv` (error estimate, increments, interpolation).
     work: Vec<f64>,
+    /// The counters so far.
     pub stats: Stats,
 }
 
-impl<'m> GeneralizedAlpha<'m> {
+impl GeneralizedAlpha {
     /// Starts from a consistent state (assembled, velocity-analysed) and its accelerations.
     pub fn new(
-        model: &'m Model,
+        model: Arc<Model>,
         state: &State,
         accelerations: &Accelerations,
         config: BdfConfig,
@@ -215,14 +223,13 @@ impl<'m> GeneralizedAlpha<'m> {
         let h0 = alpha
             .fixed_step
             .or(config.h_init)
-            .unwrap_or_else(|| initial_step(model, &config, &state.q, &state.v, &accelerations.vdot))
+            .unwrap_or_else(|| initial_step(&model, &config, &state.q, &state.v, &accelerations.vdot))
             .min(config.h_max);
-        let mut data = Data::new(model);
-        kinematics(model, &mut data, &state.q, &state.v);
+        let mut data = Data::new(&model);
+        kinematics(&model, &mut data, &state.q, &state.v);
         data.angle_reference.fill(0.0);
-        update_angle_references(model, &mut data);
+        update_angle_references(&model, &mut data);
         let mut integrator = Self {
-            model,
             active: state.active.clone(),
             config,
             fixed_step: alpha.fixed_step,
@@ -230,7 +237,8 @@ impl<'m> GeneralizedAlpha<'m> {
             nv,
             nc,
             newton_tol: (10.0 * f64::EPSILON / config.rtol).max(config.rtol.sqrt().min(0.03)),
-            matrix: IterationMatrix::new(model),
+            matrix: IterationMatrix::new(&model),
+            data,
             derivatives_current: false,
             refresh_next: false,
             t,
@@ -259,12 +267,12 @@ impl<'m> GeneralizedAlpha<'m> {
             mu: vec![0.0; nc],
             work: vec![0.0; nv],
             stats: Stats::default(),
-            data,
-        };
-        constraint_equations(model, &mut integrator.data, t);
-        integrator.matrix.set_start_jacobian(model, &integrator.data, &integrator.active);
-        let evaluations = integrator.matrix.evaluate_derivatives(
             model,
+        };
+        constraint_equations(&integrator.model, &mut integrator.data, t);
+        integrator.matrix.set_start_jacobian(&integrator.model, &integrator.data, &integrator.active);
+        let evaluations = integrator.matrix.evaluate_derivatives(
+            &integrator.model,
             &mut integrator.data,
             &integrator.active,
             t,
@@ -302,6 +310,78 @@ impl<'m> GeneralizedAlpha<'m> {
     pub fn multipliers(&self) -> &[f64] {
         &self.lambda
     }
+    /// The complete state between two steps.
+    pub fn checkpoint(&self) -> GeneralizedAlphaCheckpoint {
+        let (stiffness, damping, start_jacobian) = self.matrix.stored_parts();
+        GeneralizedAlphaCheckpoint {
+            t: self.t,
+            h: self.h,
+            q: self.q.clone(),
+            v: self.v.clone(),
+            vdot: self.vdot.clone(),
+            a_tilde: self.a_tilde.clone(),
+            lambda: self.lambda.clone(),
+            t_old: self.t_old,
+            h_last: self.h_last,
+            q_old: self.q_old.clone(),
+            v_old: self.v_old.clone(),
+            vdot_old: self.vdot_old.clone(),
+            d_last: self.d_last.clone(),
+            derivatives_current: self.derivatives_current,
+            refresh_next: self.refresh_next,
+            stiffness: stiffness.to_vec(),
+            damping: damping.to_vec(),
+            start_jacobian: start_jacobian.to_vec(),
+            active: self.active.clone(),
+            angle_reference: self.data.angle_reference.clone(),
+            stats: self.stats,
+        }
+    }
+
+    /// Continues from `c`, taken of a generalized-α integrator on the same model with the same settings.
+    pub fn restore(&mut self, c: &GeneralizedAlphaCheckpoint) -> Result<(), CheckpointError> {
+        let (nq, nv, nc) = (self.q.len(), self.nv, self.nc);
+        let (stiffness, damping, start_jacobian) = self.matrix.stored_parts();
+        for (what, expected, found) in [
+            ("the positions", nq, c.q.len()),
+            ("the positions at the last step's start", nq, c.q_old.len()),
+            ("the velocities", nv, c.v.len()),
+            ("the velocities at the last step's start", nv, c.v_old.len()),
+            ("the accelerations", nv, c.vdot.len()),
+            ("the accelerations at the last step's start", nv, c.vdot_old.len()),
+            ("ã", nv, c.a_tilde.len()),
+            ("the last step's increment", nv, c.d_last.len()),
+            ("the multipliers", nc, c.lambda.len()),
+            ("the stiffness part", stiffness.len(), c.stiffness.len()),
+            ("the damping part", damping.len(), c.damping.len()),
+            ("the constraint Jacobian", start_jacobian.len(), c.start_jacobian.len()),
+            ("the constraint rows in force", nc, c.active.len()),
+            ("the joint angles", self.data.angle_reference.len(), c.angle_reference.len()),
+        ] {
+            check_len(what, expected, found)?;
+        }
+        self.t = c.t;
+        self.h = c.h;
+        self.q.copy_from_slice(&c.q);
+        self.v.copy_from_slice(&c.v);
+        self.vdot.copy_from_slice(&c.vdot);
+        self.a_tilde.copy_from_slice(&c.a_tilde);
+        self.lambda.copy_from_slice(&c.lambda);
+        self.t_old = c.t_old;
+        self.h_last = c.h_last;
+        self.q_old.copy_from_slice(&c.q_old);
+        self.v_old.copy_from_slice(&c.v_old);
+        self.vdot_old.copy_from_slice(&c.vdot_old);
+        self.d_last.copy_from_slice(&c.d_last);
+        self.derivatives_current = c.derivatives_current;
+        self.refresh_next = c.refresh_next;
+        self.matrix.set_stored_parts(&c.stiffness, &c.damping, &c.start_jacobian);
+        self.active.copy_from_slice(&c.active);
+        self.data.angle_reference.copy_from_slice(&c.angle_reference);
+        self.stats = c.stats;
+        Ok(())
+    }
+
     /// Evaluations of the equations one iteration-matrix evaluation costs.
     pub fn evaluations_per_jacobian(&self) -> usize {
         self.matrix.evaluations_per_jacobian()
@@ -341,7 +421,7 @@ impl<'m> GeneralizedAlpha<'m> {
             self.evaluate_residual(t_new, h_step);
             let factored = self
                 .matrix
-                .factor(self.model, &self.data, &self.active, h_step, &self.coefficients, &self.d_step)
+                .factor(&self.model, &self.data, &self.active, h_step, &self.coefficients, &self.d_step)
                 .is_ok();
             self.stats.factorizations += 1;
             let converged = factored && self.newton(t_new, h_step);
@@ -431,7 +511,7 @@ impl<'m> GeneralizedAlpha<'m> {
         let (cb, cg) = (self.coefficients.beta_prime() * h * h, self.coefficients.gamma_prime() * h);
         let (vdot, rest) = self.x.split_at(nv);
         equations_of_motion(
-            self.model,
+            &self.model,
             &mut self.data,
             &self.active,
             t_new,
@@ -458,7 +538,7 @@ impl<'m> GeneralizedAlpha<'m> {
         self.predict(h);
         let (nv, nc) = (self.nv, self.nc);
         let evaluations = self.matrix.evaluate_derivatives(
-            self.model,
+            &self.model,
             &mut self.data,
             &self.active,
             t_new,
@@ -500,7 +580,7 @@ impl<'m> GeneralizedAlpha<'m> {
             }
             self.delta_new.fill(0.0);
             self.matrix.add_start_jacobian_transpose(&self.mu, &mut self.delta_new);
-            add_jacobian_transpose(self.model, &self.data, &self.mu, &mut self.delta_new);
+            add_jacobian_transpose(&self.model, &self.data, &self.mu, &mut self.delta_new);
             let verdict = test.assess(k, self.increment_norm(h));
             if verdict == Verdict::Diverging {
                 return false;
@@ -578,10 +658,10 @@ impl<'m> GeneralizedAlpha<'m> {
         self.stats.sum_h_squared += h * h;
         self.stats.order_counts[2] += 1;
         self.derivatives_current = false;
-        kinematics(self.model, &mut self.data, &self.q, &self.v);
-        update_angle_references(self.model, &mut self.data);
-        constraint_equations(self.model, &mut self.data, t_new);
-        self.matrix.set_start_jacobian(self.model, &self.data, &self.active);
+        kinematics(&self.model, &mut self.data, &self.q, &self.v);
+        update_angle_references(&self.model, &mut self.data);
+        constraint_equations(&self.model, &mut self.data, t_new);
+        self.matrix.set_start_jacobian(&self.model, &self.data, &self.active);
     }
 
     /// Positions and velocities at `t` within the last step (cubic Hermite, positions in velocity space).
@@ -640,13 +720,13 @@ impl<'m> GeneralizedAlpha<'m> {
         let (row_c, value_c) = worst(nv..nv + 2 * nc);
         let mut text = String::new();
         if row_d != usize::MAX {
-            text += &format!("largest residual {value_d:.3e} in {}", describe_row(self.model, row_d));
+            text += &format!("largest residual {value_d:.3e} in {}", describe_row(&self.model, row_d));
         }
         if row_c != usize::MAX {
-            text += &format!("; largest constraint residual {value_c:.3e} in {}", describe_row(self.model, row_c));
+            text += &format!("; largest constraint residual {value_c:.3e} in {}", describe_row(&self.model, row_c));
         }
         let q = self.q_new.clone();
-        if let Some(note) = crate::analysis::newly_dependent_rows(self.model, &mut self.data, t_new, &q, &self.active) {
+        if let Some(note) = crate::analysis::newly_dependent_rows(&self.model, &mut self.data, t_new, &q, &self.active) {
             text += "; ";
             text += &note;
         }
@@ -680,7 +760,16 @@ fn initial_step(model: &Model, config: &BdfConfig, q: &[f64], v: &[f64], vdot: &
     }
 }
 
-impl Integrator for GeneralizedAlpha<'_> {
+impl Integrator for GeneralizedAlpha {
+    fn checkpoint(&self) -> Result<IntegratorCheckpoint, CheckpointError> {
+        Ok(IntegratorCheckpoint::GeneralizedAlpha(GeneralizedAlpha::checkpoint(self)))
+    }
+    fn restore(&mut self, checkpoint: &IntegratorCheckpoint) -> Result<(), CheckpointError> {
+        match checkpoint {
+            IntegratorCheckpoint::GeneralizedAlpha(c) => GeneralizedAlpha::restore(self, c),
+            other => Err(CheckpointError::Method { expected: "gen-alpha", found: other.method() }),
+        }
+    }
     fn t(&self) -> f64 {
         self.t
     }

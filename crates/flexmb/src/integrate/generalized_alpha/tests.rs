@@ -1,3 +1,4 @@
+use std::sync::Arc;
 use super::*;
 use crate::analysis::{assemble, velocity_analysis, AccelerationSolver, State};
 
@@ -68,7 +69,7 @@ fn iteration_matrix_is_the_derivative_of_the_step_equations() {
         .unwrap()
         .clone();
     let mut ga =
-        GeneralizedAlpha::new(&model, &state, &acc, BdfConfig::default(), GeneralizedAlphaConfig::default()).unwrap();
+        GeneralizedAlpha::new(Arc::new(model.clone()), &state, &acc, BdfConfig::default(), GeneralizedAlphaConfig::default()).unwrap();
     let (nv, nc) = (ga.nv, ga.nc);
     let n = nv + 2 * nc;
     let h = 0.02;
@@ -81,7 +82,7 @@ fn iteration_matrix_is_the_derivative_of_the_step_equations() {
     let x0 = ga.x.clone();
     let cb = ga.coefficients.beta_prime() * h * h;
     // The step equations at x, with Bᵀμ from B at the predictor (as in the first Newton iteration).
-    let residual_at = |ga: &mut GeneralizedAlpha<'_>, x: &[f64]| -> Vec<f64> {
+    let residual_at = |ga: &mut GeneralizedAlpha, x: &[f64]| -> Vec<f64> {
         ga.predict(h);
         ga.evaluate_residual(t_new, h);
         ga.x.copy_from_slice(x);

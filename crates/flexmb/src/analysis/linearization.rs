@@ -1,0 +1,74 @@
+//! The equations of motion linearized at any state: mass, damping and stiffness matrices and the
+//! constraint Jacobian, for eigen-analysis, equilibrium and control design.
+//!
+//! With `g(q, v, v̇, λ) = M(q) v̇ + h(q, v) − Q(q, v, t) + B(q)ᵀλ` (the dynamic rows) and the velocity
+//! constraints `B(q) v + Φ_t = 0`, a small motion `δq` (in velocity space: translations, rotation vector
+//! in body axes, modal coordinates, as [`displaced_positions`] moves the positions), `δv`, `δv̇`, `δλ`
+//! about a state satisfies
+//!
+//! ```text
+//! M δv̇ + C δv + K δq + Bᵀ δλ = 0,        C = ∂g/∂v,   K = ∂g/∂q  (v̇, λ held)
+//! ```
+//!
+//! `M` and `B` are exact; `K`, `C` and `K_B = ∂(B v + Φ_t)/∂q` come from finite differences with the
+//! columns grouped by colouring — the same evaluation the generalized-α method makes for its iteration
+//! matrix (`integrate::generalized_alpha`), whose code this uses.
+
+use faer::Mat;
+
+use super::{Accelerations, State};
+use crate::data::Data;
+use crate::integrate::generalized_alpha::{retract, IterationMatrix};
+use crate::model::Model;
+use crate::stage::{body_mass_entries, constraint_equations, jacobian_entries, kinematics};
+
+/// The equations of motion linearized at one state (matrices in velocity coordinates: `nv` columns).
+#[derive(Clone, Debug)]
+pub struct Linearization {
+    /// `M`, `nv × nv`.
+    pub mass: Mat<f64>,
+    /// `C = ∂g/∂v`, `nv × nv`: viscous forces, gyroscopic and Coriolis terms.
+    pub damping: Mat<f64>,
+    /// `K = ∂g/∂q`, `nv × nv`: elastic forces, gravity through the rotations, the inertia and
+    /// constraint forces of the state's `v̇` and `λ`.
+    pub stiffness: Mat<f64>,
+    /// `B = Φ_q T`, `nc × nv` (zero rows for the constraints switched off).
+    pub constraint_jacobian: Mat<f64>,
+    /// `K_B = ∂(B v + Φ_t)/∂q`, `nc × nv`.
+    pub constraint_stiffness: Mat<f64>,
+}
+
+/// Linearizes the equations of motion at `state` with the accelerations and multipliers `acc` (those
+/// of the state for a linearization about a motion; zero velocities and accelerations with the
+/// equilibrium's multipliers for one about an equilibrium). `data` supplies the parameter values and
+/// joint-angle references; its stages are left evaluated at the state.
+pub fn linearize(model: &Model, data: &mut Data, state: &State, acc: &Accelerations) -> Linearization {
+    let State { t, q, v, active } = state;
+    let l = &model.layout;
+    let mut matrix = IterationMatrix::new(model);
+    matrix.evaluate_derivatives(model, data, active, *t, q, v, &acc.vdot, &acc.lambda);
+    let (stiffness, damping, constraint_stiffness) = matrix.dense_derivatives();
+    kinematics(model, data, q, v);
+    constraint_equations(model, data, *t);
+    let mut mass = Mat::zeros(l.nv, l.nv);
+    for b in 0..model.bodies.len() {
+        let vo = l.v_offset[b];
+        body_mass_entries(model, data, b, |r, c, m| mass[(vo + r, vo + c)] += m);
+    }
+    let mut constraint_jacobian = Mat::zeros(l.nc, l.nv);
+    jacobian_entries(model, data, |row, col, x| {
+        if active[row] {
+            constraint_jacobian[(row, col)] += x;
+        }
+    });
+    Linearization { mass, damping, stiffness, constraint_jacobian, constraint_stiffness }
+}
+
+/// The positions `q` moved by the velocity-space increment `d`: translations and modal coordinates
+/// added, each body frame turned by the rotation vector `d_ω̄` about its own axes (`p ∘ exp(d_ω̄)`), the
+/// displacement the columns of [`Linearization::stiffness`] are taken along.
+pub fn displaced_positions(model: &Model, q: &[f64], d: &[f64]) -> Vec<f64> {
+    let mut out = vec![0.0; q.len()];
+    retract(&model.layout, q, d, &mut out);
+    out
+}

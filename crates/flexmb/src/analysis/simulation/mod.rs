@@ -1,0 +1,566 @@
+//! Dynamic simulation: assembly, velocity analysis, initial accelerations, then integrator steps with
+//! results at the requested output times taken from the method's interpolant.
+//!
+//! A [`Simulation`] owns everything a run needs (the shared model, the integrator with its history,
+//! the watchdog, the report), so a caller can hold it, step it, read its state, save it as a
+//! [`SimulationCheckpoint`] and resume it later. [`simulate`] and [`simulate_interruptible`] run one
+//! to its end.
+
+mod checkpoint;
+mod output;
+mod report;
+mod settings;
+
+use std::sync::Arc;
+use std::time::Instant;
+
+pub use checkpoint::{SimulationCheckpoint, CHECKPOINT_VERSION};
+pub use output::{OutputFrame, OutputSink, OutputTable};
+pub use report::{Interruption, SimulationError, SimulationFailure, SimulationReport};
+pub use settings::SimulationSettings;
+
+use super::outputs::{constraint_residuals, evaluate_outputs, output_columns};
+use super::watchdog::Watchdog;
+use super::{assemble, linearize, velocity_analysis, AccelerationSolver, Accelerations, Linearization, State};
+use crate::data::Data;
+use crate::integrate::Adams;
+use crate::integrate::{Bdf, Integrator, Method};
+use crate::integrate::{GeneralizedAlpha, GeneralizedAlphaConfig};
+use crate::model::{BodyId, Model};
+use crate::stage::{constraint_equations, energy, kinematics, nonconservative_power};
+
+/// A dynamic simulation that owns its state: built from a shared model and settings, advanced step by
+/// step or to a time, its outputs streamed to any [`OutputSink`] at the output times
+/// `k · output_step` (and at the end time), its state and report readable between steps, and its
+/// complete state saved and resumed ([`checkpoint`](Self::checkpoint), [`resume`](Self::resume)).
+///
+/// The steps are never shortened to land on a time asked for: [`advance_to`](Self::advance_to)
+/// stops at the first step at or after it, so that pausing, reading, checkpointing and continuing
+/// leaves the step sequence of an uninterrupted run (the outputs in between come from the
+/// interpolant).
+///
+/// ```
+/// use std::sync::Arc;
+/// use flexmb::analysis::{OutputTable, Simulation, SimulationSettings};
+/// use flexmb::body::{InitialState, Marker, RigidBody};
+/// use flexmb::joint::{Joint, JointKind};
+/// use flexmb::math::{Mat3, Vec3};
+/// use flexmb::model::{BodyRef, ModelBuilder, OutputKind};
+///
+/// // A pendulum of 1 kg on a 1 m rod, pivoted at the origin about z, released horizontal.
+/// let mut b = ModelBuilder::new("pendulum").gravity(Vec3::new(0.0, -9.81, 0.0));
+/// let initial = InitialState { position: Vec3::new(1.0, 0.0, 0.0), ..Default::default() };
+/// let inertia = Mat3::identity() * 1e-3;
+/// let bob = b.add_body(RigidBody { name: "bob".into(), mass: 1.0, center_of_mass: Vec3::zeros(), inertia, initial });
+/// let marker = |name: &str, body, origin| Marker { name: name.into(), body, origin, axes: Mat3::identity() };
+/// let pivot = b.add_marker(marker("pivot", BodyRef::Ground, Vec3::zeros()));
+/// let hinge = b.add_marker(marker("hinge", BodyRef::Body(bob), Vec3::new(-1.0, 0.0, 0.0)));
+/// let center = b.add_marker(marker("center", BodyRef::Body(bob), Vec3::zeros()));
+/// b.add_joint(Joint { name: "pin".into(), kind: JointKind::Revolute, marker_i: pivot, marker_j: hinge });
+/// b.add_output("bob", OutputKind::MarkerPosition(center));
+/// let model = Arc::new(b.build().unwrap());
+///
+/// let settings = SimulationSettings { t_end: 0.5, output_step: 0.1, ..Default::default() };
+/// let mut simulation = Simulation::new(model.clone(), settings).unwrap();
+/// let mut table = OutputTable::new(&model);
+/// simulation.advance_to(0.25, &mut table).unwrap(); // pause at the first step at or after 0.25 s
+/// assert!(simulation.time() >= 0.25 && table.len() == 3);
+/// let checkpoint = simulation.checkpoint().unwrap(); // serializable (serde), to resume later
+/// simulation.advance_to(0.5, &mut table).unwrap();
+/// assert!(simulation.is_finished() && table.len() == 6);
+/// // The rod keeps its length.
+/// let (x, y) = (table.column("bob.x").unwrap(), table.column("bob.y").unwrap());
+/// assert!(x.iter().zip(&y).all(|(x, y)| (x.hypot(*y) - 1.0).abs() < 1e-6));
+/// # let mut resumed = Simulation::resume(model.clone(), settings, &checkpoint).unwrap();
+/// # let mut rest = OutputTable::new(&model);
+/// # resumed.advance_to(0.5, &mut rest).unwrap();
+/// # assert_eq!(rest.len(), 3);
+/// /// ```
+pub struct Simulation {
+    model: Arc<Model>,
+    settings: SimulationSettings,
+    integrator: Box<dyn Integrator>,
+    accelerations: AccelerationSolver,
+    watchdog: Watchdog,
+    report: SimulationReport,
+    /// The constraint rows in force (they do not change during a run; copied once so that no step
+    /// allocates).
+    active: Vec<bool>,
+    /// Index of the next output time on the grid (0: the initial state, not yet reported).
+    next_output: usize,
+    /// The output at an end time off the grid was reported.
+    end_reported: bool,
+    /// A step or an output failed: the simulation cannot continue.
+    failed: bool,
+    /// The current value of each parameter (also in the integrator's scratch data, where the stages
+    /// read it).
+    parameters: Vec<f64>,
+    /// Output values, positions and velocities of the frame being reported.
+    values: Vec<f64>,
+    q: Vec<f64>,
+    v: Vec<f64>,
+}
+
+impl Simulation {
+    /// Assembles the model's initial state, makes its velocities consistent, solves the initial
+    /// accelerations and starts the integrator of `settings.method`. The output at time 0 is reported
+    /// by the first call of [`step`](Self::step) or [`advance_to`](Self::advance_to).
+    pub fn new(model: Arc<Model>, settings: SimulationSettings) -> Result<Self, SimulationError> {
+        let mut report = SimulationReport::default();
+        match Self::start(model, settings, &mut report) {
+            Ok(simulation) => Ok(simulation),
+            Err(cause) => Err(SimulationError { cause, report: Box::new(report) }),
+        }
+    }
+
+    fn start(model: Arc<Model>, settings: SimulationSettings, report: &mut SimulationReport) -> Result<Self, SimulationFailure> {
+        settings.validate().map_err(SimulationFailure::Invalid)?;
+        let mut data = Data::new(&model);
+        let mut state = State::initial(&model);
+        report.assembly = Some(assemble(&model, &mut data, &mut state, settings.assembly)?);
+        report.velocity = Some(velocity_analysis(&model, &mut data, &mut state)?);
+        let mut accelerations = AccelerationSolver::new(&model);
+        let acc = accelerations
+            .solve(&model, &mut data, state.t, &state.q, &state.v, &state.active)
+            .map_err(|_| SimulationFailure::SingularAccelerations { t: state.t, detail: String::new() })?
+            .clone();
+        let integrator = start_integrator(&model, &settings, &state, &acc)?;
+        report.method = integrator.name();
+        Ok(Self::with_integrator(model, settings, integrator, accelerations, std::mem::take(report)))
+    }
+
+    fn with_integrator(
+        model: Arc<Model>,
+        settings: SimulationSettings,
+        integrator: Box<dyn Integrator>,
+        accelerations: AccelerationSolver,
+        report: SimulationReport,
+    ) -> Self {
+        let watchdog = Watchdog::new(&model, settings.physics_limits, settings.integrator.atol);
+        let active = integrator.active().to_vec();
+        let (nq, nv) = (model.layout.nq, model.layout.nv);
+        Self {
+            values: vec![0.0; output_columns(&model).len()],
+            q: vec![0.0; nq],
+            v: vec![0.0; nv],
+            settings,
+            integrator,
+            accelerations,
+            watchdog,
+            report,
+            active,
+            next_output: 0,
+            end_reported: false,
+            failed: false,
+            parameters: model.parameters.iter().map(|p| p.value).collect(),
+            model,
+        }
+    }
+
+    /// Continues a run from `checkpoint`, taken of a simulation of the same model with the same
+    /// method and tolerances: the following steps and outputs are those the checkpointed simulation
+    /// would have produced. `settings.t_end` may differ from the checkpointed run's (to run further), and
+    /// so may `output_step` (the outputs continue on the new grid after the checkpoint's time); other
+    /// tolerances than the checkpointed run's give other steps from the checkpoint on.
+    pub fn resume(model: Arc<Model>, settings: SimulationSettings, checkpoint: &SimulationCheckpoint) -> Result<Self, SimulationError> {
+        let fail = |cause| SimulationError { cause, report: Box::new(checkpoint.report.clone()) };
+        settings.validate().map_err(|e| fail(SimulationFailure::Invalid(e)))?;
+        if checkpoint.version != CHECKPOINT_VERSION {
+            return Err(fail(SimulationFailure::Invalid(format!(
+                "the checkpoint has layout version {}, this flexmb reads version {CHECKPOINT_VERSION}",
+                checkpoint.version
+            ))));
+        }
+        let l = &model.layout;
+        for (what, expected, found) in [
+            ("the positions", l.nq, checkpoint.q.len()),
+            ("the velocities", l.nv, checkpoint.v.len()),
+            ("the multipliers", l.nc, checkpoint.multipliers.len()),
+            ("the constraint rows in force", l.nc, checkpoint.active.len()),
+            ("the parameters", model.parameters.len(), checkpoint.parameters.len()),
+        ] {
+            crate::integrate::check_len(what, expected, found).map_err(|e| fail(e.into()))?;
+        }
+        let state = State { t: checkpoint.t, q: checkpoint.q.clone(), v: checkpoint.v.clone(), active: checkpoint.active.clone() };
+        // The integrator is started at the checkpoint's state, then its history is restored over what
+        // it started with: the accelerations only seed what is overwritten.
+        let acc = Accelerations { vdot: vec![0.0; l.nv], lambda: checkpoint.multipliers.clone() };
+        let integrator = start_integrator(&model, &settings, &state, &acc).map_err(fail)?;
+        let mut report = checkpoint.report.clone();
+        report.method = integrator.name();
+        report.interrupted = None;
+        let accelerations = AccelerationSolver::new(&model);
+        let mut simulation = Self::with_integrator(model, settings, integrator, accelerations, report);
+        simulation.integrator.restore(&checkpoint.integrator).map_err(|e| fail(e.into()))?;
+        simulation.watchdog.restore(&checkpoint.watchdog).map_err(|e| fail(e.into()))?;
+        for (p, &value) in checkpoint.parameters.iter().enumerate() {
+            simulation.write_parameter(p, value);
+        }
+        simulation.next_output = if checkpoint.output_step == settings.output_step || checkpoint.next_output == 0 {
+            checkpoint.next_output
+        } else {
+            // The outputs up to `t` were reported on the old grid: the new grid's first time after `t`,
+            // by the test the output loop makes.
+            let reported = |k: usize| k as f64 * settings.output_step <= checkpoint.t * (1.0 + 1e-12);
+            let mut k = (checkpoint.t / settings.output_step).floor() as usize;
+            while k > 0 && !reported(k) {
+                k -= 1;
+            }
+            while reported(k + 1) {
+                k += 1;
+            }
+            k + 1
+        };
+        simulation.end_reported = checkpoint.end_reported;
+        Ok(simulation)
+    }
+
+    /// The complete state after the last accepted step (also after an interruption), to save and
+    /// [`resume`](Self::resume). Fails after a failure.
+    pub fn checkpoint(&mut self) -> Result<SimulationCheckpoint, SimulationFailure> {
+        self.usable()?;
+        let integrator = self.integrator.checkpoint()?;
+        let multipliers = self.multipliers()?.to_vec();
+        let (q, v) = self.integrator.state();
+        Ok(SimulationCheckpoint {
+            version: CHECKPOINT_VERSION,
+            t: self.integrator.t(),
+            q: q.to_vec(),
+            v: v.to_vec(),
+            multipliers,
+            active: self.active.clone(),
+            integrator,
+            report: self.report.clone(),
+            watchdog: self.watchdog.checkpoint(),
+            parameters: self.parameters.clone(),
+            next_output: self.next_output,
+            output_step: self.settings.output_step,
+            end_reported: self.end_reported,
+        })
+    }
+
+    /// The model simulated.
+    pub fn model(&self) -> &Arc<Model> {
+        &self.model
+    }
+
+    /// The settings of the run.
+    pub fn settings(&self) -> &SimulationSettings {
+        &self.settings
+    }
+
+    /// Time of the last accepted step (s).
+    pub fn time(&self) -> f64 {
+        self.integrator.t()
+    }
+
+    /// The end time has been reached and its outputs reported.
+    pub fn is_finished(&self) -> bool {
+        self.reached_end() && self.next_output > 0 && (self.end_reported || !self.settings.end_off_grid())
+    }
+
+    /// Positions `q` at the last accepted step (per body `R, p, a`).
+    pub fn positions(&self) -> &[f64] {
+        self.integrator.state().0
+    }
+
+    /// Velocities `v` at the last accepted step (per body `Ṙ, ω̄, ȧ`).
+    pub fn velocities(&self) -> &[f64] {
+        self.integrator.state().1
+    }
+
+    /// Modal coordinates `a` of `body` at the last accepted step (empty for a rigid body).
+    pub fn modal_coordinates(&self, body: BodyId) -> &[f64] {
+        let qo = self.model.layout.q_offset[body.0];
+        &self.positions()[qo + 7..qo + 7 + self.model.layout.modes[body.0]]
+    }
+
+    /// Modal rates `ȧ` of `body` at the last accepted step (empty for a rigid body).
+    pub fn modal_rates(&self, body: BodyId) -> &[f64] {
+        let vo = self.model.layout.v_offset[body.0];
+        &self.velocities()[vo + 6..vo + 6 + self.model.layout.modes[body.0]]
+    }
+
+    /// Lagrange multipliers `λ` at the last accepted step (one per constraint row, zero on the rows
+    /// switched off as redundant), from the equations of motion at that state.
+    pub fn multipliers(&mut self) -> Result<&[f64], SimulationFailure> {
+        Ok(&self.solve_accelerations()?.lambda)
+    }
+
+    /// Accelerations `v̇` at the last accepted step, from the equations of motion at that state.
+    pub fn accelerations(&mut self) -> Result<&[f64], SimulationFailure> {
+        Ok(&self.solve_accelerations()?.vdot)
+    }
+
+    fn solve_accelerations(&mut self) -> Result<&Accelerations, SimulationFailure> {
+        let t = self.integrator.t();
+        let (q, v) = self.integrator.state();
+        self.q.copy_from_slice(q);
+        self.v.copy_from_slice(v);
+        self.accelerations
+            .solve(&self.model, self.integrator.data_mut(), t, &self.q, &self.v, &self.active)
+            .map_err(|_| SimulationFailure::SingularAccelerations { t, detail: String::new() })
+    }
+
+    /// The current value of the parameter named `name` (declared with
+    /// [`ModelBuilder::add_parameter`](crate::ModelBuilder::add_parameter)).
+    pub fn parameter(&self, name: &str) -> Option<f64> {
+        self.model.find_parameter(name).map(|p| self.parameters[p.0])
+    }
+
+    /// Changes the parameter named `name` to `value` from the next step on (the expressions that read
+    /// it see the new value in every later evaluation). The integrator keeps its history: a change that
+    /// makes the forces jump is absorbed by its error control, which shortens the steps after it.
+    pub fn set_parameter(&mut self, name: &str, value: f64) -> Result<(), SimulationFailure> {
+        self.usable()?;
+        let Some(p) = self.model.find_parameter(name) else {
+            let names: Vec<&str> = self.model.parameters.iter().map(|p| p.name.as_str()).collect();
+            let known = if names.is_empty() { "it has none".to_string() } else { format!("it has {}", names.join(", ")) };
+            return Err(SimulationFailure::Invalid(format!("the model has no parameter '{name}': {known}")));
+        };
+        if !value.is_finite() {
+            return Err(SimulationFailure::Invalid(format!("parameter '{name}' must be finite, got {value}")));
+        }
+        self.write_parameter(p.0, value);
+        Ok(())
+    }
+
+    fn write_parameter(&mut self, p: usize, value: f64) {
+        self.parameters[p] = value;
+        self.integrator.data_mut().parameters[p] = value;
+    }
+
+    /// The equations of motion linearized at the last accepted step, with its accelerations and
+    /// multipliers and the current parameter values (see [`linearize`](crate::analysis::linearize)).
+    pub fn linearize(&mut self) -> Result<Linearization, SimulationFailure> {
+        let acc = self.solve_accelerations()?.clone();
+        let state = State { t: self.integrator.t(), q: self.q.clone(), v: self.v.clone(), active: self.active.clone() };
+        Ok(linearize(&self.model, self.integrator.data_mut(), &state, &acc))
+    }
+
+    /// The integrator's counters so far.
+    pub fn stats(&self) -> &crate::integrate::Stats {
+        self.integrator.stats()
+    }
+
+    /// The report so far.
+    pub fn report(&self) -> &SimulationReport {
+        &self.report
+    }
+
+    /// The report, ending the simulation.
+    pub fn into_report(self) -> SimulationReport {
+        self.report
+    }
+
+    /// Records in the report that the run was stopped from outside at its current time, for `reason`.
+    pub fn interrupt(&mut self, reason: String) {
+        self.report.interrupted = Some(Interruption { t: self.integrator.t(), reason });
+    }
+
+    /// Takes one accepted step and reports to `sink` the outputs up to its end (the output at time 0
+    /// first, at the first call; the output at the end time, at the last step). Does nothing once the
+    /// simulation [`is_finished`](Self::is_finished).
+    pub fn step(&mut self, sink: &mut dyn OutputSink) -> Result<(), SimulationFailure> {
+        self.guarded(|s| {
+            s.integrate_step(sink)?;
+            s.report_end(sink)
+        })
+    }
+
+    /// Steps until the time reaches `t` (or the end time), reporting the outputs passed to `sink`.
+    /// The last step may end after `t`: steps are not shortened to land on it.
+    pub fn advance_to(&mut self, t: f64, sink: &mut dyn OutputSink) -> Result<(), SimulationFailure> {
+        self.guarded(|s| s.report_initial(sink))?;
+        while !self.is_finished() && (self.time() < t || self.reached_end()) {
+            self.step(sink)?;
+        }
+        Ok(())
+    }
+
+    /// Runs to the end time, asking `interrupt` after every accepted step (once its outputs are
+    /// reported) whether to stop; when it answers with a reason, the run pauses there and its report
+    /// carries [`SimulationReport::interrupted`] (it may be checkpointed or continued).
+    pub fn run(&mut self, sink: &mut dyn OutputSink, interrupt: &dyn Fn() -> Option<String>) -> Result<(), SimulationFailure> {
+        self.guarded(|s| {
+            while !s.reached_end() {
+                s.integrate_step(sink)?;
+                if let Some(reason) = interrupt() {
+                    s.interrupt(reason);
+                    return Ok(());
+                }
+            }
+            s.integrate_step(sink)?;
+            s.report_end(sink)
+        })
+    }
+
+    /// Runs `f`, adding its wall time to the report; a failure makes the simulation unusable.
+    fn guarded(&mut self, f: impl FnOnce(&mut Self) -> Result<(), SimulationFailure>) -> Result<(), SimulationFailure> {
+        self.usable()?;
+        let start = Instant::now();
+        let wall_time = self.report.wall_time;
+        let result = f(self);
+        self.report.wall_time = wall_time + start.elapsed().as_secs_f64();
+        self.failed = result.is_err();
+        result
+    }
+
+    fn usable(&self) -> Result<(), SimulationFailure> {
+        if self.failed {
+            return Err(SimulationFailure::Invalid("the simulation has failed and cannot continue".into()));
+        }
+        Ok(())
+    }
+
+    fn reached_end(&self) -> bool {
+        self.integrator.t() >= self.settings.t_end
+    }
+
+    /// The output at time 0 if not yet reported, then one accepted step (unless at the end time) and
+    /// the grid outputs up to its end.
+    fn integrate_step(&mut self, sink: &mut dyn OutputSink) -> Result<(), SimulationFailure> {
+        self.report_initial(sink)?;
+        if self.reached_end() {
+            return Ok(());
+        }
+        let step = self.integrator.step(self.settings.t_end);
+        self.report.stats = *self.integrator.stats();
+        self.report.t_reached = self.integrator.t();
+        step?;
+        self.copy_state();
+        let t = self.integrator.t();
+        Watchdog::check_finite(&self.model, t, &self.q, &self.v)?;
+        check_step(&self.model, self.integrator.as_mut(), &self.q, &self.v, &self.active, &mut self.report);
+        let (n_outputs, output_step) = (self.settings.grid_outputs(), self.settings.output_step);
+        while self.next_output <= n_outputs && self.next_output as f64 * output_step <= t * (1.0 + 1e-12) {
+            let t_out = self.next_output as f64 * output_step;
+            self.integrator.interpolate(t_out.min(t), &mut self.q, &mut self.v);
+            self.report_frame(t_out, sink)?;
+            self.next_output += 1;
+        }
+        Ok(())
+    }
+
+    /// The output at time 0, if not yet reported.
+    fn report_initial(&mut self, sink: &mut dyn OutputSink) -> Result<(), SimulationFailure> {
+        if self.next_output == 0 {
+            self.copy_state();
+            self.report_frame(0.0, sink)?;
+            self.next_output = 1;
+        }
+        Ok(())
+    }
+
+    /// The output at the end time when it is not on the output grid, once the end is reached.
+    fn report_end(&mut self, sink: &mut dyn OutputSink) -> Result<(), SimulationFailure> {
+        if self.reached_end() && !self.end_reported && self.settings.end_off_grid() {
+            self.copy_state();
+            self.report_frame(self.settings.t_end, sink)?;
+            self.end_reported = true;
+        }
+        Ok(())
+    }
+
+    fn copy_state(&mut self) {
+        let (q, v) = self.integrator.state();
+        self.q.copy_from_slice(q);
+        self.v.copy_from_slice(v);
+    }
+
+    /// Evaluates the outputs at `(t, self.q, self.v)`, updates the report's energies and residuals,
+    /// checks the state and hands the frame to `sink`, then lets the watchdog check it.
+    fn report_frame(&mut self, t: f64, sink: &mut dyn OutputSink) -> Result<(), SimulationFailure> {
+        let model = &*self.model;
+        let (q, v, values, report) = (&self.q, &self.v, &mut self.values, &mut self.report);
+        let data = self.integrator.data_mut();
+        let acc = self
+            .accelerations
+            .solve(model, data, t, q, v, &self.active)
+            .map_err(|_| SimulationFailure::SingularAccelerations { t, detail: String::new() })?;
+        let power = nonconservative_power(model, data, t, &acc.lambda);
+        evaluate_outputs(model, data, q, v, acc, &self.active, values);
+        let (p, vel) = constraint_residuals(model, data, &self.active);
+        report.max_output_position_residual = report.max_output_position_residual.max(p);
+        report.max_output_velocity_residual = report.max_output_velocity_residual.max(vel);
+        let e = energy(model, data, q, v);
+        if report.output_frames == 0 {
+            report.energy_initial = e.total();
+        } else {
+            let (p0, t0) = report.last_power;
+            report.nonconservative_work += 0.5 * (p0 + power) * (t - t0);
+        }
+        report.last_power = (power, t);
+        report.energy_final = e.total();
+        let balance_error = report.energy_final - report.energy_initial - report.nonconservative_work;
+        Watchdog::check_finite_frame(model, (t, q, v), &e, power)?;
+        report.output_frames += 1;
+        sink.write_frame(&OutputFrame { t, values, q, v }).map_err(|message| SimulationFailure::Output { t, message })?;
+        self.watchdog
+            .check_frame(model, data, (t, q, v), (&e, balance_error, power), &mut report.warnings, &mut report.physics)?;
+        Ok(())
+    }
+}
+
+/// The integrator of `settings.method`, started at a consistent state and its accelerations.
+fn start_integrator(
+    model: &Arc<Model>,
+    settings: &SimulationSettings,
+    state: &State,
+    acc: &Accelerations,
+) -> Result<Box<dyn Integrator>, SimulationFailure> {
+    let model = Arc::clone(model);
+    Ok(match settings.method {
+        Method::Bdf => Box::new(Bdf::new(model, state, acc, settings.integrator)?),
+        Method::Adams(config) => {
+            config.validate().map_err(SimulationFailure::Invalid)?;
+            Box::new(Adams::new(model, state, acc, settings.integrator, config)?)
+        }
+        Method::GeneralizedAlpha { spectral_radius } => {
+            let config = GeneralizedAlphaConfig { spectral_radius, ..Default::default() };
+            config.validate().map_err(SimulationFailure::Invalid)?;
+            Box::new(GeneralizedAlpha::new(model, state, acc, settings.integrator, config)?)
+        }
+    })
+}
+
+/// Runs a simulation and hands every output frame to `observer` as soon as it is computed.
+pub fn simulate(
+    model: &Model,
+    settings: &SimulationSettings,
+    observer: &mut dyn FnMut(&OutputFrame),
+) -> Result<SimulationReport, SimulationError> {
+    simulate_interruptible(model, settings, observer, &|| None)
+}
+
+/// [`simulate`], asking `interrupt` after every accepted step (once its output frames are reported)
+/// whether to stop; when it answers with a reason, the run ends there and its report carries
+/// [`SimulationReport::interrupted`]. A [`Simulation`] on a copy of `model`, run to its end.
+pub fn simulate_interruptible(
+    model: &Model,
+    settings: &SimulationSettings,
+    observer: &mut dyn FnMut(&OutputFrame),
+    interrupt: &dyn Fn() -> Option<String>,
+) -> Result<SimulationReport, SimulationError> {
+    let mut simulation = Simulation::new(Arc::new(model.clone()), *settings)?;
+    match simulation.run(&mut |frame: &OutputFrame| observer(frame), interrupt) {
+        Ok(()) => Ok(simulation.into_report()),
+        Err(cause) => Err(SimulationError { cause, report: Box::new(simulation.into_report()) }),
+    }
+}
+
+/// Records the constraint residuals and the Euler-parameter normalization at an accepted step.
+fn check_step(model: &Model, integrator: &mut dyn Integrator, q: &[f64], v: &[f64], active: &[bool], report: &mut SimulationReport) {
+    let t = integrator.t();
+    let data = integrator.data_mut();
+    kinematics(model, data, q, v);
+    constraint_equations(model, data, t);
+    let (p, vel) = constraint_residuals(model, data, active);
+    report.max_position_residual = report.max_position_residual.max(p);
+    report.max_velocity_residual = report.max_velocity_residual.max(vel);
+    for b in 0..model.bodies.len() {
+        let qo = model.layout.q_offset[b];
+        let norm2: f64 = (3..7).map(|k| q[qo + k].powi(2)).sum();
+        report.max_normalization_error = report.max_normalization_error.max((norm2 - 1.0).abs());
+    }
+}

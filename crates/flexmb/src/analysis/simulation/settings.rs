@@ -1,0 +1,58 @@
+//! What to simulate and how: end time, output step, integration method and tolerances, assembly and
+//! the physics watchdog's limits.
+
+use crate::analysis::{AssemblySettings, PhysicsLimits};
+use crate::integrate::{BdfConfig, Method};
+
+/// What to simulate and how.
+#[derive(Clone, Copy, Debug)]
+pub struct SimulationSettings {
+    /// End time (s); the run starts at 0.
+    pub t_end: f64,
+    /// Spacing of the output times (s).
+    pub output_step: f64,
+    /// Tolerances and step limits (every method reads them; `max_order` is each method's own).
+    pub integrator: BdfConfig,
+    /// How the initial positions are assembled onto the constraints.
+    pub assembly: AssemblySettings,
+    /// The integration method. Default [`Method::Bdf`].
+    pub method: Method,
+    /// When the physics watchdog warns and when it stops the run.
+    pub physics_limits: PhysicsLimits,
+}
+
+impl Default for SimulationSettings {
+    fn default() -> Self {
+        Self {
+            t_end: 1.0,
+            output_step: 0.01,
+            integrator: BdfConfig::default(),
+            assembly: AssemblySettings::default(),
+            method: Method::Bdf,
+            physics_limits: PhysicsLimits::default(),
+        }
+    }
+}
+
+impl SimulationSettings {
+    /// Checks the end time, the output step and the watchdog's limits.
+    pub(super) fn validate(&self) -> Result<(), String> {
+        if !(self.t_end > 0.0 && self.t_end.is_finite()) {
+            return Err(format!("t_end must be positive, got {}", self.t_end));
+        }
+        if !(self.output_step > 0.0 && self.output_step.is_finite()) {
+            return Err(format!("output_step must be positive, got {}", self.output_step));
+        }
+        self.physics_limits.validate()
+    }
+
+    /// Output times on the grid `k · output_step` up to `t_end` (the one at 0 included).
+    pub(super) fn grid_outputs(&self) -> usize {
+        (self.t_end / self.output_step * (1.0 + 1e-12)).floor() as usize
+    }
+
+    /// The end time is not on the output grid, so it gets an output of its own.
+    pub(super) fn end_off_grid(&self) -> bool {
+        (self.grid_outputs() as f64 * self.output_step - self.t_end).abs() > 1e-9 * self.t_end
+    }
+}

@@ -1,0 +1,255 @@
+//! The complete state of an integrator between two steps, as plain data: what a resumed integrator
+//! needs to continue the same step sequence (its history, order, step size, the Jacobian it reuses,
+//! its counters), and nothing it recomputes (workspaces, factors, scratch data).
+//!
+//! A checkpoint is restored into an integrator of the same method built for the same model
+//! ([`Integrator::restore`](super::Integrator::restore)); the integrator refactors a reused Jacobian
+//! from the stored values, which gives the same factors and so the same steps.
+
+use serde::{Deserialize, Serialize};
+
+use super::adams::{AdamsStepper, PartitionCheckpoint, ProjectionDrift};
+use super::Stats;
+
+/// The state of one integrator between two steps, by method.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum IntegratorCheckpoint {
+    /// The BDF's state.
+    Bdf(BdfCheckpoint),
+    /// The Adams method's state.
+    Adams(Box<AdamsCheckpoint>),
+    /// The generalized-α method's state.
+    GeneralizedAlpha(GeneralizedAlphaCheckpoint),
+}
+
+impl IntegratorCheckpoint {
+    /// The method's name, as [`Integrator::name`](super::Integrator::name) gives it.
+    pub fn method(&self) -> &'static str {
+        match self {
+            IntegratorCheckpoint::Bdf(_) => "bdf",
+            IntegratorCheckpoint::Adams(_) => "adams",
+            IntegratorCheckpoint::GeneralizedAlpha(_) => "gen-alpha",
+        }
+    }
+
+    /// The time of the last accepted step (s).
+    pub fn t(&self) -> f64 {
+        match self {
+            IntegratorCheckpoint::Bdf(c) => c.t,
+            IntegratorCheckpoint::Adams(c) => c.stepper.t(),
+            IntegratorCheckpoint::GeneralizedAlpha(c) => c.t,
+        }
+    }
+}
+
+/// The BDF's state: the backward differences and the step control, the stored parts of the iteration
+/// matrix it reuses, and its counters.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BdfCheckpoint {
+    /// Time of the last accepted step and of the one before (s).
+    pub t: f64,
+    /// Start of the last accepted step (s).
+    pub t_old: f64,
+    /// Step size planned for the next step (s).
+    pub h: f64,
+    /// Current order, 1 to 5.
+    pub order: usize,
+    /// Accepted steps since the last change of order or step size.
+    pub n_equal_steps: usize,
+    /// Backward differences `∇ʲy` of `y = [q, v, λ, μ]`, rows `j = 0..=7`.
+    pub differences: Vec<f64>,
+    /// `∂F/∂y` and `∂F/∂ẏ` of the iteration matrix, in the order of its sparse pattern.
+    pub jacobian: Vec<f64>,
+    /// See [`jacobian`](Self::jacobian).
+    pub jacobian_derivative: Vec<f64>,
+    /// The `c = h/γ_k` the factors in use were made for (`None`: none in use).
+    pub factored_c: Option<f64>,
+    /// The Jacobian was evaluated at the predictor of the attempt in progress.
+    pub jacobian_at_attempt: bool,
+    /// Accepted steps since the Jacobian was evaluated.
+    pub jacobian_age: usize,
+    /// Consecutive steps whose Jacobian failed at its first reuse.
+    pub first_reuse_failures: usize,
+    /// Steps left that evaluate the Jacobian at their predictor before iterating.
+    pub refresh_ahead: usize,
+    /// Accepted steps left during which the error estimates are filtered.
+    pub filter_steps: usize,
+    /// Stability limit of the step size for each order (s; infinite where none was found).
+    #[serde(with = "extended_floats")]
+    pub step_limits: Vec<f64>,
+    /// Step size and weighted error estimate of the last accepted step.
+    pub last_h: f64,
+    /// See [`last_h`](Self::last_h).
+    #[serde(with = "extended_float")]
+    pub last_error: f64,
+    /// The constraint rows in force.
+    pub active: Vec<bool>,
+    /// Last accepted relative angle of each joint (for continuing angles past ±π).
+    pub angle_reference: Vec<f64>,
+    /// The counters so far.
+    pub stats: Stats,
+}
+
+/// The Adams method's state: the Shampine–Gordon stepper with its difference table, the projection's
+/// records or the coordinate partition, and the counters.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct AdamsCheckpoint {
+    /// The stepper: solution, modified divided differences, order, step size, counters.
+    pub stepper: AdamsStepper,
+    /// The projections' records (with projection).
+    pub drift: ProjectionDrift,
+    /// The partition, its factors and the last evaluation (with coordinate partitioning).
+    pub partition: Option<PartitionCheckpoint>,
+    /// Evaluations of the accelerations.
+    pub evaluations: usize,
+    /// Factorizations of the KKT matrix.
+    pub factorizations: usize,
+    /// The constraint rows in force.
+    pub active: Vec<bool>,
+    /// Last accepted relative angle of each joint.
+    pub angle_reference: Vec<f64>,
+    /// The counters so far.
+    pub stats: Stats,
+}
+
+/// The generalized-α method's state: the accepted state with its accelerations and `ã`, the last step
+/// (for the step-size dependent predictor and the dense output), the stored parts of the iteration
+/// matrix, and its counters.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct GeneralizedAlphaCheckpoint {
+    /// Time of the last accepted step (s).
+    pub t: f64,
+    /// Step size planned for the next step (s).
+    pub h: f64,
+    /// Positions, velocities, accelerations, `ã` and multipliers at `t`.
+    pub q: Vec<f64>,
+    /// See [`q`](Self::q).
+    pub v: Vec<f64>,
+    /// See [`q`](Self::q).
+    pub vdot: Vec<f64>,
+    /// See [`q`](Self::q).
+    pub a_tilde: Vec<f64>,
+    /// See [`q`](Self::q).
+    pub lambda: Vec<f64>,
+    /// Start and size of the last step (s), the state at its start, its position increment.
+    pub t_old: f64,
+    /// See [`t_old`](Self::t_old).
+    pub h_last: f64,
+    /// See [`t_old`](Self::t_old).
+    pub q_old: Vec<f64>,
+    /// See [`t_old`](Self::t_old).
+    pub v_old: Vec<f64>,
+    /// See [`t_old`](Self::t_old).
+    pub vdot_old: Vec<f64>,
+    /// See [`t_old`](Self::t_old).
+    pub d_last: Vec<f64>,
+    /// The finite-difference parts were evaluated during the step in progress.
+    pub derivatives_current: bool,
+    /// Re-evaluate them at the next step's predictor.
+    pub refresh_next: bool,
+    /// Stiffness and damping parts of the iteration matrix, in the order of its sparse pattern.
+    pub stiffness: Vec<f64>,
+    /// See [`stiffness`](Self::stiffness).
+    pub damping: Vec<f64>,
+    /// The constraint Jacobian at `t`, by rows of its pattern.
+    pub start_jacobian: Vec<f64>,
+    /// The constraint rows in force.
+    pub active: Vec<bool>,
+    /// Last accepted relative angle of each joint.
+    pub angle_reference: Vec<f64>,
+    /// The counters so far.
+    pub stats: Stats,
+}
+
+/// Why a checkpoint cannot be taken of an integrator or restored into one.
+#[derive(Clone, Debug, thiserror::Error, PartialEq)]
+pub enum CheckpointError {
+    /// The checkpoint is of another method.
+    #[error("the checkpoint is of the {found} method, the simulation uses {expected}")]
+    Method {
+        /// The simulation's method.
+        expected: &'static str,
+        /// The checkpoint's method.
+        found: &'static str,
+    },
+    /// An array's length does not fit the model.
+    #[error("the checkpoint does not fit the model: it has {found} values for {what}, the model {expected}")]
+    Size {
+        /// Which array.
+        what: &'static str,
+        /// The model's length.
+        expected: usize,
+        /// The checkpoint's length.
+        found: usize,
+    },
+    /// The checkpoint's configuration differs from the integrator's (e.g. the Adams method's constraint
+    /// handling).
+    #[error("{0}")]
+    Unsupported(String),
+}
+
+/// Checks that `found` has the length `expected`.
+pub(crate) fn check_len(what: &'static str, expected: usize, found: usize) -> Result<(), CheckpointError> {
+    if expected == found {
+        Ok(())
+    } else {
+        Err(CheckpointError::Size { what, expected, found })
+    }
+}
+
+/// Serde for an `f64` that may be infinite or NaN (JSON has no such numbers): finite values as
+/// numbers, the others as the strings `inf`, `-inf`, `NaN`.
+pub(crate) mod extended_float {
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    #[derive(Deserialize)]
+    #[serde(untagged)]
+    enum Repr {
+        Number(f64),
+        Text(String),
+    }
+
+    /// Writes `x`.
+    pub fn serialize<S: Serializer>(x: &f64, s: S) -> Result<S::Ok, S::Error> {
+        if x.is_finite() {
+            s.serialize_f64(*x)
+        } else if x.is_nan() {
+            s.serialize_str("NaN")
+        } else if *x > 0.0 {
+            s.serialize_str("inf")
+        } else {
+            s.serialize_str("-inf")
+        }
+    }
+
+    /// Reads what [`serialize`] wrote.
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+        match Repr::deserialize(d)? {
+            Repr::Number(x) => Ok(x),
+            Repr::Text(t) => match t.as_str() {
+                "inf" => Ok(f64::INFINITY),
+                "-inf" => Ok(f64::NEG_INFINITY),
+                "NaN" => Ok(f64::NAN),
+                other => Err(serde::de::Error::custom(format!("expected a number, inf, -inf or NaN, got '{other}'"))),
+            },
+        }
+    }
+}
+
+/// [`extended_float`] for a vector.
+pub(crate) mod extended_floats {
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    #[derive(Serialize, Deserialize)]
+    struct Float(#[serde(with = "super::extended_float")] f64);
+
+    /// Writes `xs`.
+    pub fn serialize<S: Serializer>(xs: &[f64], s: S) -> Result<S::Ok, S::Error> {
+        s.collect_seq(xs.iter().map(|&x| Float(x)))
+    }
+
+    /// Reads what [`serialize`] wrote.
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<f64>, D::Error> {
+        Ok(Vec::<Float>::deserialize(d)?.into_iter().map(|f| f.0).collect())
+    }
+}
