@@ -9,7 +9,7 @@ use flexmb::analysis::{OutputTable, Simulation, SimulationCheckpoint, Simulation
 use flexmb::body::{InitialState, Marker, RigidBody};
 use flexmb::joint::{Joint, JointKind};
 use flexmb::math::{Mat3, Vec3};
-use flexmb::model::{BodyRef, Model, ModelBuilder, OutputKind};
+use flexmb::model::{BodyRef, Model, ModelBuilder, ModelError, OutputKind};
 
 /// Rod length (m), gravity (m/s²), release angle from the vertical (rad).
 const LENGTH: f64 = 1.0;
@@ -19,7 +19,7 @@ const RELEASE: f64 = 0.2;
 /// A 1 kg bob (nearly a point mass) on a massless rod of `LENGTH`, pivoted at the origin about z by a
 /// revolute joint, released at rest `RELEASE` from the vertical; outputs the bob's position and the
 /// energy.
-fn pendulum() -> Model {
+fn pendulum() -> Result<Model, ModelError> {
     let mut b = ModelBuilder::new("pendulum").gravity(Vec3::new(0.0, -GRAVITY, 0.0));
     let bob_position = LENGTH * Vec3::new(RELEASE.sin(), -RELEASE.cos(), 0.0);
     let bob = b.add_body(RigidBody {
@@ -28,15 +28,15 @@ fn pendulum() -> Model {
         center_of_mass: Vec3::zeros(),
         inertia: Mat3::identity() * 1e-6,
         initial: InitialState { position: bob_position, ..Default::default() },
-    });
+    })?;
     let marker = |name: &str, body, origin| Marker { name: name.into(), body, origin, axes: Mat3::identity() };
-    let pivot = b.add_marker(marker("pivot", BodyRef::Ground, Vec3::zeros()));
-    let hinge = b.add_marker(marker("hinge", BodyRef::Body(bob), -bob_position));
-    let center = b.add_marker(marker("center", BodyRef::Body(bob), Vec3::zeros()));
-    b.add_joint(Joint { name: "pin".into(), kind: JointKind::Revolute, marker_i: pivot, marker_j: hinge });
-    b.add_output("bob", OutputKind::MarkerPosition(center));
-    b.add_output("energy", OutputKind::Energy);
-    b.build().expect("the pendulum is a valid model")
+    let pivot = b.add_marker(marker("pivot", BodyRef::Ground, Vec3::zeros()))?;
+    let hinge = b.add_marker(marker("hinge", BodyRef::Body(bob), -bob_position))?;
+    let center = b.add_marker(marker("center", BodyRef::Body(bob), Vec3::zeros()))?;
+    b.add_joint(Joint { name: "pin".into(), kind: JointKind::Revolute, marker_i: pivot, marker_j: hinge })?;
+    b.add_output("bob", OutputKind::MarkerPosition(center))?;
+    b.add_output("energy", OutputKind::Energy)?;
+    b.build()
 }
 
 /// Times at which `x` crosses zero upwards, by linear interpolation between the rows.
@@ -48,7 +48,7 @@ fn upward_crossings(t: &[f64], x: &[f64]) -> Vec<f64> {
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let model = Arc::new(pendulum());
+    let model = Arc::new(pendulum()?);
     let settings = SimulationSettings { t_end: 10.0, output_step: 0.001, ..Default::default() };
     let mut simulation = Simulation::new(model.clone(), settings)?;
     let mut table = OutputTable::new(&model);
