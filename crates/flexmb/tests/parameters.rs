@@ -27,11 +27,12 @@ fn pushed_slider() -> Model {
         EulerParameters::identity(),
         None,
         None,
-    ));
+    ))
+    .unwrap();
     let guide = marker_with_axes(&mut b, "guide", BodyRef::Ground, Vec3::zeros(), frame_with_z(Vec3::x()));
     let runner = marker_with_axes(&mut b, "runner", BodyRef::Body(slider), Vec3::zeros(), frame_with_z(Vec3::x()));
     joint(&mut b, "slide", JointKind::Translational, guide, runner);
-    let push = b.add_parameter("push", 0.0);
+    let push = b.add_parameter("push", 0.0).unwrap();
     let center = marker(&mut b, "center", BodyRef::Body(slider), Vec3::zeros());
     let component = |text: &str| Expression::parse(text, &|n| (n == "push").then_some(push)).unwrap();
     b.add_force(ForceElement {
@@ -41,9 +42,10 @@ fn pushed_slider() -> Model {
             components: [component("push"), component("0"), component("0")],
             frame: ForceFrame::Global,
         },
-    });
-    b.add_output("slider", OutputKind::MarkerPosition(center));
-    b.add_output("speed", OutputKind::MarkerVelocity(center));
+    })
+    .unwrap();
+    b.add_output("slider", OutputKind::MarkerPosition(center)).unwrap();
+    b.add_output("speed", OutputKind::MarkerVelocity(center)).unwrap();
     b.build().unwrap()
 }
 

@@ -289,3 +289,21 @@ fn gravity_that_is_not_finite_is_refused_by_build() {
     let b = ModelBuilder::new("space").gravity(Vec3::new(0.0, f64::NAN, 0.0));
     assert_eq!(message(b.build()), "model 'space': gravity must be finite, got [0.0, NaN, 0.0]");
 }
+
+#[test]
+fn a_parameter_needs_a_finite_value_and_a_measure_name_of_its_own() {
+    let (mut b, _, _) = ball_joint_builder();
+    let e = message(b.add_parameter("push", f64::NAN));
+    assert!(e.contains("parameter 'push'") && e.contains("must be finite, got NaN"), "{e}");
+    b.add_parameter("push", 2.0).unwrap();
+    let e = message(b.add_parameter("push", 3.0));
+    assert!(e.contains("push"), "{e}");
+    // The refused second declaration left the first one alone.
+    let model = b.build().unwrap();
+    assert_eq!(model.parameters().len(), 1);
+    assert_eq!(model.parameters()[0].value, 2.0);
+    // A measure that reads a parameter this builder did not declare is refused.
+    let (mut b, _, _) = ball_joint_builder();
+    let e = message(b.add_measure(Measure { name: "p".into(), kind: MeasureKind::Parameter(crate::model::ParameterId(0)) }));
+    assert!(e.contains("no parameter has id 0"), "{e}");
+}
