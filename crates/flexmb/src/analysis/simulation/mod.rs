@@ -51,13 +51,13 @@ use crate::stage::{constraint_equations, energy, kinematics, nonconservative_pow
 /// let mut b = ModelBuilder::new("pendulum").gravity(Vec3::new(0.0, -9.81, 0.0));
 /// let initial = InitialState { position: Vec3::new(1.0, 0.0, 0.0), ..Default::default() };
 /// let inertia = Mat3::identity() * 1e-3;
-/// let bob = b.add_body(RigidBody { name: "bob".into(), mass: 1.0, center_of_mass: Vec3::zeros(), inertia, initial });
+/// let bob = b.add_body(RigidBody { name: "bob".into(), mass: 1.0, center_of_mass: Vec3::zeros(), inertia, initial }).unwrap();
 /// let marker = |name: &str, body, origin| Marker { name: name.into(), body, origin, axes: Mat3::identity() };
-/// let pivot = b.add_marker(marker("pivot", BodyRef::Ground, Vec3::zeros()));
-/// let hinge = b.add_marker(marker("hinge", BodyRef::Body(bob), Vec3::new(-1.0, 0.0, 0.0)));
-/// let center = b.add_marker(marker("center", BodyRef::Body(bob), Vec3::zeros()));
-/// b.add_joint(Joint { name: "pin".into(), kind: JointKind::Revolute, marker_i: pivot, marker_j: hinge });
-/// b.add_output("bob", OutputKind::MarkerPosition(center));
+/// let pivot = b.add_marker(marker("pivot", BodyRef::Ground, Vec3::zeros())).unwrap();
+/// let hinge = b.add_marker(marker("hinge", BodyRef::Body(bob), Vec3::new(-1.0, 0.0, 0.0))).unwrap();
+/// let center = b.add_marker(marker("center", BodyRef::Body(bob), Vec3::zeros())).unwrap();
+/// b.add_joint(Joint { name: "pin".into(), kind: JointKind::Revolute, marker_i: pivot, marker_j: hinge }).unwrap();
+/// b.add_output("bob", OutputKind::MarkerPosition(center)).unwrap();
 /// let model = Arc::new(b.build().unwrap());
 ///
 /// let settings = SimulationSettings { t_end: 0.5, output_step: 0.1, ..Default::default() };
@@ -75,7 +75,7 @@ use crate::stage::{constraint_equations, energy, kinematics, nonconservative_pow
 /// # let mut rest = OutputTable::new(&model);
 /// # resumed.advance_to(0.5, &mut rest).unwrap();
 /// # assert_eq!(rest.len(), 3);
-/// /// ```
+/// ```
 pub struct Simulation {
     model: Arc<Model>,
     settings: SimulationSettings,
