@@ -88,7 +88,7 @@ fn the_linearized_slider_crank_matches_finite_differences_of_its_forward_dynamic
 #[test]
 fn the_linearized_flexible_pendulum_matches_finite_differences_of_its_forward_dynamics() {
     let (mut b, _, tip) = lumped_flexible_pendulum([400.0, 3000.0, 9000.0], [0.3, -0.2, 0.1]);
-    b.add_output("tip", OutputKind::MarkerPosition(tip));
+    b.add_output("tip", OutputKind::MarkerPosition(tip)).unwrap();
     check("flexible pendulum", &b.build().unwrap());
 }
 
@@ -113,7 +113,7 @@ fn the_modal_stiffness_of_a_flexible_pendulum_is_in_its_linearization() {
 fn a_simulation_linearizes_at_its_current_state() {
     use std::sync::Arc;
     let (mut b, _, tip) = lumped_flexible_pendulum([400.0, 3000.0, 9000.0], [0.3, -0.2, 0.1]);
-    b.add_output("tip", OutputKind::MarkerPosition(tip));
+    b.add_output("tip", OutputKind::MarkerPosition(tip)).unwrap();
     let model = Arc::new(b.build().unwrap());
     let settings = support::settings(0.2, 0.05, 1e-7);
     let mut simulation = flexmb::analysis::Simulation::new(model.clone(), settings).unwrap();

@@ -107,9 +107,9 @@ fn assert_restart_continues(name: &str, model: Model, settings: SimulationSettin
 fn slider_crank() -> Model {
     let mut b = flexmb::ModelBuilder::new("slider-crank").gravity(Vec3::new(0.0, -9.81, 0.0));
     let crank = slider_crank_linkage(&mut b, 0.1, 0.3, Some(Vec3::new(0.0, 0.0, 12.0)));
-    b.add_output("slider", OutputKind::MarkerPosition(crank.slider_pin));
-    b.add_output("crank", OutputKind::JointReaction(crank.crank_joint));
-    b.add_output("energy", OutputKind::Energy);
+    b.add_output("slider", OutputKind::MarkerPosition(crank.slider_pin)).unwrap();
+    b.add_output("crank", OutputKind::JointReaction(crank.crank_joint)).unwrap();
+    b.add_output("energy", OutputKind::Energy).unwrap();
     b.build().unwrap()
 }
 
@@ -117,9 +117,9 @@ fn slider_crank() -> Model {
 /// and the energy as outputs.
 fn flexible_pendulum() -> Model {
     let (mut b, beam, tip) = lumped_flexible_pendulum([400.0, 3000.0, 9000.0], [0.1, 0.0, 0.0]);
-    b.add_output("tip", OutputKind::MarkerPosition(tip));
-    b.add_output("modes", OutputKind::ModalCoordinates(beam));
-    b.add_output("energy", OutputKind::Energy);
+    b.add_output("tip", OutputKind::MarkerPosition(tip)).unwrap();
+    b.add_output("modes", OutputKind::ModalCoordinates(beam)).unwrap();
+    b.add_output("energy", OutputKind::Energy).unwrap();
     b.build().unwrap()
 }
 
