@@ -116,9 +116,16 @@ fn check_dissipation(run: &Run, damping: f64, what: &str) -> (f64, f64) {
         e[n - 1]
     );
     assert!(dissipated > 0.5 * (e[0] - e[n - 1]), "{what}: the damper dissipates the energy lost");
-    // The run's own account of the non-conservative work is the same trapezoid of the damper's power.
+    // The run's own account of the non-conservative work is the trapezoid of the damper's power over
+    // the output times refined by the steps between them: the same to 1e-6, and it closes the balance
+    // at the end as well, to the integration error both share (damped slider: 3.03e-6 J against
+    // 2.93e-6 J; elastic pendulum 3.5e-8 J against 7.4e-8 J).
     let work = run.report.nonconservative_work;
-    assert!((work + dissipated).abs() < 1e-9 * dissipated, "{what}: reported work {work:e} J, −∫c l̇² = {:e} J", -dissipated);
+    assert!((work + dissipated).abs() < 1e-6 * dissipated, "{what}: reported work {work:e} J, −∫c l̇² = {:e} J", -dissipated);
+    let change = e[n - 1] - e[0];
+    let (reported_error, grid_error) = ((change - work).abs(), (change + dissipated).abs());
+    eprintln!("{what}: balance at the end {reported_error:.2e} J with the reported work, {grid_error:.2e} J with the output grid's");
+    assert!(reported_error <= grid_error * 1.5 + 1e-12 * dissipated, "{what}: {reported_error:e} J against {grid_error:e} J");
     (rel_balance, increase)
 }
 

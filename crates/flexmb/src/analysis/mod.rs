@@ -27,7 +27,7 @@ pub(crate) use redundancy::{dependency_of, newly_dependent_rows, violated_rows};
 pub use redundancy::{find_redundant_rows, RedundantConstraint, ViolatedEquation};
 pub use simulation::{
     simulate, simulate_interruptible, Interruption, OutputFrame, OutputSink, OutputTable, Simulation, SimulationCheckpoint,
-    SimulationError, SimulationFailure, SimulationReport, SimulationSettings, CHECKPOINT_VERSION,
+    SimulationError, SimulationFailure, SimulationReport, SimulationSettings, WorkAtStep, CHECKPOINT_VERSION,
 };
 pub use state::State;
 pub use velocity::{velocity_analysis, VelocityReport};

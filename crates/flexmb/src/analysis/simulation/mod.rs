@@ -16,7 +16,7 @@ use std::time::Instant;
 
 pub use checkpoint::{SimulationCheckpoint, CHECKPOINT_VERSION};
 pub use output::{OutputFrame, OutputSink, OutputTable};
-pub use report::{Interruption, SimulationError, SimulationFailure, SimulationReport};
+pub use report::{Interruption, SimulationError, SimulationFailure, SimulationReport, WorkAtStep};
 pub use settings::SimulationSettings;
 
 use super::outputs::{constraint_residuals, evaluate_outputs, output_columns};
@@ -27,7 +27,7 @@ use crate::integrate::Adams;
 use crate::integrate::{Bdf, Integrator, Method};
 use crate::integrate::{GeneralizedAlpha, GeneralizedAlphaConfig};
 use crate::model::{BodyId, Model};
-use crate::stage::{constraint_equations, energy, kinematics, nonconservative_power};
+use crate::stage::{constraint_equations, energy, kinematics, measures, nonconservative_power};
 
 /// A dynamic simulation that owns its state: built from a shared model and settings, advanced step by
 /// step or to a time, its outputs streamed to any [`OutputSink`] at the output times
@@ -99,6 +99,8 @@ pub struct Simulation {
     values: Vec<f64>,
     q: Vec<f64>,
     v: Vec<f64>,
+    /// Whether a joint of the model is a driver (whose power needs the multipliers).
+    has_drivers: bool,
 }
 
 impl Simulation {
@@ -153,6 +155,7 @@ impl Simulation {
             end_reported: false,
             failed: false,
             parameters: model.parameters.iter().map(|p| p.value).collect(),
+            has_drivers: model.joints.iter().any(|j| j.kind.is_driver()),
             model,
         }
     }
@@ -432,6 +435,7 @@ impl Simulation {
         let t = self.integrator.t();
         Watchdog::check_finite(&self.model, t, &self.q, &self.v)?;
         check_step(&self.model, self.integrator.as_mut(), &self.q, &self.v, &self.active, &mut self.report);
+        let power = self.step_power(t)?;
         let (n_outputs, output_step) = (self.settings.grid_outputs(), self.settings.output_step);
         while self.next_output <= n_outputs && self.next_output as f64 * output_step <= t * (1.0 + 1e-12) {
             let t_out = self.next_output as f64 * output_step;
@@ -439,6 +443,7 @@ impl Simulation {
             self.report_frame(t_out, sink)?;
             self.next_output += 1;
         }
+        add_work(&mut self.report, &mut self.watchdog, t, power);
         Ok(())
     }
 
@@ -460,6 +465,24 @@ impl Simulation {
             self.end_reported = true;
         }
         Ok(())
+    }
+
+    /// The power of the non-conservative forces at the accepted step that ended at `t` (the state in
+    /// `self.q`, `self.v`, whose kinematics and constraints `check_step` evaluated). The drivers' power
+    /// needs the multipliers, solved for only in a model that has drivers; other constraints do no work.
+    fn step_power(&mut self, t: f64) -> Result<f64, SimulationFailure> {
+        let model = &*self.model;
+        let data = self.integrator.data_mut();
+        Ok(if self.has_drivers {
+            let acc = self
+                .accelerations
+                .solve(model, data, t, &self.q, &self.v, &self.active)
+                .map_err(|_| SimulationFailure::SingularAccelerations { t, detail: String::new() })?;
+            nonconservative_power(model, data, t, &acc.lambda)
+        } else {
+            measures(model, data);
+            nonconservative_power(model, data, t, &[])
+        })
     }
 
     fn copy_state(&mut self) {
@@ -486,19 +509,30 @@ impl Simulation {
         let e = energy(model, data, q, v);
         if report.output_frames == 0 {
             report.energy_initial = e.total();
-        } else {
-            let (p0, t0) = report.last_power;
-            report.nonconservative_work += 0.5 * (p0 + power) * (t - t0);
         }
         report.last_power = (power, t);
         report.energy_final = e.total();
-        let balance_error = report.energy_final - report.energy_initial - report.nonconservative_work;
         Watchdog::check_finite_frame(model, (t, q, v), &e, power)?;
+        add_work(report, &mut self.watchdog, t, power);
+        report.nonconservative_work = report.work_at_step.work;
+        let balance_error = report.energy_final - report.energy_initial - report.nonconservative_work;
         report.output_frames += 1;
         sink.write_frame(&OutputFrame { t, values, q, v }).map_err(|message| SimulationFailure::Output { t, message })?;
         self.watchdog
-            .check_frame(model, data, (t, q, v), (&e, balance_error, power), &mut report.warnings, &mut report.physics)?;
+            .check_frame(model, data, (t, q, v), (&e, balance_error), &mut report.warnings, &mut report.physics)?;
         Ok(())
+    }
+}
+
+/// Adds the work of the non-conservative forces from the last node of the trapezoidal rule (an
+/// accepted step or an output time, in the order of time) to `t`, where the power is `power`, and
+/// hands the power to the watchdog, which estimates the rule's error from the same nodes.
+fn add_work(report: &mut SimulationReport, watchdog: &mut Watchdog, t: f64, power: f64) {
+    let last = report.work_at_step;
+    if t > last.t || report.output_frames == 0 {
+        let work = last.work + 0.5 * (last.power + power) * (t - last.t);
+        report.work_at_step = WorkAtStep { t, power, work };
+        watchdog.add_power(t, power);
     }
 }
 
