@@ -239,7 +239,7 @@ fn physics_text(measured: &PhysicsMeasures) -> String {
 }
 
 /// How far the run's energy is from its balance: `E_final − E_initial − W_nc` (J), where `W_nc` is the
-/// work of the non-conservative forces (trapezoidal rule over the output times).
+/// work of the non-conservative forces (trapezoidal rule over the accepted steps and output times).
 pub fn balance_error(report: &SimulationReport) -> f64 {
     report.energy_final - report.energy_initial - report.nonconservative_work
 }

@@ -11,7 +11,7 @@
 //!   itself explains, as a fraction of the energy that flowed. The energy that flowed is the larger of
 //!   the largest `T + |V| + U` seen at the output times (kinetic, potential and strain energy) and the
 //!   accumulated `∫ |P_nc| dt`. What the computation explains: three times the estimated error of the
-//!   trapezoidal rule of `W_nc` over the output times (`Σ h³/12 |P''|`), plus the energy error the
+//!   trapezoidal rule of `W_nc` over its nodes, the accepted steps and output times (`Σ h³/12 |P''|`), plus the energy error the
 //!   integrator's absolute tolerance allows at the state, `atol (Σ |(M v)_k| + Σ |Q_k|) + atol²/2 Σ |M_rc|`
 //!   (the first-order change of `T` and of the work of the applied forces for velocity and position
 //!   errors of `atol`, and the second-order change of `T`), which covers the start of a run, when the
