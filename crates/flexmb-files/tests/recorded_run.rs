@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use flexmb_files::model_file::{LoadOptions, ModelOverrides};
 use flexmb_files::results::ParaViewSeries;
 use flexmb_files::vtk::SeriesTimes;
-use flexmb_files::{load_model_with, record_model_run, ResultTable, RunOutputs};
+use flexmb_files::{load_model_with, record_model_run, Restart, ResultTable, RunOutputs};
 
 fn pendulum() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../models/pendulum.toml")
@@ -44,7 +44,7 @@ fn a_stopped_run_keeps_every_frame_it_reported_in_the_csv_the_summary_and_the_pa
         seen.push((frame.t, frame.values.to_vec()));
         frames.set(frames.get() + 1);
     };
-    let run = record_model_run(&loaded, &settings, "pendulum.toml", &outputs, observe, &stop).unwrap();
+    let run = record_model_run(&loaded, &settings, "pendulum.toml", &outputs, Restart::default(), observe, &stop).unwrap();
 
     assert!(run.error.is_none());
     let interrupted = run.report.interrupted.as_ref().expect("stopped by the predicate");
@@ -90,7 +90,7 @@ fn too_many_paraview_frames_are_refused_before_any_result_file_is_written() {
     let mut outputs = RunOutputs::in_directory(&dir, "pendulum");
     let times = SeriesTimes { step: None, output_step: settings.output_step, t_end: settings.t_end };
     outputs.paraview = Some(ParaViewSeries { dir: dir.join("vtk"), name: "pendulum".into(), times, max_frames: 10 });
-    let e = record_model_run(&loaded, &settings, "pendulum.toml", &outputs, &mut |_| {}, &|| None).err().unwrap();
+    let e = record_model_run(&loaded, &settings, "pendulum.toml", &outputs, Restart::default(), &mut |_| {}, &|| None).err().unwrap();
     assert!(e.to_string().contains("more than the limit of 10"), "{e}");
     assert!(!outputs.csv.exists() && !outputs.summary.exists());
     std::fs::remove_dir_all(&dir).unwrap();
