@@ -85,6 +85,11 @@ enum Command {
         /// summary counts the whole run.
         #[arg(long, value_name = "FILE")]
         resume: Option<PathBuf>,
+        /// Stop the run at the first step at or after T seconds, as an interruption (the steps are not
+        /// shortened to land on T, so a run paused with --save-state and continued with --resume gives
+        /// the results of one run to --t-end).
+        #[arg(long, value_name = "T")]
+        pause_at: Option<f64>,
     },
     /// Validate a model, assemble it, and report degrees of freedom and redundant constraints.
     Check {
@@ -252,7 +257,7 @@ enum SolverArg {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Run { model, t_end, output_step, rtol, atol, integrator, spectral_radius, out, quiet, vtk, vtk_step, plot, max_output_rows, max_vtk_frames, save_state, resume } => {
+        Command::Run { model, t_end, output_step, rtol, atol, integrator, spectral_radius, out, quiet, vtk, vtk_step, plot, max_output_rows, max_vtk_frames, save_state, resume, pause_at } => {
             let options = RunOptions {
                 t_end,
                 output_step,
@@ -268,6 +273,7 @@ fn main() -> ExitCode {
                 max_vtk_frames,
                 save_state,
                 resume,
+                pause_at,
                 catch_signals: true,
             };
             match run_model(&model, &options) {

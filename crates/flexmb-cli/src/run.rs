@@ -38,6 +38,8 @@ pub struct RunOptions {
     pub save_state: Option<PathBuf>,
     /// A checkpoint file to continue from (`--resume`).
     pub resume: Option<PathBuf>,
+    /// Pause at the first step at or after this time (`--pause-at`), as an interruption.
+    pub pause_at: Option<f64>,
     /// Catch SIGINT and SIGTERM once the simulation starts, and end the run there with its files
     /// complete (the program does; tests that call [`run_model`] need not).
     pub catch_signals: bool,
@@ -123,7 +125,8 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
         bar.set_position((frame.t / t_end * 1000.0) as u64);
         bar.set_message(format!("{:.4}", frame.t));
     };
-    let restart = Restart { resume: options.resume.as_deref(), save_state: options.save_state.as_deref() };
+    let pause_at = options.pause_at.map(|t| positive("--pause-at", t)).transpose()?;
+    let restart = Restart { resume: options.resume.as_deref(), save_state: options.save_state.as_deref(), pause_at };
     let run = record_model_run(&loaded, &settings, &file_name, &outputs, restart, observe, &|| received().map(|s| s.name().to_string()));
     bar.finish_and_clear();
     let RecordedRun { report, error, rows, paraview } = run?;

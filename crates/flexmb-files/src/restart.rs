@@ -22,6 +22,11 @@ pub struct Restart<'a> {
     /// Write the simulation's checkpoint to this file at the end of the run or at its interruption.
     /// Nothing is written after a failure: a failed simulation cannot be checkpointed.
     pub save_state: Option<&'a Path>,
+    /// Pause the run at the first step at or after this time (s), as an interruption: steps are not
+    /// shortened to land on it, so a run paused, saved and resumed makes the steps and outputs of one
+    /// run to the end time, to round-off. (A run whose end time is the split time shortens its last step
+    /// to land on it, and its continuation differs within the integration tolerance.)
+    pub pause_at: Option<f64>,
 }
 
 /// Writes `checkpoint` to `path` as JSON.

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use flexmb::analysis::{
-    output_columns, OutputColumn, OutputFrame, PhysicsLimits, PhysicsMeasures, Simulation, SimulationError, SimulationReport,
+    output_columns, OutputColumn, OutputFrame, OutputSink, PhysicsLimits, PhysicsMeasures, Simulation, SimulationError, SimulationFailure, SimulationReport,
     SimulationSettings,
 };
 use flexmb::Model;
@@ -366,15 +366,16 @@ pub fn record_run(
     let mut write_error: Option<std::io::Error> = None;
     let mut simulation = None;
     let result = started.and_then(|mut s| {
-        let run = s.run(
-            &mut |frame: &OutputFrame| {
-                if write_error.is_none() {
-                    write_error = csv.write_row(frame.t, frame.values).err();
-                }
-                observe(frame);
-            },
-            interrupt,
-        );
+        let sink = &mut |frame: &OutputFrame| {
+            if write_error.is_none() {
+                write_error = csv.write_row(frame.t, frame.values).err();
+            }
+            observe(frame);
+        };
+        let run = match restart.pause_at {
+            None => s.run(sink, interrupt),
+            Some(t_pause) => run_with_pause(&mut s, t_pause, sink, interrupt),
+        };
         let report = s.report().clone();
         simulation = Some(s);
         match run {
@@ -407,6 +408,27 @@ pub fn record_run(
         save_checkpoint(file, &checkpoint)?;
     }
     Ok(RecordedRun { report, error, rows: csv.rows(), paraview: None })
+}
+
+/// [`Simulation::run`] that also stops, as an interruption, at the first step at or after `t_pause`.
+fn run_with_pause(
+    simulation: &mut Simulation,
+    t_pause: f64,
+    sink: &mut dyn OutputSink,
+    interrupt: &dyn Fn() -> Option<String>,
+) -> Result<(), SimulationFailure> {
+    while !simulation.is_finished() {
+        simulation.step(sink)?;
+        if simulation.is_finished() {
+            break;
+        }
+        let reason = if simulation.time() >= t_pause { Some(format!("pause at {t_pause} s")) } else { interrupt() };
+        if let Some(reason) = reason {
+            simulation.interrupt(reason);
+            break;
+        }
+    }
+    Ok(())
 }
 
 /// A simulation resumed from the checkpoint in `file`; a checkpoint the engine refuses (of another
