@@ -56,6 +56,9 @@ fn check_split(model: &str, integrator: &str, t_end: f64) {
     let (second, summary) = run(model, &dir.join("second"), &[&common[..], &["--resume", path(&state)]].concat());
     assert_continues(&name, &first, &second, &whole);
     assert_eq!(summary["status"], "completed");
+    assert_eq!(summary["resumed_from"]["checkpoint"], path(&state));
+    assert_eq!(summary["resumed_from"]["t"], first_summary["interrupted_at"]);
+    assert!(whole_summary.get("resumed_from").is_none());
     for counter in ["steps", "rejected_steps", "newton_iterations", "jacobian_evaluations"] {
         assert_eq!(summary["statistics"][counter], whole_summary["statistics"][counter], "{name}: {counter}");
     }

@@ -357,9 +357,12 @@ pub fn record_run(
     observe: &mut dyn FnMut(&OutputFrame),
     interrupt: &dyn Fn() -> Option<String>,
 ) -> Result<RecordedRun, ResultFileError> {
-    let started = match restart.resume {
-        Some(file) => Ok(resume(model, settings, file)?),
-        None => Simulation::new(Arc::clone(model), *settings),
+    let (started, resumed_at) = match restart.resume {
+        Some(file) => {
+            let (simulation, t) = resume(model, settings, file)?;
+            (Ok(simulation), Some((file, t)))
+        }
+        None => (Simulation::new(Arc::clone(model), *settings), None),
     };
     let columns = output_columns(model);
     let mut csv = CsvWriter::create(csv_path, &columns).map_err(|e| ResultFileError(format!("cannot write {}: {e}", csv_path.display())))?;
@@ -400,7 +403,10 @@ pub fn record_run(
         integrator: if report.method.is_empty() { "bdf" } else { report.method },
         limits: settings.physics_limits,
     };
-    let summary = summary_json(&request, &report, &columns, csv_path, error.as_deref());
+    let mut summary = summary_json(&request, &report, &columns, csv_path, error.as_deref());
+    if let Some((file, t)) = resumed_at {
+        summary["resumed_from"] = json!({ "checkpoint": file.display().to_string(), "t": t });
+    }
     let text = serde_json::to_string_pretty(&summary).map_err(|e| ResultFileError(e.to_string()))?;
     std::fs::write(summary_path, text + "\n").map_err(|e| ResultFileError(format!("cannot write {}: {e}", summary_path.display())))?;
     if let (Some(file), Some(simulation), None) = (restart.save_state, simulation.as_mut(), &error) {
@@ -431,9 +437,9 @@ fn run_with_pause(
     Ok(())
 }
 
-/// A simulation resumed from the checkpoint in `file`; a checkpoint the engine refuses (of another
-/// model or method) or one after the end time is an error naming `file`.
-fn resume(model: &Arc<Model>, settings: &SimulationSettings, file: &Path) -> Result<Simulation, ResultFileError> {
+/// A simulation resumed from the checkpoint in `file`, and the checkpoint's time; a checkpoint the
+/// engine refuses (of another model or method) or one after the end time is an error naming `file`.
+fn resume(model: &Arc<Model>, settings: &SimulationSettings, file: &Path) -> Result<(Simulation, f64), ResultFileError> {
     let checkpoint = read_checkpoint(file)?;
     if checkpoint.t > settings.t_end {
         return Err(ResultFileError(format!(
@@ -443,5 +449,7 @@ fn resume(model: &Arc<Model>, settings: &SimulationSettings, file: &Path) -> Res
             settings.t_end
         )));
     }
-    Simulation::resume(Arc::clone(model), *settings, &checkpoint).map_err(|e| ResultFileError(format!("{}: {e}", file.display())))
+    let simulation = Simulation::resume(Arc::clone(model), *settings, &checkpoint)
+        .map_err(|e| ResultFileError(format!("{}: {e}", file.display())))?;
+    Ok((simulation, checkpoint.t))
 }
