@@ -75,7 +75,7 @@ enum Command {
         #[arg(long, value_name = "N", requires = "vtk")]
         max_vtk_frames: Option<u64>,
         /// Save the simulation's state (a JSON checkpoint) to FILE at the end of the run, or where
-        /// SIGINT or SIGTERM stopped it, to continue later with --resume. Not written after a failure:
+        /// SIGINT, SIGTERM or --pause-at stopped it, to continue later with --resume. Not written after a failure:
         /// a failed simulation cannot be continued.
         #[arg(long, value_name = "FILE")]
         save_state: Option<PathBuf>,
