@@ -74,6 +74,22 @@ enum Command {
         /// 100000.
         #[arg(long, value_name = "N", requires = "vtk")]
         max_vtk_frames: Option<u64>,
+        /// Save the simulation's state (a JSON checkpoint) to FILE at the end of the run, or where
+        /// SIGINT, SIGTERM or --pause-at stopped it, to continue later with --resume. Not written after a failure:
+        /// a failed simulation cannot be continued.
+        #[arg(long, value_name = "FILE")]
+        save_state: Option<PathBuf>,
+        /// Continue the run saved by --save-state in FILE (of the same model file and integrator) up to
+        /// the end time, which may be later than the checkpoint's time. The CSV holds the rows after the
+        /// checkpoint's time (the first run's CSV followed by these rows is one run's CSV); the JSON
+        /// summary counts the whole run.
+        #[arg(long, value_name = "FILE")]
+        resume: Option<PathBuf>,
+        /// Stop the run at the first step at or after T seconds, as an interruption (the steps are not
+        /// shortened to land on T, so a run paused with --save-state and continued with --resume gives
+        /// the results of one run to --t-end).
+        #[arg(long, value_name = "T")]
+        pause_at: Option<f64>,
     },
     /// Validate a model, assemble it, and report degrees of freedom and redundant constraints.
     Check {
@@ -241,7 +257,7 @@ enum SolverArg {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Run { model, t_end, output_step, rtol, atol, integrator, spectral_radius, out, quiet, vtk, vtk_step, plot, max_output_rows, max_vtk_frames } => {
+        Command::Run { model, t_end, output_step, rtol, atol, integrator, spectral_radius, out, quiet, vtk, vtk_step, plot, max_output_rows, max_vtk_frames, save_state, resume, pause_at } => {
             let options = RunOptions {
                 t_end,
                 output_step,
@@ -255,6 +271,9 @@ fn main() -> ExitCode {
                 vtk_step,
                 max_output_rows,
                 max_vtk_frames,
+                save_state,
+                resume,
+                pause_at,
                 catch_signals: true,
             };
             match run_model(&model, &options) {

@@ -7,7 +7,7 @@ use flexmb_files::model_file::load_model_with;
 use flexmb_files::output_limits::check_output_rows;
 use flexmb_files::results::{summary_text, ParaViewSeries};
 use flexmb_files::vtk::SeriesTimes;
-use flexmb_files::{record_model_run, RecordedRun, ResultFileError, RunOutputs};
+use flexmb_files::{record_model_run, RecordedRun, ResultFileError, Restart, RunOutputs};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::check::{check_model, describe, describe_flexible_bodies};
@@ -34,6 +34,12 @@ pub struct RunOptions {
     pub max_output_rows: Option<u64>,
     /// Most ParaView frames allowed (`--max-vtk-frames`), overriding the model file's `max_vtk_frames`.
     pub max_vtk_frames: Option<u64>,
+    /// Where to save the simulation's checkpoint at the end or at an interruption (`--save-state`).
+    pub save_state: Option<PathBuf>,
+    /// A checkpoint file to continue from (`--resume`).
+    pub resume: Option<PathBuf>,
+    /// Pause at the first step at or after this time (`--pause-at`), as an interruption.
+    pub pause_at: Option<f64>,
     /// Catch SIGINT and SIGTERM once the simulation starts, and end the run there with its files
     /// complete (the program does; tests that call [`run_model`] need not).
     pub catch_signals: bool,
@@ -119,7 +125,9 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
         bar.set_position((frame.t / t_end * 1000.0) as u64);
         bar.set_message(format!("{:.4}", frame.t));
     };
-    let run = record_model_run(&loaded, &settings, &file_name, &outputs, observe, &|| received().map(|s| s.name().to_string()));
+    let pause_at = options.pause_at.map(|t| positive("--pause-at", t)).transpose()?;
+    let restart = Restart { resume: options.resume.as_deref(), save_state: options.save_state.as_deref(), pause_at };
+    let run = record_model_run(&loaded, &settings, &file_name, &outputs, restart, observe, &|| received().map(|s| s.name().to_string()));
     bar.finish_and_clear();
     let RecordedRun { report, error, rows, paraview } = run?;
     let interrupted = report.interrupted.as_ref().and(received());
@@ -132,6 +140,9 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
         }
         println!("{}", summary_text(&report));
         println!("results: {} ({rows} rows), {}", csv_path.display(), summary_path.display());
+        if let (Some(file), None) = (&options.save_state, &error) {
+            println!("state saved: {}", file.display());
+        }
         if let Some(s) = &paraview {
             println!("ParaView: {} ({} frames of {} blocks)", s.pvd.display(), s.frames, s.blocks);
         }

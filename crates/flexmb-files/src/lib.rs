@@ -7,7 +7,8 @@
 //! - [`fe_model_file`]: FE model files (`docs/fe-model-file.md`) for the preprocessor, and
 //!   [`flexible_body`], the reduced flexible body turned into the engine's modal body;
 //! - [`results`]: a run recorded to a result CSV and a JSON summary ([`record_model_run`]), and
-//!   [`result_table`], a result CSV read back into named columns;
+//!   [`result_table`], a result CSV read back into named columns; [`restart`]: a run's checkpoint saved
+//!   and resumed;
 //! - [`vtk`]: ParaView files of a run and of mode shapes; [`shape`]: what they draw for rigid bodies;
 //! - [`study_file`]: study files (a model in several variants, each with several integrators);
 //! - [`output_limits`]: how many rows and frames a run may write; [`integrator_choice`]: integrators by
@@ -21,6 +22,7 @@ pub mod flexible_body;
 pub mod integrator_choice;
 pub mod model_file;
 pub mod output_limits;
+pub mod restart;
 pub mod result_table;
 pub mod results;
 pub mod shape;
@@ -28,5 +30,6 @@ pub mod study_file;
 pub mod vtk;
 
 pub use model_file::{load_model, load_model_with, parse_model, LoadOptions, LoadedModel, ModelFileError, SimulationDefaults};
+pub use restart::{read_checkpoint, save_checkpoint, Restart};
 pub use result_table::ResultTable;
 pub use results::{record_model_run, RecordedRun, ResultFileError, RunOutputs};

@@ -3,15 +3,17 @@
 
 use std::fs::File;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use flexmb::analysis::{
-    output_columns, simulate_interruptible, OutputColumn, OutputFrame, PhysicsLimits, PhysicsMeasures, SimulationReport,
+    output_columns, OutputColumn, OutputFrame, OutputSink, PhysicsLimits, PhysicsMeasures, Simulation, SimulationError, SimulationFailure, SimulationReport,
     SimulationSettings,
 };
 use flexmb::Model;
 use serde_json::{json, Value};
 
 use crate::model_file::LoadedModel;
+use crate::restart::{read_checkpoint, save_checkpoint, Restart};
 use crate::vtk::{RunSeries, SeriesTimes, SeriesWritten};
 
 /// A result file that could not be written or read, with the message that names it.
@@ -291,10 +293,11 @@ impl RunOutputs {
 /// Simulates a loaded model as `flexmb run` does: its outputs go to `outputs.csv` as they come, its
 /// summary to `outputs.summary` at the end, and a ParaView series frame by frame if
 /// `outputs.paraview` asks for one; `observe` sees every output frame, and `interrupt` is asked
-/// after every step whether to stop (see [`record_run`]). The directories must exist.
+/// after every step whether to stop; `restart` resumes from a checkpoint file and saves the state
+/// (see [`record_run`]; a resumed run's ParaView series holds the frames after the checkpoint). The directories must exist.
 ///
 /// ```
-/// use flexmb_files::{load_model, record_model_run, RunOutputs};
+/// use flexmb_files::{load_model, record_model_run, Restart, RunOutputs};
 ///
 /// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../models/pendulum.toml");
 /// let loaded = load_model(std::path::Path::new(path))?;
@@ -305,7 +308,7 @@ impl RunOutputs {
 /// std::fs::create_dir_all(&dir)?;
 /// let outputs = RunOutputs::in_directory(&dir, "pendulum");
 /// let mut frames = 0;
-/// let run = record_model_run(&loaded, &settings, path, &outputs, &mut |_frame| frames += 1, &|| None)?;
+/// let run = record_model_run(&loaded, &settings, path, &outputs, Restart::default(), &mut |_frame| frames += 1, &|| None)?;
 /// assert!(run.error.is_none());
 /// assert_eq!((run.rows, frames), (11, 11));
 /// let table = flexmb_files::ResultTable::read(&outputs.csv)?;
@@ -318,6 +321,7 @@ pub fn record_model_run(
     settings: &SimulationSettings,
     model_file: &str,
     outputs: &RunOutputs,
+    restart: Restart,
     observe: &mut dyn FnMut(&OutputFrame),
     interrupt: &dyn Fn() -> Option<String>,
 ) -> Result<RecordedRun, ResultFileError> {
@@ -333,37 +337,55 @@ pub fn record_model_run(
         }
         observe(frame);
     };
-    let run = record_run(&loaded.model, settings, model_file, (&outputs.csv, &outputs.summary), observe, interrupt)?;
+    let run = record_run(&loaded.model, settings, model_file, (&outputs.csv, &outputs.summary), restart, observe, interrupt)?;
     let paraview = series.map(RunSeries::finish).transpose().map_err(ResultFileError)?;
     Ok(RecordedRun { paraview, ..run })
 }
 
 /// Simulates `model`, writing every output frame to `csv` as it comes (a run that fails keeps what
 /// it computed) and the JSON summary to `summary` at the end; `observe` sees every frame too.
-/// `interrupt` is asked after every step whether to stop (see [`simulate_interruptible`]); an
-/// interrupted run's summary says `"status": "interrupted"`, with `interrupted_at` and `reason`.
+/// `interrupt` is asked after every step whether to stop (see [`Simulation::run`]); an interrupted
+/// run's summary says `"status": "interrupted"`, with `interrupted_at` and `reason`. `restart` may
+/// resume the run from a checkpoint file and save its state at the end (see [`Restart`]): a resumed
+/// run's CSV holds the rows after the checkpoint's time, its summary the counters of the whole run.
 pub fn record_run(
-    model: &Model,
+    model: &Arc<Model>,
     settings: &SimulationSettings,
     model_file: &str,
     (csv_path, summary_path): (&Path, &Path),
+    restart: Restart,
     observe: &mut dyn FnMut(&OutputFrame),
     interrupt: &dyn Fn() -> Option<String>,
 ) -> Result<RecordedRun, ResultFileError> {
+    let (started, resumed_at) = match restart.resume {
+        Some(file) => {
+            let (simulation, t) = resume(model, settings, file)?;
+            (Ok(simulation), Some((file, t)))
+        }
+        None => (Simulation::new(Arc::clone(model), *settings), None),
+    };
     let columns = output_columns(model);
     let mut csv = CsvWriter::create(csv_path, &columns).map_err(|e| ResultFileError(format!("cannot write {}: {e}", csv_path.display())))?;
     let mut write_error: Option<std::io::Error> = None;
-    let result = simulate_interruptible(
-        model,
-        settings,
-        &mut |frame| {
+    let mut simulation = None;
+    let result = started.and_then(|mut s| {
+        let sink = &mut |frame: &OutputFrame| {
             if write_error.is_none() {
                 write_error = csv.write_row(frame.t, frame.values).err();
             }
             observe(frame);
-        },
-        interrupt,
-    );
+        };
+        let run = match restart.pause_at {
+            None => s.run(sink, interrupt),
+            Some(t_pause) => run_with_pause(&mut s, t_pause, sink, interrupt),
+        };
+        let report = s.report().clone();
+        simulation = Some(s);
+        match run {
+            Ok(()) => Ok(report),
+            Err(cause) => Err(SimulationError { cause, report: Box::new(report) }),
+        }
+    });
     if let Some(e) = write_error {
         return Err(ResultFileError(format!("cannot write {}: {e}", csv_path.display())));
     }
@@ -381,8 +403,53 @@ pub fn record_run(
         integrator: if report.method.is_empty() { "bdf" } else { report.method },
         limits: settings.physics_limits,
     };
-    let summary = summary_json(&request, &report, &columns, csv_path, error.as_deref());
+    let mut summary = summary_json(&request, &report, &columns, csv_path, error.as_deref());
+    if let Some((file, t)) = resumed_at {
+        summary["resumed_from"] = json!({ "checkpoint": file.display().to_string(), "t": t });
+    }
     let text = serde_json::to_string_pretty(&summary).map_err(|e| ResultFileError(e.to_string()))?;
     std::fs::write(summary_path, text + "\n").map_err(|e| ResultFileError(format!("cannot write {}: {e}", summary_path.display())))?;
+    if let (Some(file), Some(simulation), None) = (restart.save_state, simulation.as_mut(), &error) {
+        let checkpoint = simulation.checkpoint().map_err(|e| ResultFileError(format!("cannot save the state to {}: {e}", file.display())))?;
+        save_checkpoint(file, &checkpoint)?;
+    }
     Ok(RecordedRun { report, error, rows: csv.rows(), paraview: None })
+}
+
+/// [`Simulation::run`] that also stops, as an interruption, at the first step at or after `t_pause`.
+fn run_with_pause(
+    simulation: &mut Simulation,
+    t_pause: f64,
+    sink: &mut dyn OutputSink,
+    interrupt: &dyn Fn() -> Option<String>,
+) -> Result<(), SimulationFailure> {
+    while !simulation.is_finished() {
+        simulation.step(sink)?;
+        if simulation.is_finished() {
+            break;
+        }
+        let reason = if simulation.time() >= t_pause { Some(format!("pause at {t_pause} s")) } else { interrupt() };
+        if let Some(reason) = reason {
+            simulation.interrupt(reason);
+            break;
+        }
+    }
+    Ok(())
+}
+
+/// A simulation resumed from the checkpoint in `file`, and the checkpoint's time; a checkpoint the
+/// engine refuses (of another model or method) or one after the end time is an error naming `file`.
+fn resume(model: &Arc<Model>, settings: &SimulationSettings, file: &Path) -> Result<(Simulation, f64), ResultFileError> {
+    let checkpoint = read_checkpoint(file)?;
+    if checkpoint.t > settings.t_end {
+        return Err(ResultFileError(format!(
+            "{}: the checkpoint is at t = {} s, after the end time {} s",
+            file.display(),
+            checkpoint.t,
+            settings.t_end
+        )));
+    }
+    let simulation = Simulation::resume(Arc::clone(model), *settings, &checkpoint)
+        .map_err(|e| ResultFileError(format!("{}: {e}", file.display())))?;
+    Ok((simulation, checkpoint.t))
 }

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use flexmb_files::model_file::{LoadOptions, ModelOverrides};
 use flexmb_files::results::ParaViewSeries;
 use flexmb_files::vtk::SeriesTimes;
-use flexmb_files::{load_model_with, record_model_run, ResultTable, RunOutputs};
+use flexmb_files::{load_model_with, record_model_run, Restart, ResultTable, RunOutputs};
 
 fn pendulum() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../models/pendulum.toml")
@@ -44,7 +44,7 @@ fn a_stopped_run_keeps_every_frame_it_reported_in_the_csv_the_summary_and_the_pa
         seen.push((frame.t, frame.values.to_vec()));
         frames.set(frames.get() + 1);
     };
-    let run = record_model_run(&loaded, &settings, "pendulum.toml", &outputs, observe, &stop).unwrap();
+    let run = record_model_run(&loaded, &settings, "pendulum.toml", &outputs, Restart::default(), observe, &stop).unwrap();
 
     assert!(run.error.is_none());
     let interrupted = run.report.interrupted.as_ref().expect("stopped by the predicate");
@@ -90,7 +90,7 @@ fn too_many_paraview_frames_are_refused_before_any_result_file_is_written() {
     let mut outputs = RunOutputs::in_directory(&dir, "pendulum");
     let times = SeriesTimes { step: None, output_step: settings.output_step, t_end: settings.t_end };
     outputs.paraview = Some(ParaViewSeries { dir: dir.join("vtk"), name: "pendulum".into(), times, max_frames: 10 });
-    let e = record_model_run(&loaded, &settings, "pendulum.toml", &outputs, &mut |_| {}, &|| None).err().unwrap();
+    let e = record_model_run(&loaded, &settings, "pendulum.toml", &outputs, Restart::default(), &mut |_| {}, &|| None).err().unwrap();
     assert!(e.to_string().contains("more than the limit of 10"), "{e}");
     assert!(!outputs.csv.exists() && !outputs.summary.exists());
     std::fs::remove_dir_all(&dir).unwrap();
@@ -116,4 +116,36 @@ fn the_memory_limit_a_caller_gives_bounds_the_reduction_of_a_flexible_body() {
     assert_eq!(loaded.flexible_bodies.len(), 1);
     assert_eq!(loaded.flexible_bodies[0].mode_set, "4N");
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Records the pendulum to 1 s with `restart`, returning every frame it reported (time and values).
+fn record_frames(dir: &Path, restart: Restart) -> (Vec<(f64, Vec<f64>)>, serde_json::Value) {
+    let loaded = load_model_with(&pendulum(), &LoadOptions::default()).unwrap();
+    let mut defaults = loaded.simulation;
+    defaults.t_end = 1.0;
+    let settings = defaults.settings(&loaded.model, defaults.assembly());
+    std::fs::create_dir_all(dir).unwrap();
+    let outputs = RunOutputs::in_directory(dir, "pendulum");
+    let mut frames = Vec::new();
+    let observe = &mut |frame: &flexmb::analysis::OutputFrame| frames.push((frame.t, frame.values.to_vec()));
+    let run = record_model_run(&loaded, &settings, "pendulum.toml", &outputs, restart, observe, &|| None).unwrap();
+    assert!(run.error.is_none());
+    (frames, summary(&outputs.summary))
+}
+
+#[test]
+fn a_run_paused_saved_and_resumed_through_the_library_reports_the_frames_of_one_run_bit_for_bit() {
+    let dir = scratch("restart");
+    let state = dir.join("state.json");
+    let (whole, whole_summary) = record_frames(&dir.join("whole"), Restart::default());
+    let pause = Restart { save_state: Some(&state), pause_at: Some(0.5), ..Default::default() };
+    let (mut split, first_summary) = record_frames(&dir.join("first"), pause);
+    assert_eq!(first_summary["status"], "interrupted");
+    let (second, summary) = record_frames(&dir.join("second"), Restart { resume: Some(&state), ..Default::default() });
+    assert!(split.len() > 10 && second.len() > 10, "{} and {} frames", split.len(), second.len());
+    split.extend(second);
+    // The same steps from the same state: the same numbers, not merely close ones.
+    assert_eq!(split, whole);
+    assert_eq!(summary["statistics"]["steps"], whole_summary["statistics"]["steps"]);
+    assert_eq!(summary["energy"]["final"], whole_summary["energy"]["final"]);
 }

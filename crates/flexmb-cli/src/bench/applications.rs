@@ -25,7 +25,7 @@ fn load(path: &str, overrides: &ModelOverrides, t_end: f64) -> Result<(Model, Si
     let loaded = load_model_with(&shipped(path), &options).map_err(|e| e.to_string())?;
     let d = SimulationDefaults { t_end, method: Method::Bdf, ..loaded.simulation };
     let settings = d.settings(&loaded.model, d.assembly());
-    Ok((loaded.model, settings))
+    Ok((std::sync::Arc::unwrap_or_clone(loaded.model), settings))
 }
 
 /// models/door/door.toml with mode set 4N5S, 2 s.

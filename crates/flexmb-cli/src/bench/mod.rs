@@ -142,7 +142,7 @@ pub fn run_benchmarks(case: Option<BenchCase>, repeat: usize) -> Result<(), Stri
         let (name, (model, settings)) = match c {
             BenchCase::SliderCrank => {
                 let loaded = parse_model(SLIDER_CRANK, "models/slider_crank.toml").map_err(|e| e.to_string())?;
-                ("slider-crank", with_defaults(loaded.model, 10.0))
+                ("slider-crank", with_defaults(std::sync::Arc::unwrap_or_clone(loaded.model), 10.0))
             }
             BenchCase::Chain20 => ("chain-20", with_defaults(spherical_chain(20), 5.0)),
             BenchCase::RigidPendulum => ("rigid-pend.", with_defaults(pendulums::rigid_pendulum()?, 2.0)),

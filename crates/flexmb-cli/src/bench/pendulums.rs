@@ -26,7 +26,7 @@ pub fn flexible_pendulum(modes: Option<&str>) -> Result<Model, String> {
         None => text,
     };
     let base = path.parent().unwrap_or(Path::new("."));
-    parse_model_with(&text, &path.display().to_string(), base, &crate::limits::load_options()).map(|l| l.model).map_err(|e| e.to_string())
+    parse_model_with(&text, &path.display().to_string(), base, &crate::limits::load_options()).map(|l| std::sync::Arc::unwrap_or_clone(l.model)).map_err(|e| e.to_string())
 }
 
 /// The same strip made rigid: one rigid body with the FE model's mass properties on the same hinge.

@@ -12,6 +12,7 @@ use flexmb_files::integrator_choice::parse_study_integrator;
 use flexmb_files::model_file::{load_model_with, LoadOptions};
 use flexmb_files::SimulationDefaults;
 use flexmb_files::results::{record_run, RecordedRun};
+use flexmb_files::Restart;
 use crate::run::CliError;
 
 pub use flexmb_files::study_file::{load_study, parse_study, Case, Published, Study};
@@ -97,7 +98,7 @@ fn run_case(study: &Study, case: &Case, integrator: &str, out_dir: &Path) -> Res
     let settings = SimulationDefaults { t_end, rtol, atol, method, max_order, ..d }.settings(model, assembly);
     let model_file = study.model.display().to_string();
     let RecordedRun { report, error: failure, .. } =
-        record_run(model, &settings, &model_file, (&csv_path, &summary_path), &mut |_| {}, &|| None)?;
+        record_run(model, &settings, &model_file, (&csv_path, &summary_path), Restart::default(), &mut |_| {}, &|| None)?;
     Ok(StudyRun {
         case: case.name.clone(),
         integrator: integrator.to_string(),

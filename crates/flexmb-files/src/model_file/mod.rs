@@ -28,8 +28,8 @@ use source::Source;
 /// A model read from a file, with the file's defaults for simulation runs.
 #[derive(Clone, Debug)]
 pub struct LoadedModel {
-    /// The model, built and validated by the engine.
-    pub model: flexmb::Model,
+    /// The model, built and validated by the engine; shared, so that a [`Simulation`](flexmb::analysis::Simulation) or a binding holds it without a copy.
+    pub model: std::sync::Arc<flexmb::Model>,
     /// The file's `[simulation]` values, for runs.
     pub simulation: SimulationDefaults,
     /// The flexible bodies, in the order of their `[[flexible_body]]` tables: mode set, frequencies,

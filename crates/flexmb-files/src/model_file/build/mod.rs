@@ -95,5 +95,5 @@ pub(crate) fn build(
     };
     outputs::add_outputs(&ctx, &file.output, &output_references, &mut builder, &mut names.outputs)?;
     let model = builder.build().map_err(|e| engine_errors::locate(&e, &names, source))?;
-    Ok(LoadedModel { model, simulation, flexible_bodies, shapes })
+    Ok(LoadedModel { model: std::sync::Arc::new(model), simulation, flexible_bodies, shapes })
 }
