@@ -1,4 +1,7 @@
 //! The `flexmb` program.
+// The doc comments below are clap's help text for users: they name model-file tables such as
+// `[simulation]` and placeholders such as `<stem>`, which are not links nor HTML for rustdoc.
+#![allow(rustdoc::broken_intra_doc_links, rustdoc::invalid_html_tags)]
 
 use std::path::PathBuf;
 use std::process::ExitCode;
