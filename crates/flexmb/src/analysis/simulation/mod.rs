@@ -124,7 +124,7 @@ impl Simulation {
         let mut accelerations = AccelerationSolver::new(&model);
         let acc = accelerations
             .solve(&model, &mut data, state.t, &state.q, &state.v, &state.active)
-            .map_err(|_| SimulationFailure::SingularAccelerations { t: state.t, detail: String::new() })?
+            .map_err(|_| accelerations_failure(&model, &data, state.t))?
             .clone();
         let integrator = start_integrator(&model, &settings, &state, &acc)?;
         report.method = integrator.name();
@@ -300,9 +300,10 @@ impl Simulation {
         let (q, v) = self.integrator.state();
         self.q.copy_from_slice(q);
         self.v.copy_from_slice(v);
+        let data = self.integrator.data_mut();
         self.accelerations
-            .solve(&self.model, self.integrator.data_mut(), t, &self.q, &self.v, &self.active)
-            .map_err(|_| SimulationFailure::SingularAccelerations { t, detail: String::new() })
+            .solve(&self.model, data, t, &self.q, &self.v, &self.active)
+            .map_err(|_| accelerations_failure(&self.model, data, t))
     }
 
     /// The current value of the parameter named `name` (declared with
@@ -477,7 +478,7 @@ impl Simulation {
             let acc = self
                 .accelerations
                 .solve(model, data, t, &self.q, &self.v, &self.active)
-                .map_err(|_| SimulationFailure::SingularAccelerations { t, detail: String::new() })?;
+                .map_err(|_| accelerations_failure(model, data, t))?;
             nonconservative_power(model, data, t, &acc.lambda)
         } else {
             measures(model, data);
@@ -500,7 +501,7 @@ impl Simulation {
         let acc = self
             .accelerations
             .solve(model, data, t, q, v, &self.active)
-            .map_err(|_| SimulationFailure::SingularAccelerations { t, detail: String::new() })?;
+            .map_err(|_| accelerations_failure(model, data, t))?;
         let power = nonconservative_power(model, data, t, &acc.lambda);
         evaluate_outputs(model, data, q, v, acc, &self.active, values);
         let (p, vel) = constraint_residuals(model, data, &self.active);
@@ -521,6 +522,16 @@ impl Simulation {
         self.watchdog
             .check_frame(model, data, (t, q, v), (&e, balance_error), &mut report.warnings, &mut report.physics)?;
         Ok(())
+    }
+}
+
+/// Why the accelerations at `t` could not be solved: a constraint equation whose value or rate is not
+/// finite there (a driver's function outside its domain, or with an infinite rate, as `sqrt(t0 − t)`
+/// at `t0`), named; otherwise a singular mass matrix or constraint Jacobian.
+fn accelerations_failure(model: &Model, data: &Data, t: f64) -> SimulationFailure {
+    match super::assembly::check_finite(model, data, t) {
+        Err(non_finite) => non_finite.into(),
+        Ok(()) => SimulationFailure::SingularAccelerations { t, detail: String::new() },
     }
 }
 
