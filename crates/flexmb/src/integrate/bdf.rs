@@ -360,11 +360,7 @@ impl Bdf {
         }
         let n = self.n;
         let t = self.t;
-        // Ten units of rounding of the time scale, `max(|t|, |t_stop|)` as in DASSL (`|t|` alone when
-        // there is no stop): at t = 0 the step would otherwise halve down to 1e-307 before a failure
-        // is declared.
-        let time_scale = if t_stop.is_finite() { t.abs().max(t_stop.abs()) } else { t.abs() };
-        let min_step = 10.0 * (time_scale * f64::EPSILON).max(f64::MIN_POSITIVE);
+        let min_step = super::smallest_step(t, t_stop);
         if self.h > self.config.h_max {
             self.change_differences(self.order, self.config.h_max / self.h);
             self.h = self.config.h_max;

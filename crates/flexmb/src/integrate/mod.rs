@@ -43,3 +43,11 @@ pub use error::IntegrationError;
 pub use generalized_alpha::GeneralizedAlpha;
 pub use integrator::Integrator;
 pub use stats::Stats;
+
+/// The smallest step an integrator takes at `t` toward `t_stop` before it declares a failure: ten
+/// units of rounding of the time scale `max(|t|, |t_stop|)`, as in DASSL (`|t|` alone when there is no
+/// stop). At t = 0, `|t|` alone let the step halve down to 1e-307.
+pub(crate) fn smallest_step(t: f64, t_stop: f64) -> f64 {
+    let time_scale = if t_stop.is_finite() { t.abs().max(t_stop.abs()) } else { t.abs() };
+    10.0 * (time_scale * f64::EPSILON).max(f64::MIN_POSITIVE)
+}

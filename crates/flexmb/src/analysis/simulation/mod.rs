@@ -511,7 +511,6 @@ impl Simulation {
         if report.output_frames == 0 {
             report.energy_initial = e.total();
         }
-        report.last_power = (power, t);
         report.energy_final = e.total();
         Watchdog::check_finite_frame(model, (t, q, v), &e, power)?;
         add_work(report, &mut self.watchdog, t, power);

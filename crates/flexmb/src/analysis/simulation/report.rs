@@ -49,8 +49,6 @@ pub struct SimulationReport {
     /// The work of the non-conservative forces up to the last node of that rule (an accepted step or
     /// an output time), and the power there.
     pub work_at_step: WorkAtStep,
-    /// Power of the non-conservative forces and time at the last output (W, s).
-    pub last_power: (f64, f64),
     /// Output frames reported.
     pub output_frames: usize,
     /// The physics watchdog's warnings, in the order they were raised.

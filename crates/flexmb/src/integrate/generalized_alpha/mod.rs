@@ -396,11 +396,7 @@ impl GeneralizedAlpha {
         if t_stop <= t {
             return Ok(());
         }
-        // Ten units of rounding of the time scale, `max(|t|, |t_stop|)` as in DASSL (`|t|` alone when
-        // there is no stop): at t = 0 the step would otherwise halve down to 1e-307 before a failure
-        // is declared.
-        let time_scale = if t_stop.is_finite() { t.abs().max(t_stop.abs()) } else { t.abs() };
-        let min_step = 10.0 * (time_scale * f64::EPSILON).max(f64::MIN_POSITIVE);
+        let min_step = crate::integrate::smallest_step(t, t_stop);
         let mut h = self.h.min(self.config.h_max);
         // Why the last attempt failed; described (which allocates) only if the step size underflows.
         let mut failure = AttemptFailure::None;
