@@ -104,7 +104,7 @@ fn modal_mass_and_stiffness_equal_the_projected_fe_matrices() {
     // Φᵀ M Φ with the lumped masses, node by node.
     let mut c9 = DMatrix::zeros(5, 5);
     for (i, node) in body.nodes.iter().enumerate() {
-        let psi = body.psi(i);
+        let psi = body.psi(i).expect("a node of the body");
         c9 += node.mass * psi.transpose() * psi;
     }
     assert!((&c9 - &body.invariants.c9).amax() < 1e-12 * c9.amax());
@@ -144,7 +144,7 @@ fn invariant_expansions_equal_node_sums_for_a_deformed_state() {
     let mut inertia = Matrix3::zeros();
     let mut coupling = DMatrix::zeros(3, m);
     for (i, node) in body.nodes.iter().enumerate() {
-        let psi = body.psi(i);
+        let psi = body.psi(i).expect("a node of the body");
         let d = &psi * &a;
         let r = node.position + Vector3::new(d[0], d[1], d[2]);
         let r_tilde = r.cross_matrix();
@@ -173,7 +173,7 @@ fn invariant_expansions_equal_node_sums_for_a_deformed_state() {
     assert!((&expansion - &coupling).amax() < 1e-12 * coupling.amax());
     // C8(j) = Σ mᵢ s̄ᵢᵀ ψᵢʲ
     for j in 0..m {
-        let c8: f64 = body.nodes.iter().enumerate().map(|(i, n)| n.mass * n.position.dot(&body.psi(i).column(j).into_owned().fixed_rows::<3>(0).into_owned())).sum();
+        let c8: f64 = body.nodes.iter().enumerate().map(|(i, n)| n.mass * n.position.dot(&body.psi(i).expect("a node of the body").column(j).into_owned().fixed_rows::<3>(0).into_owned())).sum();
         assert!((c8 - inv.c8[j]).abs() < 1e-12 * inv.c8.amax());
     }
 }

@@ -49,20 +49,16 @@ impl Data {
         }
     }
 
-    /// Global position of a marker origin after the last kinematics stage.
-    ///
-    /// # Panics
-    /// If `m` is not a marker of the model this data was made for.
-    pub fn marker_position(&self, m: crate::model::MarkerId) -> Vec3 {
-        self.markers[m.0].position
+    /// Global position of a marker origin after the last kinematics stage; `None` if `m` is not a marker
+    /// of the model this data was made for.
+    pub fn marker_position(&self, m: crate::model::MarkerId) -> Option<Vec3> {
+        self.markers.get(m.0).map(|marker| marker.position)
     }
 
-    /// Global axes of a marker (columns x, y, z) after the last kinematics stage.
-    ///
-    /// # Panics
-    /// If `m` is not a marker of the model this data was made for.
-    pub fn marker_axes(&self, m: crate::model::MarkerId) -> Mat3 {
-        self.markers[m.0].axes
+    /// Global axes of a marker (columns x, y, z) after the last kinematics stage; `None` if `m` is not a
+    /// marker of the model this data was made for.
+    pub fn marker_axes(&self, m: crate::model::MarkerId) -> Option<Mat3> {
+        self.markers.get(m.0).map(|marker| marker.axes)
     }
 
     /// Current value of each measure after the last measures stage.

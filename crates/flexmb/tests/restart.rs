@@ -92,8 +92,8 @@ fn assert_restart_continues(name: &str, model: Model, settings: SimulationSettin
         }
         assert_eq!(split_table.len(), table.len(), "{what}: number of outputs");
         for i in 0..table.len() {
-            let row = split_table.row(i);
-            assert!(close(row, table.row(i)), "{what}: output row {i} (t = {}) differs", row[0]);
+            let row = split_table.row(i).unwrap();
+            assert!(close(row, table.row(i).unwrap()), "{what}: output row {i} (t = {}) differs", row[0]);
             assert!(close(split_table.positions(i).unwrap(), table.positions(i).unwrap()), "{what}: q of row {i}");
             assert!(close(split_table.velocities(i).unwrap(), table.velocities(i).unwrap()), "{what}: v of row {i}");
         }
@@ -180,7 +180,7 @@ fn simulate_is_a_simulation_run_to_its_end() {
     let (_, table, stats) = uninterrupted(&model, s);
     assert_eq!(report.stats, stats);
     assert_eq!(rows.len(), table.len());
-    assert!((0..rows.len()).all(|i| rows[i] == table.row(i)));
+    assert!((0..rows.len()).all(|i| rows[i] == table.row(i).unwrap()));
 }
 
 /// A run resumed with a later end time continues past the old one; its outputs take up the grid where
@@ -284,7 +284,7 @@ fn a_run_checkpointed_at_an_interruption_resumes_to_the_uninterrupted_results() 
     assert!(second.is_finished() && second.report().interrupted.is_none());
     assert_eq!(*second.stats(), stats);
     assert_eq!(table.len(), reference.len());
-    assert!((0..table.len()).all(|i| close(table.row(i), reference.row(i))));
+    assert!((0..table.len()).all(|i| close(table.row(i).unwrap(), reference.row(i).unwrap())));
 }
 
 /// A checkpoint of one model does not resume on another: the sizes are checked and named.
@@ -322,7 +322,7 @@ fn a_run_resumes_with_another_output_step() {
     let first_fine = (t_split / 0.02).floor() as usize + 1;
     assert_eq!(table.len() - before, reference.len() - first_fine);
     for (i, j) in (before..table.len()).zip(first_fine..) {
-        assert!(close(table.row(i), reference.row(j)), "row {i} (t = {}) against {}", t[i], reference.row(j)[0]);
+        assert!(close(table.row(i).unwrap(), reference.row(j).unwrap()), "row {i} (t = {}) against {}", t[i], reference.row(j).unwrap()[0]);
     }
 }
 
@@ -350,6 +350,6 @@ fn checkpoints_and_readings_between_steps_leave_the_run_unchanged() {
         }
         assert_eq!(*simulation.stats(), stats, "{name}: counters");
         assert!(trajectory.steps.iter().zip(&reference.steps).all(|(a, b)| a == b), "{name}: steps");
-        assert!((0..table.len()).all(|i| observed.row(i) == table.row(i)), "{name}: outputs");
+        assert!((0..table.len()).all(|i| observed.row(i).unwrap() == table.row(i).unwrap()), "{name}: outputs");
     }
 }

@@ -32,7 +32,7 @@ pub fn flexible_pendulum(modes: Option<&str>) -> Result<Model, String> {
 /// The same strip made rigid: one rigid body with the FE model's mass properties on the same hinge.
 pub fn rigid_pendulum() -> Result<Model, String> {
     let flexible = flexible_pendulum(None)?;
-    let strip = flexible.body(BodyId(0));
+    let strip = flexible.body(BodyId(0)).ok_or("the flexible pendulum has no body")?;
     let mut b = ModelBuilder::new("rigid pendulum").gravity(flexible.gravity());
     let body = b.add_body(RigidBody {
         name: "beam".into(),

@@ -194,20 +194,18 @@ impl FlexibleBody {
         self.modes.len()
     }
 
-    /// `Ψᵢ`, the translational mode matrix of node `i` (3×m).
-    ///
-    /// # Panics
-    /// If `node` is not below the number of nodes.
-    pub fn psi(&self, node: usize) -> DMatrix<f64> {
-        DMatrix::from_fn(3, self.modes.len(), |r, j| self.shapes[j].translation[node][r])
+    /// `Ψᵢ`, the translational mode matrix of node `i` (3×m); `None` for `node` not below the number of
+    /// nodes.
+    pub fn psi(&self, node: usize) -> Option<DMatrix<f64>> {
+        let has_node = node < self.nodes.len() && self.shapes.iter().all(|shape| node < shape.translation.len());
+        has_node.then(|| DMatrix::from_fn(3, self.shapes.len(), |r, j| self.shapes[j].translation[node][r]))
     }
 
-    /// `Θᵢ`, the rotational mode matrix of node `i` (3×m).
-    ///
-    /// # Panics
-    /// If `node` is not below the number of nodes.
-    pub fn theta(&self, node: usize) -> DMatrix<f64> {
-        DMatrix::from_fn(3, self.modes.len(), |r, j| self.shapes[j].rotation[node][r])
+    /// `Θᵢ`, the rotational mode matrix of node `i` (3×m); `None` for `node` not below the number of
+    /// nodes.
+    pub fn theta(&self, node: usize) -> Option<DMatrix<f64>> {
+        let has_node = node < self.nodes.len() && self.shapes.iter().all(|shape| node < shape.rotation.len());
+        has_node.then(|| DMatrix::from_fn(3, self.shapes.len(), |r, j| self.shapes[j].rotation[node][r]))
     }
 
     /// The body as JSON text.

@@ -32,7 +32,7 @@ impl<'a> BodyMotion<'a> {
     pub(crate) fn of(model: &Model, body: BodyId, q: &'a [f64], v: &'a [f64]) -> Self {
         let layout = model.layout();
         let (qb, vb) = (&q[layout.q_range(body)], &v[layout.v_range(body)]);
-        let m = layout.modes(body);
+        let m = qb.len() - 7;
         Self {
             origin: Vec3::from_column_slice(&qb[0..3]),
             rotation: rotation_matrix(&Vec4::from_column_slice(&qb[3..7])),
@@ -67,7 +67,7 @@ impl<'a> BodyMotion<'a> {
 
 /// A marker's origin: fixed on ground, on a rigid body, or at a node of a flexible body.
 pub(crate) fn marker_motion(model: &Model, marker: MarkerId, q: &[f64], v: &[f64]) -> PointMotion {
-    let m = model.marker(marker);
+    let m = &model.markers()[marker.0];
     let BodyRef::Body(body) = m.body else {
         return PointMotion { position: m.origin, velocity: Vec3::zeros(), elastic: Vec3::zeros() };
     };

@@ -46,7 +46,7 @@ pub(crate) fn parts(loaded: &LoadedModel) -> Vec<Part> {
         let cells = cells(mesh.cells.iter().map(Vec::as_slice));
         let frame_glyph = matches!(s.shape, Shape::Frame { .. });
         let kind = PartKind::Rigid { body: s.body, points: mesh.points, cells, frame_glyph };
-        parts.push(Part::new(&model.body(s.body).name, "body", kind, &parts));
+        parts.push(Part::new(&model.bodies()[s.body.0].name, "body", kind, &parts));
     }
     for f in &loaded.flexible_bodies {
         let labels = model.modal_body(f.body).map_or_else(Vec::new, |m| m.nodes.iter().map(|n| n.label).collect());

@@ -305,7 +305,7 @@ fn every_named_joint_has_its_number_of_equations() {
     let model = b.build().unwrap();
     let mut total = 0;
     for (n, (kind, expected)) in kinds.iter().enumerate() {
-        let rows = model.layout().joint_rows(crate::model::JointId(n));
+        let rows = model.layout().joint_rows(crate::model::JointId(n)).expect("a joint of the model");
         assert_eq!(rows.len(), *expected, "{} joint: number of constraint rows", kind.keyword());
         assert_eq!(kind.equations().len(), *expected, "{} joint: number of primitive equations", kind.keyword());
         total += expected;

@@ -73,17 +73,21 @@ impl Layout {
     pub fn v_range(&self, b: BodyId) -> Range<usize> {
         self.v_offset[b.0]..self.v_offset[b.0] + 6 + self.modes[b.0]
     }
-    /// Number of modal coordinates of body `b` (0 for a rigid body).
-    pub fn modes(&self, b: BodyId) -> usize {
-        self.modes[b.0]
+    /// Number of modal coordinates of body `b` (0 for a rigid body); `None` for an id that is not one of
+    /// this model's bodies.
+    pub fn modes(&self, b: BodyId) -> Option<usize> {
+        self.modes.get(b.0).copied()
     }
-    /// The modal coordinates `a` of body `b` within `q`.
-    pub fn modal_q_range(&self, b: BodyId) -> Range<usize> {
-        self.q_offset[b.0] + 7..self.q_offset[b.0] + 7 + self.modes[b.0]
+    /// The modal coordinates `a` of body `b` within `q`; `None` for an id that is not one of this model's
+    /// bodies.
+    pub fn modal_q_range(&self, b: BodyId) -> Option<Range<usize>> {
+        let start = self.q_offset.get(b.0)? + 7;
+        Some(start..start + self.modes[b.0])
     }
-    /// The modal rates `ȧ` of body `b` within `v`.
-    pub fn modal_v_range(&self, b: BodyId) -> Range<usize> {
-        self.v_offset[b.0] + 6..self.v_offset[b.0] + 6 + self.modes[b.0]
+    /// The modal rates `ȧ` of body `b` within `v`; `None` for an id that is not one of this model's bodies.
+    pub fn modal_v_range(&self, b: BodyId) -> Option<Range<usize>> {
+        let start = self.v_offset.get(b.0)? + 6;
+        Some(start..start + self.modes[b.0])
     }
     /// The body whose velocity coordinates hold index `k` of `v`.
     pub fn body_of_velocity(&self, k: usize) -> BodyId {
@@ -93,9 +97,9 @@ impl Layout {
     pub fn body_of_position(&self, k: usize) -> BodyId {
         BodyId(self.q_offset.partition_point(|&o| o <= k) - 1)
     }
-    /// Constraint rows of joint `j`.
-    pub fn joint_rows(&self, j: JointId) -> Range<usize> {
-        self.joint_rows[j.0].clone()
+    /// Constraint rows of joint `j`; `None` for an id that is not one of this model's joints.
+    pub fn joint_rows(&self, j: JointId) -> Option<Range<usize>> {
+        self.joint_rows.get(j.0).cloned()
     }
     /// Number of position-level constraints of the stabilized system: joint rows plus one
     /// normalization `pᵀp = 1` per body.

@@ -100,50 +100,34 @@ impl Model {
     pub fn layout(&self) -> &Layout {
         &self.layout
     }
-    /// A body of this model.
-    ///
-    /// # Panics
-    /// If `id` is not one of this model's bodies (an id from another builder).
-    pub fn body(&self, id: BodyId) -> &RigidBody {
-        &self.bodies[id.0]
+    /// A body of this model; `None` for an id that is not one of its bodies (an id from another builder).
+    pub fn body(&self, id: BodyId) -> Option<&RigidBody> {
+        self.bodies.get(id.0)
     }
-    /// The modal description of a flexible body, `None` for a rigid one.
-    ///
-    /// # Panics
-    /// If `id` is not one of this model's bodies.
+    /// The modal description of a flexible body; `None` for a rigid body or an id that is not one of this
+    /// model's bodies.
     pub fn modal_body(&self, id: BodyId) -> Option<&ModalBody> {
-        self.modal[id.0].as_ref()
+        self.modal.get(id.0).and_then(Option::as_ref)
     }
-    /// The node of a flexible body a marker sits at.
-    ///
-    /// # Panics
-    /// If `id` is not one of this model's markers.
+    /// The node of a flexible body a marker sits at; `None` for a marker on a rigid body or ground, or an
+    /// id that is not one of this model's markers.
     pub fn marker_node(&self, id: MarkerId) -> Option<usize> {
-        self.marker_node[id.0]
+        self.marker_node.get(id.0).copied().flatten()
     }
-    /// A marker of this model.
-    ///
-    /// # Panics
-    /// If `id` is not one of this model's markers.
-    pub fn marker(&self, id: MarkerId) -> &Marker {
-        &self.markers[id.0]
+    /// A marker of this model; `None` for an id that is not one of its markers.
+    pub fn marker(&self, id: MarkerId) -> Option<&Marker> {
+        self.markers.get(id.0)
     }
-    /// A joint or driver of this model.
-    ///
-    /// # Panics
-    /// If `id` is not one of this model's joints.
-    pub fn joint(&self, id: JointId) -> &Joint {
-        &self.joints[id.0]
+    /// A joint or driver of this model; `None` for an id that is not one of its joints.
+    pub fn joint(&self, id: JointId) -> Option<&Joint> {
+        self.joints.get(id.0)
     }
 
-    /// Name of a body reference (`ground` for ground).
-    ///
-    /// # Panics
-    /// If the body is not one of this model's.
-    pub fn body_name(&self, b: BodyRef) -> &str {
+    /// Name of a body reference (`ground` for ground); `None` for a body that is not one of this model's.
+    pub fn body_name(&self, b: BodyRef) -> Option<&str> {
         match b {
-            BodyRef::Ground => "ground",
-            BodyRef::Body(id) => &self.bodies[id.0].name,
+            BodyRef::Ground => Some("ground"),
+            BodyRef::Body(id) => self.bodies.get(id.0).map(|body| body.name.as_str()),
         }
     }
 
@@ -153,11 +137,11 @@ impl Model {
     }
 
     /// A human-readable description of the equation of velocity coordinate `k`: the equations of motion of
-    /// a body, or the modal equation of one of its modes.
-    ///
-    /// # Panics
-    /// If `k` is not below [`Layout::nv`].
+    /// a body, or the modal equation of one of its modes (for `k` beyond [`Layout::nv`], says so).
     pub fn describe_velocity_row(&self, k: usize) -> String {
+        if k >= self.layout.nv {
+            return format!("velocity coordinate {k}, which this model does not have (it has {})", self.layout.nv);
+        }
         let b = self.layout.body_of_velocity(k);
         let local = k - self.layout.v_offset[b.0];
         let name = &self.bodies[b.0].name;
@@ -167,11 +151,12 @@ impl Model {
         }
     }
 
-    /// A human-readable description of constraint row `row`: joint name, kind and equation.
-    ///
-    /// # Panics
-    /// If `row` is not below [`Layout::nc`].
+    /// A human-readable description of constraint row `row`: joint name, kind and equation (for `row`
+    /// beyond [`Layout::nc`], says so).
     pub fn describe_constraint_row(&self, row: usize) -> String {
+        if row >= self.layout.nc {
+            return format!("constraint row {row}, which this model does not have (it has {})", self.layout.nc);
+        }
         let (joint, eq) = self.layout.equations[row];
         let j = &self.joints[joint.0];
         let k = row - self.layout.joint_rows[joint.0].start;

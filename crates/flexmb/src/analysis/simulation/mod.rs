@@ -272,16 +272,18 @@ impl Simulation {
         self.integrator.state().1
     }
 
-    /// Modal coordinates `a` of `body` at the last accepted step (empty for a rigid body).
-    pub fn modal_coordinates(&self, body: BodyId) -> &[f64] {
-        let qo = self.model.layout.q_offset[body.0];
-        &self.positions()[qo + 7..qo + 7 + self.model.layout.modes[body.0]]
+    /// Modal coordinates `a` of `body` at the last accepted step (empty for a rigid body); `None` for an
+    /// id that is not one of the model's bodies.
+    pub fn modal_coordinates(&self, body: BodyId) -> Option<&[f64]> {
+        let range = self.model.layout.modal_q_range(body)?;
+        Some(&self.positions()[range])
     }
 
-    /// Modal rates `ȧ` of `body` at the last accepted step (empty for a rigid body).
-    pub fn modal_rates(&self, body: BodyId) -> &[f64] {
-        let vo = self.model.layout.v_offset[body.0];
-        &self.velocities()[vo + 6..vo + 6 + self.model.layout.modes[body.0]]
+    /// Modal rates `ȧ` of `body` at the last accepted step (empty for a rigid body); `None` for an id
+    /// that is not one of the model's bodies.
+    pub fn modal_rates(&self, body: BodyId) -> Option<&[f64]> {
+        let range = self.model.layout.modal_v_range(body)?;
+        Some(&self.velocities()[range])
     }
 
     /// Lagrange multipliers `λ` at the last accepted step (one per constraint row, zero on the rows

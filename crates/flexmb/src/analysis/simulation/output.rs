@@ -75,26 +75,33 @@ impl OutputTable {
         self.values.is_empty()
     }
 
-    /// Row `i`: the time, then the output values.
-    pub fn row(&self, i: usize) -> &[f64] {
+    /// Row `i`: the time, then the output values; `None` for `i` not below [`len`](Self::len).
+    pub fn row(&self, i: usize) -> Option<&[f64]> {
         let w = self.columns.len();
-        &self.values[i * w..(i + 1) * w]
+        self.values.get(i * w..(i + 1) * w)
     }
 
     /// The values of the column named `name` (e.g. `t`, `tip.x`, `energy.total`), one per row.
     pub fn column(&self, name: &str) -> Option<Vec<f64>> {
         let c = self.columns.iter().position(|col| col.name == name)?;
-        Some((0..self.len()).map(|i| self.row(i)[c]).collect())
+        let w = self.columns.len();
+        Some(self.values.chunks_exact(w).map(|row| row[c]).collect())
     }
 
-    /// The positions of row `i`, if the table keeps them.
+    /// The positions of row `i`, if the table keeps them and has that row.
     pub fn positions(&self, i: usize) -> Option<&[f64]> {
-        self.keep_states.then(|| &self.q[i * self.nq..(i + 1) * self.nq])
+        if !self.keep_states {
+            return None;
+        }
+        self.q.get(i * self.nq..(i + 1) * self.nq)
     }
 
-    /// The velocities of row `i`, if the table keeps them.
+    /// The velocities of row `i`, if the table keeps them and has that row.
     pub fn velocities(&self, i: usize) -> Option<&[f64]> {
-        self.keep_states.then(|| &self.v[i * self.nv..(i + 1) * self.nv])
+        if !self.keep_states {
+            return None;
+        }
+        self.v.get(i * self.nv..(i + 1) * self.nv)
     }
 }
 
