@@ -20,7 +20,7 @@ use super::{Accelerations, State};
 use crate::data::Data;
 use crate::integrate::generalized_alpha::{retract, IterationMatrix};
 use crate::model::Model;
-use crate::stage::{body_mass_entries, constraint_equations, jacobian_entries, kinematics};
+use crate::stage::{body_mass_entries, jacobian_entries, kinematic_stages};
 
 /// The equations of motion linearized at one state (matrices in velocity coordinates: `nv` columns).
 #[derive(Clone, Debug)]
@@ -48,8 +48,7 @@ pub fn linearize(model: &Model, data: &mut Data, state: &State, acc: &Accelerati
     let mut matrix = IterationMatrix::new(model);
     matrix.evaluate_derivatives(model, data, active, *t, q, v, &acc.vdot, &acc.lambda);
     let (stiffness, damping, constraint_stiffness) = matrix.dense_derivatives();
-    kinematics(model, data, q, v);
-    constraint_equations(model, data, *t);
+    kinematic_stages(model, data, *t, q, v);
     let mut mass = Mat::zeros(l.nv, l.nv);
     for b in 0..model.bodies.len() {
         let vo = l.v_offset[b];

@@ -17,7 +17,6 @@ mod watchdog_tests;
 #[doc(hidden)]
 pub mod test_models;
 
-pub(crate) use accelerations::KktMatrix;
 pub use accelerations::{AccelerationSolver, Accelerations};
 pub use assembly::{assemble, AssemblyError, AssemblyReport, AssemblySettings, ModalAssembly};
 pub use linearization::{displaced_positions, linearize, Linearization};

@@ -99,7 +99,7 @@ use crate::integrate::{
 };
 use crate::math::Vec3;
 use crate::model::Model;
-use crate::stage::{add_jacobian_transpose, constraint_equations, kinematics, update_angle_references};
+use crate::stage::{add_jacobian_transpose, kinematic_stages, update_angle_references};
 
 const NEWTON_MAXITER: usize = 6;
 /// A converged Newton iteration slower than this (with finite-difference parts from an earlier step)
@@ -226,7 +226,7 @@ impl GeneralizedAlpha {
             .unwrap_or_else(|| initial_step(&model, &config, &state.q, &state.v, &accelerations.vdot))
             .min(config.h_max);
         let mut data = Data::new(&model);
-        kinematics(&model, &mut data, &state.q, &state.v);
+        kinematic_stages(&model, &mut data, t, &state.q, &state.v);
         data.angle_reference.fill(0.0);
         update_angle_references(&model, &mut data);
         let mut integrator = Self {
@@ -269,7 +269,6 @@ impl GeneralizedAlpha {
             stats: Stats::default(),
             model,
         };
-        constraint_equations(&integrator.model, &mut integrator.data, t);
         integrator.matrix.set_start_jacobian(&integrator.model, &integrator.data, &integrator.active);
         let evaluations = integrator.matrix.evaluate_derivatives(
             &integrator.model,
@@ -654,9 +653,8 @@ impl GeneralizedAlpha {
         self.stats.sum_h_squared += h * h;
         self.stats.order_counts[2] += 1;
         self.derivatives_current = false;
-        kinematics(&self.model, &mut self.data, &self.q, &self.v);
+        kinematic_stages(&self.model, &mut self.data, t_new, &self.q, &self.v);
         update_angle_references(&self.model, &mut self.data);
-        constraint_equations(&self.model, &mut self.data, t_new);
         self.matrix.set_start_jacobian(&self.model, &self.data, &self.active);
     }
 
