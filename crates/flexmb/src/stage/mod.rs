@@ -5,6 +5,7 @@
 
 mod constraints;
 mod energy;
+mod equations_of_motion;
 mod forces;
 mod forward;
 mod inertia;
@@ -15,6 +16,7 @@ mod residual;
 
 pub(crate) use constraints::{add_jacobian_transpose, constraint_equations, jacobian_entries};
 pub use energy::Energy;
+pub use equations_of_motion::equations_of_motion;
 pub(crate) use energy::{energy, nonconservative_power};
 pub(crate) use forces::applied_forces;
 pub use forward::{force_stages, forward, kinematic_stages};

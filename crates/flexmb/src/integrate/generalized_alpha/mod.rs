@@ -84,8 +84,7 @@ mod iteration_matrix;
 mod lie_group;
 
 pub(crate) use iteration_matrix::IterationMatrix;
-use iteration_matrix::equations_of_motion;
-pub(crate) use lie_group::retract;
+pub(crate) use lie_group::{quaternion_product, retract, rotation_quaternion};
 use lie_group::{position_sum_of_squares, right_jacobian_inverse};
 
 use crate::analysis::{Accelerations, State};
@@ -99,7 +98,7 @@ use crate::integrate::{
 };
 use crate::math::Vec3;
 use crate::model::Model;
-use crate::stage::{add_jacobian_transpose, kinematic_stages, update_angle_references};
+use crate::stage::{add_jacobian_transpose, equations_of_motion, kinematic_stages, update_angle_references};
 
 const NEWTON_MAXITER: usize = 6;
 /// A converged Newton iteration slower than this (with finite-difference parts from an earlier step)
@@ -270,7 +269,7 @@ impl GeneralizedAlpha {
             model,
         };
         integrator.matrix.set_start_jacobian(&integrator.model, &integrator.data, &integrator.active);
-        let evaluations = integrator.matrix.evaluate_derivatives(
+        let evaluations = integrator.matrix.derivatives.evaluate(
             &integrator.model,
             &mut integrator.data,
             &integrator.active,
@@ -532,7 +531,7 @@ impl GeneralizedAlpha {
     fn refresh_derivatives(&mut self, t_new: f64, h: f64) {
         self.predict(h);
         let (nv, nc) = (self.nv, self.nc);
-        let evaluations = self.matrix.evaluate_derivatives(
+        let evaluations = self.matrix.derivatives.evaluate(
             &self.model,
             &mut self.data,
             &self.active,

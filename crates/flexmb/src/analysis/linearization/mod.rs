@@ -11,14 +11,19 @@
 //! ```
 //!
 //! `M` and `B` are exact; `K`, `C` and `K_B = ∂(B v + Φ_t)/∂q` come from finite differences with the
-//! columns grouped by colouring — the same evaluation the generalized-α method makes for its iteration
-//! matrix (`integrate::generalized_alpha`), whose code this uses.
+//! columns grouped by colouring, on a sparse pattern made once per model ([`SparseLinearization`], the
+//! evaluation the generalized-α iteration matrix makes too). [`linearize`] returns them dense; an
+//! eigen-analysis of a large model keeps them sparse.
+
+mod sparse;
 
 use faer::Mat;
 
+pub use sparse::SparseLinearization;
+
 use super::{Accelerations, State};
 use crate::data::Data;
-use crate::integrate::generalized_alpha::{retract, IterationMatrix};
+use crate::integrate::generalized_alpha::retract;
 use crate::model::Model;
 use crate::stage::{body_mass_entries, jacobian_entries, kinematic_stages};
 
@@ -45,9 +50,9 @@ pub struct Linearization {
 pub fn linearize(model: &Model, data: &mut Data, state: &State, acc: &Accelerations) -> Linearization {
     let State { t, q, v, active } = state;
     let l = &model.layout;
-    let mut matrix = IterationMatrix::new(model);
-    matrix.evaluate_derivatives(model, data, active, *t, q, v, &acc.vdot, &acc.lambda);
-    let (stiffness, damping, constraint_stiffness) = matrix.dense_derivatives();
+    let mut derivatives = SparseLinearization::new(model);
+    derivatives.evaluate(model, data, active, *t, q, v, &acc.vdot, &acc.lambda);
+    let (stiffness, damping, constraint_stiffness) = derivatives.to_dense();
     kinematic_stages(model, data, *t, q, v);
     let mut mass = Mat::zeros(l.nv, l.nv);
     for b in 0..model.bodies.len() {
