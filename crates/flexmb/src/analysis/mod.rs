@@ -19,7 +19,7 @@ pub mod test_models;
 
 pub use accelerations::{AccelerationSolver, Accelerations};
 pub use assembly::{assemble, AssemblyError, AssemblyReport, AssemblySettings, ModalAssembly};
-pub use linearization::{displaced_positions, linearize, Linearization, SparseLinearization};
+pub use linearization::{displaced_positions, linearize, Linearization, OperatingPoint, SparseLinearization};
 pub use outputs::{output_columns, OutputColumn};
 pub use memory::{dense_analysis_bytes, format_bytes, MemoryLimit};
 pub(crate) use redundancy::{dependency_of, newly_dependent_rows, violated_rows};

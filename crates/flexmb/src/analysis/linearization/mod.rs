@@ -43,6 +43,29 @@ pub struct Linearization {
     pub constraint_stiffness: Mat<f64>,
 }
 
+/// A state of motion at which the equations are linearized: time, positions and velocities, with the
+/// accelerations and multipliers held while they are perturbed.
+#[derive(Clone, Copy, Debug)]
+pub struct OperatingPoint<'a> {
+    /// Time (s).
+    pub t: f64,
+    /// Positions, per body `R, p, a`.
+    pub q: &'a [f64],
+    /// Velocities, per body `Ṙ, ω̄, ȧ`.
+    pub v: &'a [f64],
+    /// Accelerations `v̇`.
+    pub vdot: &'a [f64],
+    /// Multipliers `λ`, one per constraint row.
+    pub lambda: &'a [f64],
+}
+
+impl<'a> OperatingPoint<'a> {
+    /// The point of `state` with the accelerations and multipliers `acc`.
+    pub fn new(state: &'a State, acc: &'a Accelerations) -> Self {
+        Self { t: state.t, q: &state.q, v: &state.v, vdot: &acc.vdot, lambda: &acc.lambda }
+    }
+}
+
 /// Linearizes the equations of motion at `state` with the accelerations and multipliers `acc` (those
 /// of the state for a linearization about a motion; zero velocities and accelerations with the
 /// equilibrium's multipliers for one about an equilibrium). `data` supplies the parameter values and
@@ -51,7 +74,7 @@ pub fn linearize(model: &Model, data: &mut Data, state: &State, acc: &Accelerati
     let State { t, q, v, active } = state;
     let l = &model.layout;
     let mut derivatives = SparseLinearization::new(model);
-    derivatives.evaluate(model, data, active, *t, q, v, &acc.vdot, &acc.lambda);
+    derivatives.evaluate(model, data, active, &OperatingPoint::new(state, acc));
     let (stiffness, damping, constraint_stiffness) = derivatives.to_dense();
     kinematic_stages(model, data, *t, q, v);
     let mut mass = Mat::zeros(l.nv, l.nv);

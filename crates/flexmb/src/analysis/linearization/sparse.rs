@@ -22,6 +22,8 @@ use crate::math::{Vec3, Vec4};
 use crate::model::{BodyId, Coupling, Layout, Model};
 use crate::stage::equations_of_motion;
 
+use super::OperatingPoint;
+
 /// `K`, `C` and `K_B` of a model on their sparse pattern, evaluated by coloured finite differences at
 /// any state. Columns are the `nv` velocity coordinates; rows `0..nv` are the dynamic equations, rows
 /// `nv..nv + nc` the velocity constraints. Allocates at construction only.
@@ -104,22 +106,12 @@ impl SparseLinearization {
         1 + 2 * self.colours.iter().map(|c| c.iter().map(|r| r.len()).max().unwrap_or(0)).sum::<usize>()
     }
 
-    /// Evaluates `K`, `C`, `K_B` at `(t, q, v)` with the accelerations `vdot` and multipliers `lambda`
-    /// held (rows of the constraints switched off in `active` are zero). Returns the evaluations of `g`
-    /// it used; leaves `data`'s stages evaluated at a perturbed state.
-    #[allow(clippy::too_many_arguments)]
-    pub fn evaluate(
-        &mut self,
-        model: &Model,
-        data: &mut Data,
-        active: &[bool],
-        t: f64,
-        q: &[f64],
-        v: &[f64],
-        vdot: &[f64],
-        lambda: &[f64],
-    ) -> usize {
+    /// Evaluates `K`, `C`, `K_B` at the operating point `at` (rows of the constraints switched off in
+    /// `active` are zero). Returns the evaluations of `g` it used; leaves `data`'s stages evaluated at a
+    /// perturbed state.
+    pub fn evaluate(&mut self, model: &Model, data: &mut Data, active: &[bool], at: &OperatingPoint) -> usize {
         let l = &model.layout;
+        let OperatingPoint { t, q, v, vdot, lambda } = *at;
         equations_of_motion(model, data, active, t, q, v, vdot, lambda, &mut self.g0);
         let mut evaluations = 1;
         self.q_work.copy_from_slice(q);
@@ -269,7 +261,7 @@ mod tests {
         let (mut data, state, acc) = test_models::moving_state(&model);
         let (t, q, v, active) = (0.1, &state.q, &state.v, &state.active);
         let mut sparse = SparseLinearization::new(&model);
-        sparse.evaluate(&model, &mut data, active, t, q, v, &acc.vdot, &acc.lambda);
+        sparse.evaluate(&model, &mut data, active, &OperatingPoint { t, q, v, vdot: &acc.vdot, lambda: &acc.lambda });
         let (k, c, k_b) = sparse.to_dense();
         let mut g0 = vec![0.0; nv + nc];
         let mut g1 = vec![0.0; nv + nc];

@@ -87,7 +87,7 @@ pub(crate) use iteration_matrix::IterationMatrix;
 pub(crate) use lie_group::{quaternion_product, retract, rotation_quaternion};
 use lie_group::{position_sum_of_squares, right_jacobian_inverse};
 
-use crate::analysis::{Accelerations, State};
+use crate::analysis::{Accelerations, OperatingPoint, State};
 use crate::data::Data;
 use crate::integrate::newton::{ConvergenceTest, Verdict};
 use std::sync::Arc;
@@ -269,16 +269,9 @@ impl GeneralizedAlpha {
             model,
         };
         integrator.matrix.set_start_jacobian(&integrator.model, &integrator.data, &integrator.active);
-        let evaluations = integrator.matrix.derivatives.evaluate(
-            &integrator.model,
-            &mut integrator.data,
-            &integrator.active,
-            t,
-            &state.q,
-            &state.v,
-            &accelerations.vdot,
-            &accelerations.lambda,
-        );
+        let at = OperatingPoint::new(state, accelerations);
+        let evaluations =
+            integrator.matrix.derivatives.evaluate(&integrator.model, &mut integrator.data, &integrator.active, &at);
         integrator.stats.jacobian_evaluations += 1;
         integrator.stats.residual_evaluations += evaluations;
         Ok(integrator)
@@ -531,16 +524,8 @@ impl GeneralizedAlpha {
     fn refresh_derivatives(&mut self, t_new: f64, h: f64) {
         self.predict(h);
         let (nv, nc) = (self.nv, self.nc);
-        let evaluations = self.matrix.derivatives.evaluate(
-            &self.model,
-            &mut self.data,
-            &self.active,
-            t_new,
-            &self.q_new,
-            &self.v_new,
-            &self.x[..nv],
-            &self.x[nv..nv + nc],
-        );
+        let at = OperatingPoint { t: t_new, q: &self.q_new, v: &self.v_new, vdot: &self.x[..nv], lambda: &self.x[nv..nv + nc] };
+        let evaluations = self.matrix.derivatives.evaluate(&self.model, &mut self.data, &self.active, &at);
         self.stats.jacobian_evaluations += 1;
         self.stats.residual_evaluations += evaluations;
         self.derivatives_current = true;
