@@ -9,16 +9,16 @@
 //! `M` (from `body_mass_entries`) and `B` (from `jacobian_entries`) are exact, evaluated afresh at the
 //! predictor of every step attempt. `K = ∂g/∂q` and `C = ∂g/∂v` of `g = M v̇ + h(q, v) − Q + Bᵀλ`, and
 //! `K_B = ∂(B v + Φ_t)/∂q`, are the linearization's
-//! ([`SparseLinearization`](crate::analysis::SparseLinearization): coloured finite differences, positions
-//! perturbed in velocity space like the step's own update); they are kept until a Newton iteration fails
-//! to converge with them, and since they are stored apart from `h`, a new step size only refactors. `J`
-//! is block diagonal: in each body's rotation columns the tangent `J_r(d_ω̄)` of the exponential map at
-//! the step increment `d` (Brüls and Cardona's tangent operator; `q_n ∘ exp(d)` moves by
-//! `exp(J_r(d) δd)` when `d` moves by `δd`), the identity elsewhere. The `μ̃` columns are the position
-//! columns times `Bᵀ`, since `μ` moves the positions by `Bᵀμ`: the stabilizing multiplier is not small at a finite step (it absorbs the `O(h³)` mismatch of
-//! the position and velocity constraints), and leaving its coupling to the dynamics out slowed the
-//! Newton iteration to a linear rate of 0.2 to 0.8 on a pendulum. The constraint rows are scaled so that
-//! every block stays of order one as `h → 0`, where the matrix tends to `[M Bᵀ 0; B 0 0; B 0 BBᵀ]`.
+//! ([`SparseLinearization`](crate::analysis::SparseLinearization): coloured finite differences, positions perturbed in velocity space like the step's own update); they are
+//! kept until a Newton iteration fails to converge with them, and since they are stored apart from `h`, a new
+//! step size only refactors. `J` is block diagonal: in each body's rotation columns the tangent `J_r(d_ω̄)`
+//! of the exponential map at the step increment `d` (Brüls and Cardona's tangent operator; `q_n ∘ exp(d)`
+//! moves by `exp(J_r(d) δd)` when `d` moves by `δd`), the identity elsewhere. The `μ̃` columns are the
+//! position columns times `Bᵀ`, since `μ` moves the positions by `Bᵀμ`: the stabilizing multiplier is not
+//! small at a finite step (it absorbs the `O(h³)` mismatch of the position and velocity constraints), and
+//! leaving its coupling to the dynamics out slowed the Newton iteration to a linear rate of 0.2 to 0.8 on a
+//! pendulum. The constraint rows are scaled so that every block stays of order one as `h → 0`, where the
+//! matrix tends to `[M Bᵀ 0; B 0 0; B 0 BBᵀ]`.
 
 use super::lie_group::right_jacobian;
 use super::Coefficients;
