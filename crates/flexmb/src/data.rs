@@ -65,4 +65,14 @@ impl Data {
     pub fn measure_values(&self) -> &[f64] {
         &self.measures
     }
+
+    /// Generalized applied forces `Q(q, v, t)` (length `nv`) after the last force stages.
+    pub fn applied_forces(&self) -> &[f64] {
+        &self.applied
+    }
+
+    /// Inertia forces `M(q) v̇ + h(q, v)` (length `nv`) after the last force stages.
+    pub fn inertia_forces(&self) -> &[f64] {
+        &self.inertia
+    }
 }

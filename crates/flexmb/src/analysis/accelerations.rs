@@ -4,14 +4,15 @@
 //! [ M   Bᵀ ] [ v̇ ]   [ Q − h(q, v) ]
 //! [ B   0  ] [ λ ] = [ γ           ]
 //! ```
-//! used for consistent initial accelerations and, at output times, for accelerations and reaction forces.
-//! A switched-off (redundant) row gets the equation `λ_k = 0`.
+//! the dynamics end of the forward pipeline ([`forward`](crate::stage::forward)): used for consistent
+//! initial accelerations, at output times for accelerations and reaction forces, and by the Adams
+//! integrator at every evaluation of its ODE. A switched-off (redundant) row gets the equation `λ_k = 0`.
 
 use crate::data::Data;
 use crate::linalg::{SingularMatrix, SparseLu};
 use crate::model::Model;
 use crate::model::BodyId;
-use crate::stage::{body_mass_entries, forward, jacobian_entries};
+use crate::stage::{body_mass_entries, force_stages, jacobian_entries, kinematic_stages};
 
 /// Result of an acceleration solve.
 #[derive(Clone, Debug)]
@@ -24,14 +25,14 @@ pub struct Accelerations {
 
 /// The matrix `[M Bᵀ; B 0]` on its fixed sparse pattern (the mass block of every body, the Jacobian
 /// blocks of every joint), refactored at each state; a switched-off (redundant) row `r` gets the
-/// equation `z_r = 0`. Shared by the acceleration solve and the Adams integrator.
-pub(crate) struct KktMatrix {
+/// equation `z_r = 0`.
+struct KktMatrix {
     lu: SparseLu,
     nv: usize,
 }
 
 impl KktMatrix {
-    pub(crate) fn new(model: &Model) -> Self {
+    fn new(model: &Model) -> Self {
         let l = &model.layout;
         let mut entries = Vec::new();
         for b in 0..model.bodies.len() {
@@ -56,7 +57,7 @@ impl KktMatrix {
     }
 
     /// Assembles and factors the matrix at the state of the last kinematics and constraint stages.
-    pub(crate) fn factor(&mut self, model: &Model, data: &Data, active: &[bool]) -> Result<(), SingularMatrix> {
+    fn factor(&mut self, model: &Model, data: &Data, active: &[bool]) -> Result<(), SingularMatrix> {
         let nv = self.nv;
         self.lu.clear();
         for b in 0..model.bodies.len() {
@@ -80,7 +81,7 @@ impl KktMatrix {
     }
 
     /// Solves with the current factors in place.
-    pub(crate) fn solve_in_place(&mut self, rhs: &mut [f64]) -> Result<(), SingularMatrix> {
+    fn solve_in_place(&mut self, rhs: &mut [f64]) -> Result<(), SingularMatrix> {
         self.lu.solve_in_place(rhs)
     }
 }
@@ -106,7 +107,9 @@ impl AccelerationSolver {
         }
     }
 
-    /// Solves for `v̇, λ` at `(t, q, v)`; leaves the stages evaluated at that state in `data`.
+    /// Solves for `v̇, λ` at `(t, q, v)`: the [`kinematic_stages`](crate::stage::kinematic_stages), the
+    /// matrix factored there, the [`force_stages`](crate::stage::force_stages) with `v̇ = 0` for the right
+    /// side `Q − h`; leaves the stages evaluated at that state in `data`.
     pub fn solve(
         &mut self,
         model: &Model,
@@ -116,9 +119,27 @@ impl AccelerationSolver {
         v: &[f64],
         active: &[bool],
     ) -> Result<&Accelerations, SingularMatrix> {
+        kinematic_stages(model, data, t, q, v);
+        self.factor(model, data, active)?;
+        self.solve_factored(model, data, t, active)
+    }
+
+    /// Assembles and factors the matrix at the state of the kinematic stages in `data`.
+    pub(crate) fn factor(&mut self, model: &Model, data: &Data, active: &[bool]) -> Result<(), SingularMatrix> {
+        self.kkt.factor(model, data, active)
+    }
+
+    /// Runs the force stages (with `v̇ = 0`) at the state of the kinematic stages in `data` and solves for
+    /// `v̇, λ` with the current factors (made at that state or, for a chord iteration, at a recent one).
+    pub(crate) fn solve_factored(
+        &mut self,
+        model: &Model,
+        data: &mut Data,
+        t: f64,
+        active: &[bool],
+    ) -> Result<&Accelerations, SingularMatrix> {
         let nv = model.layout.nv;
-        forward(model, data, t, q, v, &self.zero_v);
-        self.kkt.factor(model, data, active)?;
+        force_stages(model, data, t, &self.zero_v);
         for k in 0..nv {
             self.rhs[k] = data.applied[k] - data.inertia[k];
         }
@@ -129,5 +150,10 @@ impl AccelerationSolver {
         self.result.vdot.copy_from_slice(&self.rhs[..nv]);
         self.result.lambda.copy_from_slice(&self.rhs[nv..]);
         Ok(&self.result)
+    }
+
+    /// Solves `[M Bᵀ; B 0] x = rhs` in place with the current factors.
+    pub(crate) fn solve_in_place(&mut self, rhs: &mut [f64]) -> Result<(), SingularMatrix> {
+        self.kkt.solve_in_place(rhs)
     }
 }

@@ -14,7 +14,7 @@ use crate::data::Data;
 use crate::math::euler_parameters::g_matrix;
 use crate::math::Vec4;
 use crate::model::Model;
-use crate::stage::{constraint_equations, jacobian_entries, kinematics};
+use crate::stage::{jacobian_entries, kinematic_stages};
 
 /// Settings of the assembly.
 #[derive(Clone, Copy, Debug)]
@@ -258,8 +258,7 @@ fn set_active(state: &mut State, redundant: &[RedundantConstraint]) {
 /// Evaluates `Φ̂` (active rows, then one normalization row per body) at `state.q`.
 fn constraint_values(model: &Model, data: &mut Data, state: &State, out: &mut Vec<f64>) {
     let zero_v = vec![0.0; model.layout.nv];
-    kinematics(model, data, &state.q, &zero_v);
-    constraint_equations(model, data, state.t);
+    kinematic_stages(model, data, state.t, &state.q, &zero_v);
     out.clear();
     out.extend(data.equations.iter().zip(&state.active).filter(|(_, a)| **a).map(|(e, _)| e.phi));
     for b in 0..model.bodies.len() {

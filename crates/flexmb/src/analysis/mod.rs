@@ -17,10 +17,9 @@ mod watchdog_tests;
 #[doc(hidden)]
 pub mod test_models;
 
-pub(crate) use accelerations::KktMatrix;
 pub use accelerations::{AccelerationSolver, Accelerations};
 pub use assembly::{assemble, AssemblyError, AssemblyReport, AssemblySettings, ModalAssembly};
-pub use linearization::{displaced_positions, linearize, Linearization};
+pub use linearization::{displaced_positions, linearize, Linearization, OperatingPoint, SparseLinearization};
 pub use outputs::{output_columns, OutputColumn};
 pub use memory::{dense_analysis_bytes, format_bytes, MemoryLimit};
 pub(crate) use redundancy::{dependency_of, newly_dependent_rows, violated_rows};

@@ -15,7 +15,7 @@ use faer::{Accum, Par};
 
 use crate::data::Data;
 use crate::model::Model;
-use crate::stage::{constraint_equations, jacobian_entries, kinematics};
+use crate::stage::{jacobian_entries, kinematic_stages};
 
 /// Relative size below which a row's component orthogonal to the earlier rows counts as zero.
 const REDUNDANCY_TOLERANCE: f64 = 1e-8;
@@ -42,8 +42,7 @@ pub fn find_redundant_rows(
     let nv = model.layout.nv;
     let nc = model.layout.nc;
     let zero_v = vec![0.0; nv];
-    kinematics(model, data, q, &zero_v);
-    constraint_equations(model, data, t);
+    kinematic_stages(model, data, t, q, &zero_v);
     let order = keep_order(model, data, satisfied_tolerance);
     let mut position = vec![0; nc];
     order.iter().enumerate().for_each(|(k, &r)| position[r] = k);

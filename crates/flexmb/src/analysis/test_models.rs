@@ -1,5 +1,6 @@
 //! Small models for the crate's unit tests and its integration tests (hidden: not part of the API).
 
+use super::{assemble, velocity_analysis, AccelerationSolver, Accelerations, State};
 use crate::body::{InitialState, Marker, RigidBody};
 use crate::force::{ForceElement, ForceKind};
 use crate::function::Expression;
@@ -7,6 +8,20 @@ use crate::joint::{Joint, JointKind};
 use crate::math::{EulerParameters, Mat3, Vec3};
 use crate::measure::{Measure, MeasureKind};
 use crate::model::{BodyRef, Model, ModelBuilder, OutputKind};
+use crate::Data;
+
+/// `model` assembled, its velocities moved off zero (by `0.1 sin k`) and made consistent, with the
+/// accelerations and multipliers there: a state at which every term of the equations of motion is
+/// alive, for finite-difference tests.
+pub fn moving_state(model: &Model) -> (Data, State, Accelerations) {
+    let mut data = Data::new(model);
+    let mut state = State::initial(model);
+    assemble(model, &mut data, &mut state, Default::default()).unwrap();
+    state.v.iter_mut().enumerate().for_each(|(k, v)| *v += 0.1 * (k as f64).sin());
+    velocity_analysis(model, &mut data, &mut state).unwrap();
+    let acc = AccelerationSolver::new(model).solve(model, &mut data, 0.0, &state.q, &state.v, &state.active).unwrap().clone();
+    (data, state, acc)
+}
 
 /// A spatial double pendulum (spherical, then revolute) with an offset centre of mass, gravity, and a
 /// spring–damper between the second link and ground whose actuator reads the hinge's rate: every coupling

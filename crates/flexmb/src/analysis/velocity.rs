@@ -7,7 +7,7 @@ use faer::prelude::*;
 use super::{dependency_of, newly_dependent_rows, violated_rows, AssemblyError, State};
 use crate::data::Data;
 use crate::model::Model;
-use crate::stage::{constraint_equations, jacobian_entries, kinematics};
+use crate::stage::{jacobian_entries, kinematic_stages};
 
 const GIVEN_WEIGHT: f64 = 1e6;
 
@@ -46,8 +46,7 @@ pub fn velocity_analysis(model: &Model, data: &mut Data, state: &mut State) -> R
     let rows: Vec<usize> = (0..l.nc).filter(|r| state.active[*r]).collect();
     let mut row_of = vec![usize::MAX; l.nc];
     rows.iter().enumerate().for_each(|(k, r)| row_of[*r] = k);
-    kinematics(model, data, &state.q, &state.v);
-    constraint_equations(model, data, state.t);
+    kinematic_stages(model, data, state.t, &state.q, &state.v);
     super::assembly::check_finite(model, data, state.t)?;
     let mut b = Mat::<f64>::zeros(rows.len(), l.nv);
     jacobian_entries(model, data, |r, c, x| {
@@ -96,8 +95,7 @@ pub fn velocity_analysis(model: &Model, data: &mut Data, state: &mut State) -> R
             ));
         }
     }
-    kinematics(model, data, &state.q, &state.v);
-    constraint_equations(model, data, state.t);
+    kinematic_stages(model, data, state.t, &state.q, &state.v);
     report.residual = rows
         .iter()
         .map(|r| {

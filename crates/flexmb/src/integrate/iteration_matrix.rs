@@ -10,15 +10,9 @@
 use std::ops::Range;
 
 use crate::data::Data;
-use crate::linalg::{SingularMatrix, SparseLu};
-use crate::model::{BodyId, Model};
+use crate::linalg::{greedy_colouring, perturbation, SingularMatrix, SparseLu};
+use crate::model::{BodyId, Coupling, Model};
 use crate::stage::{body_mass_entries, residual, YLayout};
-
-/// A set of columns (or rows) belonging to one body or joint.
-#[derive(Clone, Debug)]
-struct Block {
-    range: Range<usize>,
-}
 
 /// Iteration matrix with stored derivative parts and reusable LU factors.
 pub(crate) struct IterationMatrix {
@@ -26,8 +20,8 @@ pub(crate) struct IterationMatrix {
     f_y: Vec<f64>,
     f_yp: Vec<f64>,
     n_differential: usize,
-    /// Column blocks grouped by colour.
-    colors: Vec<Vec<Block>>,
+    /// Column blocks (of one body or joint) grouped by colour.
+    colors: Vec<Vec<Range<usize>>>,
     f0: Vec<f64>,
     f1: Vec<f64>,
     y_work: Vec<f64>,
@@ -67,50 +61,21 @@ impl IterationMatrix {
             row_ranges[id_mu(k)] = mu(k);
         }
 
-        let joint_bodies: Vec<Vec<usize>> =
-            model.joints.iter().map(|j| model.joint_bodies(j).into_iter().flatten().map(|b| b.0).collect()).collect();
-        let mut joints_of: Vec<Vec<usize>> = vec![Vec::new(); nb];
-        for (k, bodies) in joint_bodies.iter().enumerate() {
-            for &b in bodies {
-                joints_of[b].push(k);
-            }
-        }
-        // readers[b]: bodies whose dynamic rows depend on the state of body b.
-        let mut readers: Vec<Vec<usize>> = (0..nb).map(|b| vec![b]).collect();
-        for bodies in &joint_bodies {
-            for &a in bodies {
-                readers[a].extend(bodies.iter().copied());
-            }
-        }
-        for (acted, read) in force_couplings(model) {
-            for &r in &read {
-                readers[r].extend(acted.iter().copied());
-            }
-        }
-        let mut joint_neighbours: Vec<Vec<usize>> = (0..nb).map(|b| vec![b]).collect();
-        for bodies in &joint_bodies {
-            for &a in bodies {
-                joint_neighbours[a].extend(bodies.iter().copied());
-            }
-        }
-        for list in readers.iter_mut().chain(joint_neighbours.iter_mut()) {
-            list.sort_unstable();
-            list.dedup();
-        }
+        let Coupling { joint_bodies, joints_of, readers, joint_neighbours } = Coupling::new(model);
 
         // Column blocks and the row blocks each one touches.
-        let mut columns: Vec<(Block, Vec<usize>)> = Vec::new();
+        let mut columns: Vec<(Range<usize>, Vec<usize>)> = Vec::new();
         for b in 0..nb {
             let mut touched: Vec<usize> = joint_neighbours[b].iter().map(|&n| id_fq(n)).collect();
             touched.extend(readers[b].iter().map(|&c| id_fv(c)));
             touched.extend(joints_of[b].iter().flat_map(|&k| [id_lam(k), id_mu(k)]));
             touched.push(id_norm(b));
-            columns.push((Block { range: fq(b) }, touched));
+            columns.push((fq(b), touched));
             let mut touched: Vec<usize> = vec![id_fq(b)];
             touched.extend(readers[b].iter().map(|&c| id_fv(c)));
             touched.extend(joints_of[b].iter().map(|&k| id_lam(k)));
-            columns.push((Block { range: fv(b) }, touched));
-            columns.push((Block { range: norm(b) }, vec![id_fq(b)]));
+            columns.push((fv(b), touched));
+            columns.push((norm(b), vec![id_fq(b)]));
         }
         for (k, bodies) in joint_bodies.iter().enumerate() {
             if l.joint_rows[k].is_empty() {
@@ -118,17 +83,17 @@ impl IterationMatrix {
             }
             let mut touched: Vec<usize> = bodies.iter().map(|&b| id_fv(b)).collect();
             touched.push(id_lam(k));
-            columns.push((Block { range: lam(k) }, touched));
+            columns.push((lam(k), touched));
             let mut touched: Vec<usize> = bodies.iter().map(|&b| id_fq(b)).collect();
             touched.push(id_mu(k));
-            columns.push((Block { range: mu(k) }, touched));
+            columns.push((mu(k), touched));
         }
 
         let mut entries = Vec::new();
         for (block, touched) in &columns {
             for &rb in touched {
                 for r in row_ranges[rb].clone() {
-                    for c in block.range.clone() {
+                    for c in block.clone() {
                         entries.push((r, c));
                     }
                 }
@@ -137,19 +102,12 @@ impl IterationMatrix {
         let n = yl.len();
         let lu = SparseLu::new(n, entries);
 
-        // Greedy colouring: blocks of one colour touch disjoint row blocks.
-        let mut colors: Vec<Vec<Block>> = Vec::new();
-        let mut used: Vec<Vec<bool>> = Vec::new();
-        for (block, touched) in columns {
-            let slot = used.iter().position(|u| touched.iter().all(|&rb| !u[rb]));
-            let c = slot.unwrap_or_else(|| {
-                colors.push(Vec::new());
-                used.push(vec![false; n_row_blocks]);
-                colors.len() - 1
-            });
-            touched.iter().for_each(|&rb| used[c][rb] = true);
-            colors[c].push(block);
-        }
+        // Blocks of one colour touch disjoint row blocks.
+        let touched: Vec<Vec<usize>> = columns.iter().map(|(_, touched)| touched.clone()).collect();
+        let colors = greedy_colouring(&touched, n_row_blocks)
+            .into_iter()
+            .map(|blocks| blocks.into_iter().map(|k| columns[k].0.clone()).collect())
+            .collect();
         let nnz = lu.values.len();
         Self {
             lu,
@@ -165,7 +123,7 @@ impl IterationMatrix {
 
     /// Number of residual evaluations one Jacobian costs (besides the base point).
     pub fn evaluations_per_jacobian(&self) -> usize {
-        self.colors.iter().map(|c| c.iter().map(|b| b.range.len()).max().unwrap_or(0)).sum()
+        self.colors.iter().map(|c| c.iter().map(|b| b.len()).max().unwrap_or(0)).sum()
     }
 
     /// Re-evaluates `F_y` (finite differences) and `F_ẏ` at `(t, y, ẏ)`. Returns the residual evaluations used.
@@ -199,16 +157,16 @@ impl IterationMatrix {
         self.y_work.copy_from_slice(y);
         self.f_y.fill(0.0);
         for color in &self.colors {
-            let width = color.iter().map(|b| b.range.len()).max().unwrap_or(0);
+            let width = color.iter().map(|b| b.len()).max().unwrap_or(0);
             for local in 0..width {
-                for block in color.iter().filter(|b| local < b.range.len()) {
-                    let c = block.range.start + local;
+                for block in color.iter().filter(|b| local < b.len()) {
+                    let c = block.start + local;
                     self.y_work[c] = y[c] + perturbation(y[c]);
                 }
                 residual(model, data, yl, active, t, &self.y_work, yp, &mut self.f1);
                 evaluations += 1;
-                for block in color.iter().filter(|b| local < b.range.len()) {
-                    let c = block.range.start + local;
+                for block in color.iter().filter(|b| local < b.len()) {
+                    let c = block.start + local;
                     let delta = self.y_work[c] - y[c];
                     self.y_work[c] = y[c];
                     let (range, rows) = self.lu.column(c);
@@ -264,63 +222,10 @@ impl IterationMatrix {
     }
 }
 
-/// Finite-difference step for a column with value `x`.
-#[inline]
-fn perturbation(x: f64) -> f64 {
-    let h = 1.5e-8 * x.abs().max(1.0);
-    // Make the step exactly representable so that (x + h) − x == h.
-    (x + h) - x
-}
-
-/// For each force element: the bodies it acts on and the bodies whose state it reads (through its
-/// markers and the measures its expressions use): the coupling graph of the iteration matrices.
-pub(crate) fn force_couplings(model: &Model) -> Vec<(Vec<usize>, Vec<usize>)> {
-    use crate::force::ForceKind;
-    use crate::measure::MeasureKind;
-    let marker_body = |m: crate::model::MarkerId| model.markers[m.0].body.body().map(|b: BodyId| b.0);
-    let joint_bodies = |j: crate::model::JointId| {
-        let jt = &model.joints[j.0];
-        [marker_body(jt.marker_i), marker_body(jt.marker_j)]
-    };
-    let measure_bodies = |m: crate::model::MeasureId| -> Vec<Option<usize>> {
-        match model.measures[m.0].kind {
-            MeasureKind::JointAngle(j)
-            | MeasureKind::JointRate(j)
-            | MeasureKind::JointDisplacement(j)
-            | MeasureKind::JointVelocity(j) => joint_bodies(j).to_vec(),
-            MeasureKind::Distance(a, b) | MeasureKind::DistanceRate(a, b) => vec![marker_body(a), marker_body(b)],
-            MeasureKind::Position(a, _) | MeasureKind::Velocity(a, _) | MeasureKind::Speed(a) => vec![marker_body(a)],
-            MeasureKind::Parameter(_) => Vec::new(),
-        }
-    };
-    model
-        .forces
-        .iter()
-        .map(|f| {
-            let acted: Vec<Option<usize>> = match &f.kind {
-                ForceKind::TranslationalSpringDamper { marker_i, marker_j, .. } => {
-                    vec![marker_body(*marker_i), marker_body(*marker_j)]
-                }
-                ForceKind::RotationalSpringDamper { joint, .. } => joint_bodies(*joint).to_vec(),
-                ForceKind::AppliedForce { marker, .. } | ForceKind::AppliedTorque { marker, .. } => {
-                    vec![marker_body(*marker)]
-                }
-            };
-            let mut read = acted.clone();
-            for e in f.kind.expressions() {
-                for m in e.measures() {
-                    read.extend(measure_bodies(m));
-                }
-            }
-            (acted.into_iter().flatten().collect(), read.into_iter().flatten().collect())
-        })
-        .collect()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::analysis::{assemble, velocity_analysis, AccelerationSolver, State};
+    use crate::analysis::test_models;
 
     /// The coloured, pattern-restricted finite-difference Jacobian equals a dense one: no dependency is
     /// missing from the pattern and no two columns of one colour share a row.
@@ -331,12 +236,7 @@ mod tests {
     }
 
     fn coloured_against_dense(model: Model) {
-        let mut data = Data::new(&model);
-        let mut state = State::initial(&model);
-        assemble(&model, &mut data, &mut state, Default::default()).unwrap();
-        state.v.iter_mut().enumerate().for_each(|(k, v)| *v += 0.1 * (k as f64).sin());
-        velocity_analysis(&model, &mut data, &mut state).unwrap();
-        let acc = AccelerationSolver::new(&model).solve(&model, &mut data, 0.0, &state.q, &state.v, &state.active).unwrap().clone();
+        let (mut data, state, acc) = test_models::moving_state(&model);
         let yl = YLayout::new(&model);
         let n = yl.len();
         let mut y = vec![0.0; n];

@@ -4,6 +4,7 @@
 mod builder;
 #[cfg(test)]
 mod builder_tests;
+mod coupling;
 mod error;
 mod flexible_checks;
 mod ids;
@@ -13,6 +14,7 @@ mod references;
 mod rigid_checks;
 
 pub use builder::ModelBuilder;
+pub(crate) use coupling::Coupling;
 pub use error::ModelError;
 pub use ids::{BodyId, BodyRef, ForceId, JointId, MarkerId, MeasureId, ParameterId};
 pub use layout::Layout;

@@ -1,9 +1,11 @@
 //! The forward pipeline, one stage per file, each `fn(&Model, &mut Data, …)`:
-//! kinematics → constraints → measures → forces → inertia, run in that order by `forward`; the DAE
-//! residual, the index-1 acceleration solve and the generalized-α equations of motion are built on it.
+//! kinematics → constraints → measures → forces → inertia, run in that order by [`forward`] (the
+//! [`kinematic_stages`], then the [`force_stages`]); the DAE residual, the index-1 acceleration solve
+//! ([`AccelerationSolver`](crate::analysis::AccelerationSolver)) and the linearization are built on it.
 
 mod constraints;
 mod energy;
+mod equations_of_motion;
 mod forces;
 mod forward;
 mod inertia;
@@ -14,9 +16,10 @@ mod residual;
 
 pub(crate) use constraints::{add_jacobian_transpose, constraint_equations, jacobian_entries};
 pub use energy::Energy;
+pub use equations_of_motion::equations_of_motion;
 pub(crate) use energy::{energy, nonconservative_power};
 pub(crate) use forces::applied_forces;
-pub(crate) use forward::forward;
+pub use forward::{force_stages, forward, kinematic_stages};
 pub(crate) use inertia::{body_mass_entries, inertia_forces};
 pub use kinematics::{BodyState, MarkerState};
 pub(crate) use kinematics::kinematics;

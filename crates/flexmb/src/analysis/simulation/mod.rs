@@ -27,7 +27,7 @@ use crate::integrate::Adams;
 use crate::integrate::{Bdf, Integrator, Method};
 use crate::integrate::{GeneralizedAlpha, GeneralizedAlphaConfig};
 use crate::model::{BodyId, Model};
-use crate::stage::{constraint_equations, energy, kinematics, measures, nonconservative_power};
+use crate::stage::{energy, kinematic_stages, measures, nonconservative_power};
 
 /// A dynamic simulation that owns its state: built from a shared model and settings, advanced step by
 /// step or to a time, its outputs streamed to any [`OutputSink`] at the output times
@@ -599,8 +599,7 @@ pub fn simulate_interruptible(
 fn check_step(model: &Model, integrator: &mut dyn Integrator, q: &[f64], v: &[f64], active: &[bool], report: &mut SimulationReport) {
     let t = integrator.t();
     let data = integrator.data_mut();
-    kinematics(model, data, q, v);
-    constraint_equations(model, data, t);
+    kinematic_stages(model, data, t, q, v);
     let (p, vel) = constraint_residuals(model, data, active);
     report.max_position_residual = report.max_position_residual.max(p);
     report.max_velocity_residual = report.max_velocity_residual.max(vel);

@@ -4,22 +4,21 @@
 
 use crate::data::Data;
 use crate::integrate::adams::method::EvaluationFailure;
-use crate::analysis::KktMatrix;
+use crate::analysis::AccelerationSolver;
 use crate::math::euler_parameters::g_matrix;
 use crate::math::{Vec3, Vec4};
 use crate::model::Model;
-use crate::stage::{applied_forces, inertia_forces, measures};
 
 pub(super) const SINGULAR: EvaluationFailure =
     EvaluationFailure("the mass–constraint matrix [M Bᵀ; B 0] is singular (dependent constraints or a massless body)");
 pub(super) const NOT_FINITE: EvaluationFailure = EvaluationFailure("the accelerations are not finite");
 
-/// `[M Bᵀ; B 0]` with its factors; a redundant (switched-off) row `r` gets the equation `z_r = 0`.
+/// `[M Bᵀ; B 0]` with its factors (the forward dynamics' [`AccelerationSolver`]); a redundant
+/// (switched-off) row `r` gets the equation `z_r = 0`.
 pub(super) struct Kkt {
-    matrix: KktMatrix,
-    /// Right side and solution, length `nv + nc`.
+    solver: AccelerationSolver,
+    /// Right side and solution of the minimum-norm correction, length `nv + nc`.
     pub rhs: Vec<f64>,
-    zero_v: Vec<f64>,
     pub active: Vec<bool>,
     nv: usize,
     /// The factors are of some recent state (usable for chord iterations).
@@ -31,9 +30,8 @@ impl Kkt {
     pub fn new(model: &Model, active: Vec<bool>) -> Self {
         let l = &model.layout;
         Self {
-            matrix: KktMatrix::new(model),
+            solver: AccelerationSolver::new(model),
             rhs: vec![0.0; l.nv + l.nc],
-            zero_v: vec![0.0; l.nv],
             active,
             nv: l.nv,
             factored: false,
@@ -45,7 +43,7 @@ impl Kkt {
     pub fn factor(&mut self, model: &Model, data: &Data) -> Result<(), EvaluationFailure> {
         self.factorizations += 1;
         self.factored = false;
-        self.matrix.factor(model, data, &self.active).map_err(|_| SINGULAR)?;
+        self.solver.factor(model, data, &self.active).map_err(|_| SINGULAR)?;
         self.factored = true;
         Ok(())
     }
@@ -59,18 +57,8 @@ impl Kkt {
         t: f64,
         vdot: &mut [f64],
     ) -> Result<(), EvaluationFailure> {
-        let nv = self.nv;
-        measures(model, data);
-        applied_forces(model, data, t);
-        inertia_forces(model, data, &self.zero_v);
-        for k in 0..nv {
-            self.rhs[k] = data.applied[k] - data.inertia[k];
-        }
-        for (r, terms) in data.equations.iter().enumerate() {
-            self.rhs[nv + r] = if self.active[r] { -terms.accel_bias } else { 0.0 };
-        }
-        self.matrix.solve_in_place(&mut self.rhs).map_err(|_| SINGULAR)?;
-        vdot.copy_from_slice(&self.rhs[..nv]);
+        let acc = self.solver.solve_factored(model, data, t, &self.active).map_err(|_| SINGULAR)?;
+        vdot.copy_from_slice(&acc.vdot);
         if vdot.iter().all(|x| x.is_finite()) {
             Ok(())
         } else {
@@ -91,7 +79,7 @@ impl Kkt {
         for r in 0..self.active.len() {
             self.rhs[nv + r] = if self.active[r] { row_value(data, r) } else { 0.0 };
         }
-        self.matrix.solve_in_place(&mut self.rhs).map_err(|_| SINGULAR)
+        self.solver.solve_in_place(&mut self.rhs).map_err(|_| SINGULAR)
     }
 }
 

@@ -14,7 +14,7 @@ use crate::model::Layout;
 
 /// Hamilton product `p ⊗ r`, so that `A(p ⊗ r) = A(p) A(r)`.
 #[inline]
-pub(super) fn quaternion_product(p: &Vec4, r: &Vec4) -> Vec4 {
+pub(crate) fn quaternion_product(p: &Vec4, r: &Vec4) -> Vec4 {
     let (p0, pv) = (p[0], Vec3::new(p[1], p[2], p[3]));
     let (r0, rv) = (r[0], Vec3::new(r[1], r[2], r[3]));
     let v = p0 * rv + r0 * pv + pv.cross(&rv);
@@ -23,7 +23,7 @@ pub(super) fn quaternion_product(p: &Vec4, r: &Vec4) -> Vec4 {
 
 /// `exp(½ θ̄)`: the unit quaternion of the rotation by the vector `θ̄` (angle `|θ̄|` about `θ̄`).
 #[inline]
-pub(super) fn rotation_quaternion(theta: &Vec3) -> Vec4 {
+pub(crate) fn rotation_quaternion(theta: &Vec3) -> Vec4 {
     let angle = theta.norm();
     let (s, c) = (0.5 * angle).sin_cos();
     // sin(|θ|/2)/|θ| → ½ as |θ| → 0 (the next term, −|θ|²/48, is below round-off there).

@@ -84,11 +84,10 @@ mod iteration_matrix;
 mod lie_group;
 
 pub(crate) use iteration_matrix::IterationMatrix;
-use iteration_matrix::equations_of_motion;
-pub(crate) use lie_group::retract;
+pub(crate) use lie_group::{quaternion_product, retract, rotation_quaternion};
 use lie_group::{position_sum_of_squares, right_jacobian_inverse};
 
-use crate::analysis::{Accelerations, State};
+use crate::analysis::{Accelerations, OperatingPoint, State};
 use crate::data::Data;
 use crate::integrate::newton::{ConvergenceTest, Verdict};
 use std::sync::Arc;
@@ -99,7 +98,7 @@ use crate::integrate::{
 };
 use crate::math::Vec3;
 use crate::model::Model;
-use crate::stage::{add_jacobian_transpose, constraint_equations, kinematics, update_angle_references};
+use crate::stage::{add_jacobian_transpose, equations_of_motion, kinematic_stages, update_angle_references};
 
 const NEWTON_MAXITER: usize = 6;
 /// A converged Newton iteration slower than this (with finite-difference parts from an earlier step)
@@ -226,7 +225,7 @@ impl GeneralizedAlpha {
             .unwrap_or_else(|| initial_step(&model, &config, &state.q, &state.v, &accelerations.vdot))
             .min(config.h_max);
         let mut data = Data::new(&model);
-        kinematics(&model, &mut data, &state.q, &state.v);
+        kinematic_stages(&model, &mut data, t, &state.q, &state.v);
         data.angle_reference.fill(0.0);
         update_angle_references(&model, &mut data);
         let mut integrator = Self {
@@ -269,18 +268,10 @@ impl GeneralizedAlpha {
             stats: Stats::default(),
             model,
         };
-        constraint_equations(&integrator.model, &mut integrator.data, t);
         integrator.matrix.set_start_jacobian(&integrator.model, &integrator.data, &integrator.active);
-        let evaluations = integrator.matrix.evaluate_derivatives(
-            &integrator.model,
-            &mut integrator.data,
-            &integrator.active,
-            t,
-            &state.q,
-            &state.v,
-            &accelerations.vdot,
-            &accelerations.lambda,
-        );
+        let at = OperatingPoint::new(state, accelerations);
+        let evaluations =
+            integrator.matrix.derivatives.evaluate(&integrator.model, &mut integrator.data, &integrator.active, &at);
         integrator.stats.jacobian_evaluations += 1;
         integrator.stats.residual_evaluations += evaluations;
         Ok(integrator)
@@ -533,16 +524,8 @@ impl GeneralizedAlpha {
     fn refresh_derivatives(&mut self, t_new: f64, h: f64) {
         self.predict(h);
         let (nv, nc) = (self.nv, self.nc);
-        let evaluations = self.matrix.evaluate_derivatives(
-            &self.model,
-            &mut self.data,
-            &self.active,
-            t_new,
-            &self.q_new,
-            &self.v_new,
-            &self.x[..nv],
-            &self.x[nv..nv + nc],
-        );
+        let at = OperatingPoint { t: t_new, q: &self.q_new, v: &self.v_new, vdot: &self.x[..nv], lambda: &self.x[nv..nv + nc] };
+        let evaluations = self.matrix.derivatives.evaluate(&self.model, &mut self.data, &self.active, &at);
         self.stats.jacobian_evaluations += 1;
         self.stats.residual_evaluations += evaluations;
         self.derivatives_current = true;
@@ -654,9 +637,8 @@ impl GeneralizedAlpha {
         self.stats.sum_h_squared += h * h;
         self.stats.order_counts[2] += 1;
         self.derivatives_current = false;
-        kinematics(&self.model, &mut self.data, &self.q, &self.v);
+        kinematic_stages(&self.model, &mut self.data, t_new, &self.q, &self.v);
         update_angle_references(&self.model, &mut self.data);
-        constraint_equations(&self.model, &mut self.data, t_new);
         self.matrix.set_start_jacobian(&self.model, &self.data, &self.active);
     }
 

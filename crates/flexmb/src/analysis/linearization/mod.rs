@@ -11,16 +11,21 @@
 //! ```
 //!
 //! `M` and `B` are exact; `K`, `C` and `K_B = ∂(B v + Φ_t)/∂q` come from finite differences with the
-//! columns grouped by colouring — the same evaluation the generalized-α method makes for its iteration
-//! matrix (`integrate::generalized_alpha`), whose code this uses.
+//! columns grouped by colouring, on a sparse pattern made once per model ([`SparseLinearization`], the
+//! evaluation the generalized-α iteration matrix makes too). [`linearize`] returns them dense; an
+//! eigen-analysis of a large model keeps them sparse.
+
+mod sparse;
 
 use faer::Mat;
 
+pub use sparse::SparseLinearization;
+
 use super::{Accelerations, State};
 use crate::data::Data;
-use crate::integrate::generalized_alpha::{retract, IterationMatrix};
+use crate::integrate::generalized_alpha::retract;
 use crate::model::Model;
-use crate::stage::{body_mass_entries, constraint_equations, jacobian_entries, kinematics};
+use crate::stage::{body_mass_entries, jacobian_entries, kinematic_stages};
 
 /// The equations of motion linearized at one state (matrices in velocity coordinates: `nv` columns).
 #[derive(Clone, Debug)]
@@ -38,6 +43,29 @@ pub struct Linearization {
     pub constraint_stiffness: Mat<f64>,
 }
 
+/// A state of motion at which the equations are linearized: time, positions and velocities, with the
+/// accelerations and multipliers held while they are perturbed.
+#[derive(Clone, Copy, Debug)]
+pub struct OperatingPoint<'a> {
+    /// Time (s).
+    pub t: f64,
+    /// Positions, per body `R, p, a`.
+    pub q: &'a [f64],
+    /// Velocities, per body `Ṙ, ω̄, ȧ`.
+    pub v: &'a [f64],
+    /// Accelerations `v̇`.
+    pub vdot: &'a [f64],
+    /// Multipliers `λ`, one per constraint row.
+    pub lambda: &'a [f64],
+}
+
+impl<'a> OperatingPoint<'a> {
+    /// The point of `state` with the accelerations and multipliers `acc`.
+    pub fn new(state: &'a State, acc: &'a Accelerations) -> Self {
+        Self { t: state.t, q: &state.q, v: &state.v, vdot: &acc.vdot, lambda: &acc.lambda }
+    }
+}
+
 /// Linearizes the equations of motion at `state` with the accelerations and multipliers `acc` (those
 /// of the state for a linearization about a motion; zero velocities and accelerations with the
 /// equilibrium's multipliers for one about an equilibrium). `data` supplies the parameter values and
@@ -45,11 +73,10 @@ pub struct Linearization {
 pub fn linearize(model: &Model, data: &mut Data, state: &State, acc: &Accelerations) -> Linearization {
     let State { t, q, v, active } = state;
     let l = &model.layout;
-    let mut matrix = IterationMatrix::new(model);
-    matrix.evaluate_derivatives(model, data, active, *t, q, v, &acc.vdot, &acc.lambda);
-    let (stiffness, damping, constraint_stiffness) = matrix.dense_derivatives();
-    kinematics(model, data, q, v);
-    constraint_equations(model, data, *t);
+    let mut derivatives = SparseLinearization::new(model);
+    derivatives.evaluate(model, data, active, &OperatingPoint::new(state, acc));
+    let (stiffness, damping, constraint_stiffness) = derivatives.to_dense();
+    kinematic_stages(model, data, *t, q, v);
     let mut mass = Mat::zeros(l.nv, l.nv);
     for b in 0..model.bodies.len() {
         let vo = l.v_offset[b];
