@@ -10,9 +10,9 @@
 
 use crate::data::Data;
 use crate::linalg::{SingularMatrix, SparseLu};
-use crate::model::Model;
+use crate::model::{Model, SizeCheck, SizeMismatch};
 use crate::model::BodyId;
-use crate::stage::{body_mass_entries, force_stages, jacobian_entries, kinematic_stages};
+use crate::stage::{body_mass_entries, run_force_stages, jacobian_entries, run_kinematic_stages};
 
 /// Result of an acceleration solve.
 #[derive(Clone, Debug)]
@@ -86,6 +86,18 @@ impl KktMatrix {
     }
 }
 
+/// Why the accelerations could not be solved.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum AccelerationError {
+    /// `[M Bᵀ; B 0]` is singular: the constraints in force are dependent, or a body has no mass.
+    #[error(transparent)]
+    Singular(#[from] SingularMatrix),
+    /// The solver, the workspace or a vector is not of the model's sizes.
+    #[error(transparent)]
+    SizeMismatch(#[from] SizeMismatch),
+}
+
+
 /// The KKT matrix with its fixed pattern, factored at each call.
 pub struct AccelerationSolver {
     kkt: KktMatrix,
@@ -109,7 +121,8 @@ impl AccelerationSolver {
 
     /// Solves for `v̇, λ` at `(t, q, v)`: the [`kinematic_stages`](crate::stage::kinematic_stages), the
     /// matrix factored there, the [`force_stages`](crate::stage::force_stages) with `v̇ = 0` for the right
-    /// side `Q − h`; leaves the stages evaluated at that state in `data`.
+    /// side `Q − h`; leaves the stages evaluated at that state in `data`. `active` says which constraint
+    /// rows are in force (one per row). A solver, `data` or vectors not of `model`'s sizes are an error.
     pub fn solve(
         &mut self,
         model: &Model,
@@ -118,8 +131,27 @@ impl AccelerationSolver {
         q: &[f64],
         v: &[f64],
         active: &[bool],
+    ) -> Result<&Accelerations, AccelerationError> {
+        SizeCheck::new(model)
+            .len("the acceleration solver (velocity coordinates and constraint rows)", self.rhs.len(), model.layout.nv + model.layout.nc)?
+            .data(data)?
+            .positions(q)?
+            .velocities("velocities v", v)?
+            .rows("the rows in force (active)", active.len())?;
+        Ok(self.solve_at(model, data, t, q, v, active)?)
+    }
+
+    /// [`solve`](Self::solve) on arguments of the model's sizes (the engine's own calls).
+    pub(crate) fn solve_at(
+        &mut self,
+        model: &Model,
+        data: &mut Data,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        active: &[bool],
     ) -> Result<&Accelerations, SingularMatrix> {
-        kinematic_stages(model, data, t, q, v);
+        run_kinematic_stages(model, data, t, q, v);
         self.factor(model, data, active)?;
         self.solve_factored(model, data, t, active)
     }
@@ -139,7 +171,7 @@ impl AccelerationSolver {
         active: &[bool],
     ) -> Result<&Accelerations, SingularMatrix> {
         let nv = model.layout.nv;
-        force_stages(model, data, t, &self.zero_v);
+        run_force_stages(model, data, t, &self.zero_v);
         for k in 0..nv {
             self.rhs[k] = data.applied[k] - data.inertia[k];
         }

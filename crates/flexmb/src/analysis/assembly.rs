@@ -13,8 +13,8 @@ use super::State;
 use crate::data::Data;
 use crate::math::euler_parameters::g_matrix;
 use crate::math::Vec4;
-use crate::model::Model;
-use crate::stage::{jacobian_entries, kinematic_stages};
+use crate::model::{Model, SizeCheck, SizeMismatch};
+use crate::stage::{jacobian_entries, run_kinematic_stages};
 
 /// Settings of the assembly.
 #[derive(Clone, Copy, Debug)]
@@ -120,6 +120,9 @@ pub enum AssemblyError {
         /// What it is.
         value: f64,
     },
+    /// The workspace or the state is not of the model's sizes (made for another model).
+    #[error(transparent)]
+    SizeMismatch(#[from] SizeMismatch),
     /// The dense analyses would need more memory than the machine has.
     #[error(
         "the model is too large for the dense initial-condition analyses: they need about {} for {nc} \
@@ -185,6 +188,7 @@ pub fn assemble(
     state: &mut State,
     settings: AssemblySettings,
 ) -> Result<AssemblyReport, AssemblyError> {
+    check_state(model, data, state)?;
     check_memory(model, settings.memory_limit)?;
     let (mut redundant, mut rank) = find_redundant_rows(model, data, state.t, &state.q, settings.tolerance);
     check_finite(model, data, state.t)?;
@@ -258,7 +262,7 @@ fn set_active(state: &mut State, redundant: &[RedundantConstraint]) {
 /// Evaluates `Φ̂` (active rows, then one normalization row per body) at `state.q`.
 fn constraint_values(model: &Model, data: &mut Data, state: &State, out: &mut Vec<f64>) {
     let zero_v = vec![0.0; model.layout.nv];
-    kinematic_stages(model, data, state.t, &state.q, &zero_v);
+    run_kinematic_stages(model, data, state.t, &state.q, &zero_v);
     out.clear();
     out.extend(data.equations.iter().zip(&state.active).filter(|(_, a)| **a).map(|(e, _)| e.phi));
     for b in 0..model.bodies.len() {
@@ -375,4 +379,14 @@ pub(crate) fn position_jacobian(model: &Model, data: &Data, state: &State, activ
         }
     }
     gq
+}
+
+/// `data` and `state` (positions, velocities, rows in force) of `model`'s sizes.
+pub(crate) fn check_state(model: &Model, data: &Data, state: &State) -> Result<(), SizeMismatch> {
+    SizeCheck::new(model)
+        .data(data)?
+        .positions(&state.q)?
+        .velocities("velocities v", &state.v)?
+        .rows("the rows in force (active)", state.active.len())?;
+    Ok(())
 }

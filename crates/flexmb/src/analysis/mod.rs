@@ -17,13 +17,14 @@ mod watchdog_tests;
 #[doc(hidden)]
 pub mod test_models;
 
-pub use accelerations::{AccelerationSolver, Accelerations};
+pub use accelerations::{AccelerationError, AccelerationSolver, Accelerations};
 pub use assembly::{assemble, AssemblyError, AssemblyReport, AssemblySettings, ModalAssembly};
 pub use linearization::{displaced_positions, linearize, Linearization, OperatingPoint, SparseLinearization};
+pub(crate) use linearization::linearize_at;
 pub use outputs::{output_columns, OutputColumn};
 pub use memory::{dense_analysis_bytes, format_bytes, MemoryLimit};
 pub(crate) use redundancy::{dependency_of, newly_dependent_rows, violated_rows};
-pub use redundancy::{find_redundant_rows, RedundantConstraint, ViolatedEquation};
+pub use redundancy::{RedundantConstraint, ViolatedEquation};
 pub use simulation::{
     simulate, simulate_interruptible, Interruption, OutputFrame, OutputSink, OutputTable, Simulation, SimulationCheckpoint,
     SimulationError, SimulationFailure, SimulationReport, SimulationSettings, WorkAtStep, CHECKPOINT_VERSION,

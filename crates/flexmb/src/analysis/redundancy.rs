@@ -15,7 +15,7 @@ use faer::{Accum, Par};
 
 use crate::data::Data;
 use crate::model::Model;
-use crate::stage::{jacobian_entries, kinematic_stages};
+use crate::stage::{jacobian_entries, run_kinematic_stages};
 
 /// Relative size below which a row's component orthogonal to the earlier rows counts as zero.
 const REDUNDANCY_TOLERANCE: f64 = 1e-8;
@@ -32,7 +32,7 @@ pub struct RedundantConstraint {
 /// Rows of the velocity Jacobian at `(q, t)` that depend on rows kept before them in `keep_order`
 /// (rows with `|Φ| > satisfied_tolerance` first, then drivers, then joints); also returns the rank.
 /// The result lists the rows in row order.
-pub fn find_redundant_rows(
+pub(crate) fn find_redundant_rows(
     model: &Model,
     data: &mut Data,
     t: f64,
@@ -42,7 +42,7 @@ pub fn find_redundant_rows(
     let nv = model.layout.nv;
     let nc = model.layout.nc;
     let zero_v = vec![0.0; nv];
-    kinematic_stages(model, data, t, q, &zero_v);
+    run_kinematic_stages(model, data, t, q, &zero_v);
     let order = keep_order(model, data, satisfied_tolerance);
     let mut position = vec![0; nc];
     order.iter().enumerate().for_each(|(k, &r)| position[r] = k);

@@ -19,7 +19,7 @@ pub fn moving_state(model: &Model) -> (Data, State, Accelerations) {
     assemble(model, &mut data, &mut state, Default::default()).unwrap();
     state.v.iter_mut().enumerate().for_each(|(k, v)| *v += 0.1 * (k as f64).sin());
     velocity_analysis(model, &mut data, &mut state).unwrap();
-    let acc = AccelerationSolver::new(model).solve(model, &mut data, 0.0, &state.q, &state.v, &state.active).unwrap().clone();
+    let acc = AccelerationSolver::new(model).solve_at(model, &mut data, 0.0, &state.q, &state.v, &state.active).unwrap().clone();
     (data, state, acc)
 }
 

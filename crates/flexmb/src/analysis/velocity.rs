@@ -7,7 +7,7 @@ use faer::prelude::*;
 use super::{dependency_of, newly_dependent_rows, violated_rows, AssemblyError, State};
 use crate::data::Data;
 use crate::model::Model;
-use crate::stage::{jacobian_entries, kinematic_stages};
+use crate::stage::{jacobian_entries, run_kinematic_stages};
 
 const GIVEN_WEIGHT: f64 = 1e6;
 
@@ -28,6 +28,7 @@ const VELOCITY_CONSISTENCY: f64 = 1e-8;
 /// switched off as redundant must hold too: when one does not (a driver prescribes a rate the mechanism
 /// cannot follow at a singular position), the analysis fails naming it.
 pub fn velocity_analysis(model: &Model, data: &mut Data, state: &mut State) -> Result<VelocityReport, AssemblyError> {
+    super::assembly::check_state(model, data, state)?;
     let l = &model.layout;
     let mut weight = vec![1.0; l.nv];
     for (b, body) in model.bodies.iter().enumerate() {
@@ -46,7 +47,7 @@ pub fn velocity_analysis(model: &Model, data: &mut Data, state: &mut State) -> R
     let rows: Vec<usize> = (0..l.nc).filter(|r| state.active[*r]).collect();
     let mut row_of = vec![usize::MAX; l.nc];
     rows.iter().enumerate().for_each(|(k, r)| row_of[*r] = k);
-    kinematic_stages(model, data, state.t, &state.q, &state.v);
+    run_kinematic_stages(model, data, state.t, &state.q, &state.v);
     super::assembly::check_finite(model, data, state.t)?;
     let mut b = Mat::<f64>::zeros(rows.len(), l.nv);
     jacobian_entries(model, data, |r, c, x| {
@@ -95,7 +96,7 @@ pub fn velocity_analysis(model: &Model, data: &mut Data, state: &mut State) -> R
             ));
         }
     }
-    kinematic_stages(model, data, state.t, &state.q, &state.v);
+    run_kinematic_stages(model, data, state.t, &state.q, &state.v);
     report.residual = rows
         .iter()
         .map(|r| {

@@ -12,6 +12,7 @@ mod layout;
 mod output;
 mod references;
 mod rigid_checks;
+mod size_mismatch;
 
 pub use builder::ModelBuilder;
 pub(crate) use coupling::Coupling;
@@ -19,6 +20,8 @@ pub use error::ModelError;
 pub use ids::{BodyId, BodyRef, ForceId, JointId, MarkerId, MeasureId, ParameterId};
 pub use layout::Layout;
 pub use output::OutputKind;
+pub use size_mismatch::SizeMismatch;
+pub(crate) use size_mismatch::SizeCheck;
 
 use crate::body::{Marker, ModalBody, RigidBody};
 use crate::force::ForceElement;

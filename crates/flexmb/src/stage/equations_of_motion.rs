@@ -2,7 +2,7 @@
 //! generalized-α step solves: `g = [M v̇ + h(q, v) − Q(q, v, t) + Bᵀλ; B v + Φ_t]`, the
 //! Lagrange-multiplier equations of motion (Haug 1989) with the constraints at velocity level.
 
-use super::{add_jacobian_transpose, forward};
+use super::{add_jacobian_transpose, run_forward};
 use crate::data::Data;
 use crate::model::Model;
 
@@ -10,7 +10,7 @@ use crate::model::Model;
 /// constraints switched off in `active` are zero), leaving every stage evaluated at `(t, q, v)` in
 /// `data`.
 #[allow(clippy::too_many_arguments)]
-pub fn equations_of_motion(
+pub(crate) fn equations_of_motion(
     model: &Model,
     data: &mut Data,
     active: &[bool],
@@ -22,7 +22,7 @@ pub fn equations_of_motion(
     g: &mut [f64],
 ) {
     let nv = model.layout.nv;
-    forward(model, data, t, q, v, vdot);
+    run_forward(model, data, t, q, v, vdot);
     for k in 0..nv {
         g[k] = data.inertia[k] - data.applied[k];
     }

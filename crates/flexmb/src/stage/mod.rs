@@ -16,10 +16,11 @@ mod residual;
 
 pub(crate) use constraints::{add_jacobian_transpose, constraint_equations, jacobian_entries};
 pub use energy::Energy;
-pub use equations_of_motion::equations_of_motion;
+pub(crate) use equations_of_motion::equations_of_motion;
 pub(crate) use energy::{energy, nonconservative_power};
 pub(crate) use forces::applied_forces;
 pub use forward::{force_stages, forward, kinematic_stages};
+pub(crate) use forward::{run_force_stages, run_forward, run_kinematic_stages};
 pub(crate) use inertia::{body_mass_entries, inertia_forces};
 pub use kinematics::{BodyState, MarkerState};
 pub(crate) use kinematics::kinematics;

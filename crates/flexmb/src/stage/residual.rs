@@ -18,7 +18,7 @@ use crate::data::Data;
 use crate::math::euler_parameters::g_matrix;
 use crate::math::{Vec3, Vec4};
 use crate::model::Model;
-use crate::stage::{add_jacobian_transpose, forward};
+use crate::stage::{add_jacobian_transpose, run_forward};
 
 /// Ranges of the blocks of `y = [q, v, λ, μ]` (and of the matching residual rows).
 #[derive(Clone, Debug)]
@@ -61,7 +61,7 @@ pub(crate) fn residual(
     let (q, v) = (&y[yl.q.clone()], &y[yl.v.clone()]);
     let (lambda, mu) = (&y[yl.lambda.clone()], &y[yl.mu.clone()]);
     let nc = model.layout.nc;
-    forward(model, data, t, q, v, &yp[yl.v.clone()]);
+    run_forward(model, data, t, q, v, &yp[yl.v.clone()]);
 
     // Dynamic rows.
     let mut bt = std::mem::take(&mut data.scratch_v);

@@ -24,8 +24,8 @@ pub use sparse::SparseLinearization;
 use super::{Accelerations, State};
 use crate::data::Data;
 use crate::integrate::generalized_alpha::retract;
-use crate::model::Model;
-use crate::stage::{body_mass_entries, jacobian_entries, kinematic_stages};
+use crate::model::{Model, SizeCheck, SizeMismatch};
+use crate::stage::{body_mass_entries, jacobian_entries, run_kinematic_stages};
 
 /// The equations of motion linearized at one state (matrices in velocity coordinates: `nv` columns).
 #[derive(Clone, Debug)]
@@ -69,14 +69,27 @@ impl<'a> OperatingPoint<'a> {
 /// Linearizes the equations of motion at `state` with the accelerations and multipliers `acc` (those
 /// of the state for a linearization about a motion; zero velocities and accelerations with the
 /// equilibrium's multipliers for one about an equilibrium). `data` supplies the parameter values and
-/// joint-angle references; its stages are left evaluated at the state.
-pub fn linearize(model: &Model, data: &mut Data, state: &State, acc: &Accelerations) -> Linearization {
+/// joint-angle references; its stages are left evaluated at the state. A `data`, state or `acc` not of
+/// `model`'s sizes is an error.
+pub fn linearize(model: &Model, data: &mut Data, state: &State, acc: &Accelerations) -> Result<Linearization, SizeMismatch> {
+    SizeCheck::new(model)
+        .data(data)?
+        .positions(&state.q)?
+        .velocities("velocities v", &state.v)?
+        .rows("the rows in force (active)", state.active.len())?
+        .velocities("accelerations v̇", &acc.vdot)?
+        .rows("multipliers λ", acc.lambda.len())?;
+    Ok(linearize_at(model, data, state, acc))
+}
+
+/// [`linearize`] on arguments of the model's sizes (the engine's own calls).
+pub(crate) fn linearize_at(model: &Model, data: &mut Data, state: &State, acc: &Accelerations) -> Linearization {
     let State { t, q, v, active } = state;
     let l = &model.layout;
     let mut derivatives = SparseLinearization::new(model);
-    derivatives.evaluate(model, data, active, &OperatingPoint::new(state, acc));
+    derivatives.evaluate_at(model, data, active, &OperatingPoint::new(state, acc));
     let (stiffness, damping, constraint_stiffness) = derivatives.to_dense();
-    kinematic_stages(model, data, *t, q, v);
+    run_kinematic_stages(model, data, *t, q, v);
     let mut mass = Mat::zeros(l.nv, l.nv);
     for b in 0..model.bodies.len() {
         let vo = l.v_offset[b];
@@ -93,9 +106,11 @@ pub fn linearize(model: &Model, data: &mut Data, state: &State, acc: &Accelerati
 
 /// The positions `q` moved by the velocity-space increment `d`: translations and modal coordinates
 /// added, each body frame turned by the rotation vector `d_ω̄` about its own axes (`p ∘ exp(d_ω̄)`), the
-/// displacement the columns of [`Linearization::stiffness`] are taken along.
-pub fn displaced_positions(model: &Model, q: &[f64], d: &[f64]) -> Vec<f64> {
+/// displacement the columns of [`Linearization::stiffness`] are taken along. `q` and `d` not of `model`'s
+/// sizes are an error.
+pub fn displaced_positions(model: &Model, q: &[f64], d: &[f64]) -> Result<Vec<f64>, SizeMismatch> {
+    SizeCheck::new(model).positions(q)?.velocities("the increment d", d)?;
     let mut out = vec![0.0; q.len()];
     retract(&model.layout, q, d, &mut out);
-    out
+    Ok(out)
 }

@@ -19,7 +19,7 @@ use crate::data::Data;
 use crate::integrate::generalized_alpha::{quaternion_product, rotation_quaternion};
 use crate::linalg::{greedy_colouring, perturbation, RELATIVE_STEP};
 use crate::math::{Vec3, Vec4};
-use crate::model::{BodyId, Coupling, Layout, Model};
+use crate::model::{BodyId, Coupling, Layout, Model, SizeCheck, SizeMismatch};
 use crate::stage::equations_of_motion;
 
 use super::OperatingPoint;
@@ -108,8 +108,29 @@ impl SparseLinearization {
 
     /// Evaluates `K`, `C`, `K_B` at the operating point `at` (rows of the constraints switched off in
     /// `active` are zero). Returns the evaluations of `g` it used; leaves `data`'s stages evaluated at a
-    /// perturbed state.
-    pub fn evaluate(&mut self, model: &Model, data: &mut Data, active: &[bool], at: &OperatingPoint) -> usize {
+    /// perturbed state. An evaluator, `data` or vectors not of `model`'s sizes are an error.
+    pub fn evaluate(
+        &mut self,
+        model: &Model,
+        data: &mut Data,
+        active: &[bool],
+        at: &OperatingPoint,
+    ) -> Result<usize, SizeMismatch> {
+        SizeCheck::new(model)
+            .velocities("the linearization's workspace (velocities)", &self.v_work)?
+            .len("the linearization's workspace (equations)", self.g0.len(), model.layout.nv + model.layout.nc)?
+            .len("the linearization's workspace (positions)", self.q_work.len(), model.layout.nq)?
+            .data(data)?
+            .rows("the rows in force (active)", active.len())?
+            .positions(at.q)?
+            .velocities("velocities v", at.v)?
+            .velocities("accelerations v̇", at.vdot)?
+            .rows("multipliers λ", at.lambda.len())?;
+        Ok(self.evaluate_at(model, data, active, at))
+    }
+
+    /// [`evaluate`](Self::evaluate) on arguments of the model's sizes (the engine's own calls).
+    pub(crate) fn evaluate_at(&mut self, model: &Model, data: &mut Data, active: &[bool], at: &OperatingPoint) -> usize {
         let l = &model.layout;
         let OperatingPoint { t, q, v, vdot, lambda } = *at;
         equations_of_motion(model, data, active, t, q, v, vdot, lambda, &mut self.g0);
@@ -261,7 +282,7 @@ mod tests {
         let (mut data, state, acc) = test_models::moving_state(&model);
         let (t, q, v, active) = (0.1, &state.q, &state.v, &state.active);
         let mut sparse = SparseLinearization::new(&model);
-        sparse.evaluate(&model, &mut data, active, &OperatingPoint { t, q, v, vdot: &acc.vdot, lambda: &acc.lambda });
+        sparse.evaluate(&model, &mut data, active, &OperatingPoint { t, q, v, vdot: &acc.vdot, lambda: &acc.lambda }).unwrap();
         let (k, c, k_b) = sparse.to_dense();
         let mut g0 = vec![0.0; nv + nc];
         let mut g1 = vec![0.0; nv + nc];

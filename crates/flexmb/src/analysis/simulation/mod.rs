@@ -21,13 +21,13 @@ pub use settings::SimulationSettings;
 
 use super::outputs::{constraint_residuals, evaluate_outputs, output_columns};
 use super::watchdog::Watchdog;
-use super::{assemble, linearize, velocity_analysis, AccelerationSolver, Accelerations, Linearization, State};
+use super::{assemble, linearize_at, velocity_analysis, AccelerationSolver, Accelerations, Linearization, State};
 use crate::data::Data;
 use crate::integrate::Adams;
 use crate::integrate::{Bdf, Integrator, Method};
 use crate::integrate::{GeneralizedAlpha, GeneralizedAlphaConfig};
 use crate::model::{BodyId, Model};
-use crate::stage::{energy, kinematic_stages, measures, nonconservative_power};
+use crate::stage::{energy, run_kinematic_stages, measures, nonconservative_power};
 
 /// A dynamic simulation that owns its state: built from a shared model and settings, advanced step by
 /// step or to a time, its outputs streamed to any [`OutputSink`] at the output times
@@ -123,7 +123,7 @@ impl Simulation {
         report.velocity = Some(velocity_analysis(&model, &mut data, &mut state)?);
         let mut accelerations = AccelerationSolver::new(&model);
         let acc = accelerations
-            .solve(&model, &mut data, state.t, &state.q, &state.v, &state.active)
+            .solve_at(&model, &mut data, state.t, &state.q, &state.v, &state.active)
             .map_err(|_| accelerations_failure(&model, &data, state.t))?
             .clone();
         let integrator = start_integrator(&model, &settings, &state, &acc)?;
@@ -304,7 +304,7 @@ impl Simulation {
         self.v.copy_from_slice(v);
         let data = self.integrator.data_mut();
         self.accelerations
-            .solve(&self.model, data, t, &self.q, &self.v, &self.active)
+            .solve_at(&self.model, data, t, &self.q, &self.v, &self.active)
             .map_err(|_| accelerations_failure(&self.model, data, t))
     }
 
@@ -341,7 +341,7 @@ impl Simulation {
     pub fn linearize(&mut self) -> Result<Linearization, SimulationFailure> {
         let acc = self.solve_accelerations()?.clone();
         let state = State { t: self.integrator.t(), q: self.q.clone(), v: self.v.clone(), active: self.active.clone() };
-        Ok(linearize(&self.model, self.integrator.data_mut(), &state, &acc))
+        Ok(linearize_at(&self.model, self.integrator.data_mut(), &state, &acc))
     }
 
     /// The integrator's counters so far.
@@ -479,7 +479,7 @@ impl Simulation {
         Ok(if self.has_drivers {
             let acc = self
                 .accelerations
-                .solve(model, data, t, &self.q, &self.v, &self.active)
+                .solve_at(model, data, t, &self.q, &self.v, &self.active)
                 .map_err(|_| accelerations_failure(model, data, t))?;
             nonconservative_power(model, data, t, &acc.lambda)
         } else {
@@ -502,7 +502,7 @@ impl Simulation {
         let data = self.integrator.data_mut();
         let acc = self
             .accelerations
-            .solve(model, data, t, q, v, &self.active)
+            .solve_at(model, data, t, q, v, &self.active)
             .map_err(|_| accelerations_failure(model, data, t))?;
         let power = nonconservative_power(model, data, t, &acc.lambda);
         evaluate_outputs(model, data, q, v, acc, &self.active, values);
@@ -599,7 +599,7 @@ pub fn simulate_interruptible(
 fn check_step(model: &Model, integrator: &mut dyn Integrator, q: &[f64], v: &[f64], active: &[bool], report: &mut SimulationReport) {
     let t = integrator.t();
     let data = integrator.data_mut();
-    kinematic_stages(model, data, t, q, v);
+    run_kinematic_stages(model, data, t, q, v);
     let (p, vel) = constraint_residuals(model, data, active);
     report.max_position_residual = report.max_position_residual.max(p);
     report.max_velocity_residual = report.max_velocity_residual.max(vel);

@@ -114,6 +114,15 @@ impl OutputSink for OutputTable {
                 frame.values.len()
             ));
         }
+        if self.keep_states && (frame.q.len() != self.nq || frame.v.len() != self.nv) {
+            return Err(format!(
+                "the table keeps {} positions and {} velocities per row, the frame has {} and {}",
+                self.nq,
+                self.nv,
+                frame.q.len(),
+                frame.v.len()
+            ));
+        }
         self.values.push(frame.t);
         self.values.extend_from_slice(frame.values);
         if self.keep_states {

@@ -25,7 +25,7 @@ use crate::math::euler_parameters::g_matrix;
 use crate::math::{Vec3, Vec4};
 
 use crate::model::Model;
-use crate::stage::{jacobian_entries, kinematic_stages, kinematics, update_angle_references};
+use crate::stage::{jacobian_entries, run_kinematic_stages, kinematics, update_angle_references};
 
 use super::kkt::{velocity_map, Kkt};
 use super::method::{EvaluationFailure, OdeSystem};
@@ -326,7 +326,7 @@ impl PartitionedMechanism {
 
     /// Kinematics and constraint stages at `self.state.q` (velocities `self.state.v`), and `Φ̂` into `phi`.
     fn constraint_stage(&mut self, t: f64) {
-        kinematic_stages(&self.model, &mut self.data, t, &self.state.q, &self.state.v);
+        run_kinematic_stages(&self.model, &mut self.data, t, &self.state.q, &self.state.v);
         let nr = self.rows.len();
         for (k, &r) in self.rows.iter().enumerate() {
             self.phi[k] = self.data.equations[r].phi;
@@ -481,7 +481,7 @@ impl PartitionedMechanism {
         if !accelerations {
             return Ok(());
         }
-        kinematic_stages(&self.model, &mut self.data, t, &self.state.q, &self.state.v);
+        run_kinematic_stages(&self.model, &mut self.data, t, &self.state.q, &self.state.v);
         self.kkt.factor(&self.model, &self.data)?;
         self.kkt.accelerations(&self.model, &mut self.data, t, &mut self.state.vdot)?;
         self.evaluations += 1;

@@ -36,7 +36,7 @@ use crate::data::Data;
 use std::sync::Arc;
 
 use crate::model::Model;
-use crate::stage::{kinematic_stages, update_angle_references};
+use crate::stage::{run_kinematic_stages, update_angle_references};
 
 use super::kkt::{constraint_rate, normalize_euler_parameters, position_residual, velocity_map, Kkt};
 use super::method::{EvaluationFailure, OdeSystem};
@@ -134,7 +134,7 @@ impl ProjectedMechanism {
         let mut previous = f64::INFINITY;
         let mut fresh = false;
         for it in 0..PROJECTION_ITERATIONS {
-            kinematic_stages(model, &mut self.data, t, q, v);
+            run_kinematic_stages(model, &mut self.data, t, q, v);
             let residual = position_residual(&self.data, &self.kkt.active);
             if it == 0 {
                 self.drift.max_position_residual = self.drift.max_position_residual.max(residual);
@@ -166,7 +166,7 @@ impl ProjectedMechanism {
     /// velocity constraints, with the KKT factors made there; returns the residual before.
     fn project_velocities(&mut self, t: f64, q: &[f64], v: &mut [f64]) -> Result<f64, EvaluationFailure> {
         let model = &*self.model;
-        kinematic_stages(model, &mut self.data, t, q, v);
+        run_kinematic_stages(model, &mut self.data, t, q, v);
         self.kkt.factor(model, &self.data)?;
         let active = &self.kkt.active;
         let residual =
@@ -197,7 +197,7 @@ impl ProjectedMechanism {
 impl OdeSystem for ProjectedMechanism {
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), EvaluationFailure> {
         let (q, v) = y.split_at(self.nq);
-        kinematic_stages(&self.model, &mut self.data, t, q, v);
+        run_kinematic_stages(&self.model, &mut self.data, t, q, v);
         self.kkt.factor(&self.model, &self.data)?;
         self.derivatives(t, q, v, dy)
     }
@@ -213,7 +213,7 @@ impl OdeSystem for ProjectedMechanism {
         // Velocities at the projected positions, with factors made there (used for v̇ too).
         let velocity_residual = self.project_velocities(t, q, v)?;
         self.drift.max_velocity_residual = self.drift.max_velocity_residual.max(velocity_residual);
-        kinematic_stages(model, &mut self.data, t, q, v);
+        run_kinematic_stages(model, &mut self.data, t, q, v);
         self.derivatives(t, q, v, dy)?;
         update_angle_references(model, &mut self.data);
         // The size of the projection's change in the units of the error test.

@@ -98,7 +98,7 @@ use crate::integrate::{
 };
 use crate::math::Vec3;
 use crate::model::Model;
-use crate::stage::{add_jacobian_transpose, equations_of_motion, kinematic_stages, update_angle_references};
+use crate::stage::{add_jacobian_transpose, equations_of_motion, run_kinematic_stages, update_angle_references};
 
 const NEWTON_MAXITER: usize = 6;
 /// A converged Newton iteration slower than this (with finite-difference parts from an earlier step)
@@ -225,7 +225,7 @@ impl GeneralizedAlpha {
             .unwrap_or_else(|| initial_step(&model, &config, &state.q, &state.v, &accelerations.vdot))
             .min(config.h_max);
         let mut data = Data::new(&model);
-        kinematic_stages(&model, &mut data, t, &state.q, &state.v);
+        run_kinematic_stages(&model, &mut data, t, &state.q, &state.v);
         data.angle_reference.fill(0.0);
         update_angle_references(&model, &mut data);
         let mut integrator = Self {
@@ -271,7 +271,7 @@ impl GeneralizedAlpha {
         integrator.matrix.set_start_jacobian(&integrator.model, &integrator.data, &integrator.active);
         let at = OperatingPoint::new(state, accelerations);
         let evaluations =
-            integrator.matrix.derivatives.evaluate(&integrator.model, &mut integrator.data, &integrator.active, &at);
+            integrator.matrix.derivatives.evaluate_at(&integrator.model, &mut integrator.data, &integrator.active, &at);
         integrator.stats.jacobian_evaluations += 1;
         integrator.stats.residual_evaluations += evaluations;
         Ok(integrator)
@@ -525,7 +525,7 @@ impl GeneralizedAlpha {
         self.predict(h);
         let (nv, nc) = (self.nv, self.nc);
         let at = OperatingPoint { t: t_new, q: &self.q_new, v: &self.v_new, vdot: &self.x[..nv], lambda: &self.x[nv..nv + nc] };
-        let evaluations = self.matrix.derivatives.evaluate(&self.model, &mut self.data, &self.active, &at);
+        let evaluations = self.matrix.derivatives.evaluate_at(&self.model, &mut self.data, &self.active, &at);
         self.stats.jacobian_evaluations += 1;
         self.stats.residual_evaluations += evaluations;
         self.derivatives_current = true;
@@ -637,7 +637,7 @@ impl GeneralizedAlpha {
         self.stats.sum_h_squared += h * h;
         self.stats.order_counts[2] += 1;
         self.derivatives_current = false;
-        kinematic_stages(&self.model, &mut self.data, t_new, &self.q, &self.v);
+        run_kinematic_stages(&self.model, &mut self.data, t_new, &self.q, &self.v);
         update_angle_references(&self.model, &mut self.data);
         self.matrix.set_start_jacobian(&self.model, &self.data, &self.active);
     }
