@@ -8,4 +8,7 @@ mod sparse_lu;
 
 pub use colouring::greedy_colouring;
 pub use finite_difference::{perturbation, RELATIVE_STEP};
-pub use sparse_lu::{SingularMatrix, SparseLu, DENSE_LIMIT};
+pub use sparse_lu::SingularMatrix;
+// The integrators' workspace: its callers build the pattern from a model's layout, so its checks are
+// the engine's invariants, not a user's input.
+pub(crate) use sparse_lu::SparseLu;

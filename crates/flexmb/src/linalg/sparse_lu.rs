@@ -185,7 +185,8 @@ impl SparseLu {
         }
     }
 
-    /// `y = A x` with the current values (for residual checks).
+    /// `y = A x` with the current values (for the tests' residual checks).
+    #[cfg(test)]
     pub fn multiply(&self, x: &[f64], y: &mut [f64]) {
         y.fill(0.0);
         for c in 0..self.n {
