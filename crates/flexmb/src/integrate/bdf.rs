@@ -24,6 +24,7 @@ use crate::integrate::iteration_matrix::IterationMatrix;
 use crate::integrate::newton::{ConvergenceTest, Verdict};
 use crate::integrate::{
     check_len, AttemptFailure, BdfCheckpoint, BdfConfig, CheckpointError, IntegrationError, Integrator, IntegratorCheckpoint, Stats,
+    Tolerances,
 };
 use crate::math::euler_parameters::g_matrix;
 use crate::math::{Vec3, Vec4};
@@ -74,6 +75,7 @@ pub struct Bdf {
     y_interp: Vec<f64>,
     yl: YLayout,
     active: Vec<bool>,
+    tolerances: Tolerances,
     config: BdfConfig,
     n: usize,
     n_diff: usize,
@@ -117,11 +119,13 @@ pub struct Bdf {
 }
 
 impl Bdf {
-    /// Starts from a consistent state (assembled, velocity-analysed) and its accelerations.
+    /// Starts from a consistent state (assembled, velocity-analysed) and its accelerations, with the
+    /// error tolerances and step limits of `tolerances` and the order limit of `config`.
     pub fn new(
         model: Arc<Model>,
         state: &State,
         accelerations: &Accelerations,
+        tolerances: Tolerances,
         config: BdfConfig,
     ) -> Result<Self, IntegrationError> {
         let yl = YLayout::new(&model);
@@ -151,7 +155,10 @@ impl Bdf {
         }
         let max_order = config.max_order.clamp(1, MAX_ORDER);
         let config = BdfConfig { max_order, ..config };
-        let h0 = config.h_init.unwrap_or_else(|| initial_step(&config, &y0[..n_diff], &yp0[..n_diff])).min(config.h_max);
+        let h0 = tolerances
+            .h_init
+            .unwrap_or_else(|| initial_step(&tolerances, &y0[..n_diff], &yp0[..n_diff]))
+            .min(tolerances.h_max);
         let mut d = vec![0.0; (MAX_ORDER + 3) * n];
         d[..n].copy_from_slice(&y0);
         for k in 0..n {
@@ -161,11 +168,12 @@ impl Bdf {
         let references = state_angle_references(&model, &mut data, state);
         data.angle_reference.copy_from_slice(&references);
         let jac = IterationMatrix::new(&model, &yl);
-        let newton_tol = (10.0 * f64::EPSILON / config.rtol).max(config.rtol.sqrt().min(0.03));
+        let newton_tol = tolerances.newton_tolerance();
         let mut bdf = Self {
             model,
             yl,
             active: state.active.clone(),
+            tolerances,
             config,
             n,
             n_diff,
@@ -355,15 +363,15 @@ impl Bdf {
 
     /// Takes one accepted step, not passing `t_stop`.
     pub fn step(&mut self, t_stop: f64) -> Result<(), IntegrationError> {
-        if self.stats.steps >= self.config.max_steps {
-            return Err(IntegrationError::TooManySteps { t: self.t, max_steps: self.config.max_steps });
+        if self.stats.steps >= self.tolerances.max_steps {
+            return Err(IntegrationError::TooManySteps { t: self.t, max_steps: self.tolerances.max_steps });
         }
         let n = self.n;
         let t = self.t;
         let min_step = super::smallest_step(t, t_stop);
-        if self.h > self.config.h_max {
-            self.change_differences(self.order, self.config.h_max / self.h);
-            self.h = self.config.h_max;
+        if self.h > self.tolerances.h_max {
+            self.change_differences(self.order, self.tolerances.h_max / self.h);
+            self.h = self.tolerances.h_max;
             self.factored_c = None;
         } else if self.h < min_step {
             self.change_differences(self.order, min_step / self.h);
@@ -404,7 +412,7 @@ impl Bdf {
             // Weights of every component: the error test uses those of q and v, the Newton
             // convergence test all of them (as IDA does), so that the multipliers converge too.
             for k in 0..n {
-                self.scale[k] = self.config.atol + self.config.rtol * self.y_pred[k].abs();
+                self.scale[k] = self.tolerances.atol + self.tolerances.rtol * self.y_pred[k].abs();
             }
             let c = h / alpha;
             if self.refresh_ahead > 0 && self.jac_age > 0 {
@@ -453,7 +461,7 @@ impl Bdf {
             }
             let safety = 0.9 * (2 * NEWTON_MAXITER + 1) as f64 / (2 * NEWTON_MAXITER + iterations) as f64;
             for k in 0..self.n_diff {
-                self.scale[k] = self.config.atol + self.config.rtol * self.y_new[k].abs();
+                self.scale[k] = self.tolerances.atol + self.tolerances.rtol * self.y_new[k].abs();
             }
             let mut error_norm = self.rms_norm(&self.corr, error_const(order));
             if self.filter_steps > 0 || error_norm > 1.0 {
@@ -752,12 +760,12 @@ fn compute_r(order: usize, factor: f64) -> [[f64; MAX_ORDER + 1]; MAX_ORDER + 1]
 }
 
 /// First step from the size of the state and its derivative (Hairer, Nørsett and Wanner, II.4).
-fn initial_step(config: &BdfConfig, y0: &[f64], yp0: &[f64]) -> f64 {
+fn initial_step(tolerances: &Tolerances, y0: &[f64], yp0: &[f64]) -> f64 {
     let norm = |x: &[f64]| {
         let s: f64 = x
             .iter()
             .zip(y0)
-            .map(|(xi, yi)| (xi / (config.atol + config.rtol * yi.abs())).powi(2))
+            .map(|(xi, yi)| (xi / (tolerances.atol + tolerances.rtol * yi.abs())).powi(2))
             .sum();
         (s / x.len().max(1) as f64).sqrt()
     };

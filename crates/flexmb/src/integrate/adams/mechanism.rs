@@ -34,7 +34,7 @@ use crate::data::Data;
 use std::sync::Arc;
 
 use crate::integrate::{
-    check_len, AdamsCheckpoint, BdfConfig, CheckpointError, IntegrationError, Integrator, IntegratorCheckpoint, Stats,
+    check_len, AdamsCheckpoint, CheckpointError, IntegrationError, Integrator, IntegratorCheckpoint, Stats, Tolerances,
 };
 use crate::model::Model;
 use crate::stage::{kinematics, update_angle_references};
@@ -99,13 +99,13 @@ pub struct Adams {
 
 impl Adams {
     /// Starts from a consistent state (assembled, velocity-analysed) and its accelerations, with the
-    /// tolerances and step limits of `tolerances` (its `max_order` is the BDF's and is ignored) and the
+    /// tolerances and step limits of `tolerances` and the
     /// order limit and constraint handling of `config`.
     pub fn new(
         model: Arc<Model>,
         state: &State,
         accelerations: &Accelerations,
-        tolerances: BdfConfig,
+        tolerances: Tolerances,
         config: AdamsConfig,
     ) -> Result<Self, IntegrationError> {
         let (nq, nv) = (model.layout.nq, model.layout.nv);

@@ -60,7 +60,7 @@
 //! parts) is retried with `h/2`. On a change of step size `ã_n` is moved to the new size (see
 //! `predict`); without that, 15 % of the steps of a slider-crank at tolerance 1e-8 were
 //! rejected, with it 0.1 %. The first step is `h_init` or is chosen from the initial velocities and
-//! accelerations; `h_max` and `max_steps` of [`BdfConfig`] hold. [`GeneralizedAlphaConfig::fixed_step`]
+//! accelerations; `h_max` and `max_steps` of [`Tolerances`] hold. [`GeneralizedAlphaConfig::fixed_step`]
 //! switches the error control off.
 //!
 //! **Start.** `ã_0 = v̇_0`, the consistent accelerations of the driver. (Arnold and Brüls's perturbed
@@ -94,8 +94,8 @@ use crate::integrate::newton::{ConvergenceTest, Verdict};
 use std::sync::Arc;
 
 use crate::integrate::{
-    check_len, AttemptFailure, BdfConfig, CheckpointError, GeneralizedAlphaCheckpoint, GeneralizedAlphaConfig, IntegrationError,
-    Integrator, IntegratorCheckpoint, Stats,
+    check_len, AttemptFailure, CheckpointError, GeneralizedAlphaCheckpoint, GeneralizedAlphaConfig, IntegrationError,
+    Integrator, IntegratorCheckpoint, Stats, Tolerances,
 };
 use crate::math::Vec3;
 use crate::model::Model;
@@ -146,7 +146,7 @@ pub struct GeneralizedAlpha {
     model: Arc<Model>,
     data: Data,
     active: Vec<bool>,
-    config: BdfConfig,
+    tolerances: Tolerances,
     fixed_step: Option<f64>,
     coefficients: Coefficients,
     nv: usize,
@@ -196,12 +196,14 @@ pub struct GeneralizedAlpha {
 }
 
 impl GeneralizedAlpha {
-    /// Starts from a consistent state (assembled, velocity-analysed) and its accelerations.
+    /// Starts from a consistent state (assembled, velocity-analysed) and its accelerations, with the
+    /// error tolerances and step limits of `tolerances` and the spectral radius (and fixed step, if any)
+    /// of `alpha`.
     pub fn new(
         model: Arc<Model>,
         state: &State,
         accelerations: &Accelerations,
-        config: BdfConfig,
+        tolerances: Tolerances,
         alpha: GeneralizedAlphaConfig,
     ) -> Result<Self, IntegrationError> {
         let t = state.t;
@@ -222,21 +224,21 @@ impl GeneralizedAlpha {
         let (nq, nv, nc) = (l.nq, l.nv, l.nc);
         let h0 = alpha
             .fixed_step
-            .or(config.h_init)
-            .unwrap_or_else(|| initial_step(&model, &config, &state.q, &state.v, &accelerations.vdot))
-            .min(config.h_max);
+            .or(tolerances.h_init)
+            .unwrap_or_else(|| initial_step(&model, &tolerances, &state.q, &state.v, &accelerations.vdot))
+            .min(tolerances.h_max);
         let mut data = Data::new(&model);
         kinematics(&model, &mut data, &state.q, &state.v);
         data.angle_reference.fill(0.0);
         update_angle_references(&model, &mut data);
         let mut integrator = Self {
             active: state.active.clone(),
-            config,
+            tolerances,
             fixed_step: alpha.fixed_step,
             coefficients: Coefficients::from_spectral_radius(alpha.spectral_radius),
             nv,
             nc,
-            newton_tol: (10.0 * f64::EPSILON / config.rtol).max(config.rtol.sqrt().min(0.03)),
+            newton_tol: tolerances.newton_tolerance(),
             matrix: IterationMatrix::new(&model),
             data,
             derivatives_current: false,
@@ -389,15 +391,15 @@ impl GeneralizedAlpha {
 
     /// Takes one accepted step, not passing `t_stop`.
     pub fn step(&mut self, t_stop: f64) -> Result<(), IntegrationError> {
-        if self.stats.steps >= self.config.max_steps {
-            return Err(IntegrationError::TooManySteps { t: self.t, max_steps: self.config.max_steps });
+        if self.stats.steps >= self.tolerances.max_steps {
+            return Err(IntegrationError::TooManySteps { t: self.t, max_steps: self.tolerances.max_steps });
         }
         let t = self.t;
         if t_stop <= t {
             return Ok(());
         }
         let min_step = crate::integrate::smallest_step(t, t_stop);
-        let mut h = self.h.min(self.config.h_max);
+        let mut h = self.h.min(self.tolerances.h_max);
         // Why the last attempt failed; described (which allocates) only if the step size underflows.
         let mut failure = AttemptFailure::None;
         let mut rejected = false;
@@ -464,7 +466,7 @@ impl GeneralizedAlpha {
                     }
                 }
             }
-            .min(self.config.h_max);
+            .min(self.tolerances.h_max);
             return Ok(());
         }
     }
@@ -601,7 +603,7 @@ impl GeneralizedAlpha {
     fn increment_norm(&mut self, h: f64) -> f64 {
         let (nv, nc) = (self.nv, self.nc);
         let (cb, cg) = (self.coefficients.beta_prime() * h * h, self.coefficients.gamma_prime() * h);
-        let (atol, rtol) = (self.config.atol, self.config.rtol);
+        let (atol, rtol) = (self.tolerances.atol, self.tolerances.rtol);
         for k in 0..nv {
             self.work[k] = cb * self.dx[k] + self.delta_new[k] - self.delta[k];
         }
@@ -618,7 +620,7 @@ impl GeneralizedAlpha {
     /// Weighted RMS norm of the local error estimates of the positions and the velocities (see the
     /// module documentation), over `nq + nv` components.
     fn error_norm(&mut self, h: f64) -> f64 {
-        let (atol, rtol) = (self.config.atol, self.config.rtol);
+        let (atol, rtol) = (self.tolerances.atol, self.tolerances.rtol);
         let c = h * h * (self.coefficients.beta - 1.0 / 6.0);
         for k in 0..self.nv {
             self.work[k] = c * (self.a_new[k] - self.a_start[k]);
@@ -745,9 +747,9 @@ fn describe_row(model: &Model, row: usize) -> String {
 
 /// First step: about `0.5 ‖·‖^(−1/3)` of the weighted initial velocities and accelerations (the local
 /// error grows as `h³`), at most 10 ms.
-fn initial_step(model: &Model, config: &BdfConfig, q: &[f64], v: &[f64], vdot: &[f64]) -> f64 {
+fn initial_step(model: &Model, tolerances: &Tolerances, q: &[f64], v: &[f64], vdot: &[f64]) -> f64 {
     let l = &model.layout;
-    let norm = |x: &[f64]| (position_sum_of_squares(l, q, x, config.atol, config.rtol) / l.nq.max(1) as f64).sqrt();
+    let norm = |x: &[f64]| (position_sum_of_squares(l, q, x, tolerances.atol, tolerances.rtol) / l.nq.max(1) as f64).sqrt();
     let d = norm(v).max(norm(vdot));
     if d > 1e-10 {
         (0.5 * d.powf(-1.0 / 3.0)).min(1e-2)
