@@ -26,12 +26,10 @@ use crate::integrate::{
     check_len, AttemptFailure, BdfCheckpoint, BdfConfig, CheckpointError, IntegrationError, Integrator, IntegratorCheckpoint, Stats,
     Tolerances,
 };
-use crate::math::euler_parameters::g_matrix;
-use crate::math::{Vec3, Vec4};
 use std::sync::Arc;
 
 use crate::model::Model;
-use crate::stage::{residual, update_angle_references, YLayout};
+use crate::stage::{normalize_euler_parameters, position_rates, residual, update_angle_references, YLayout};
 
 const MAX_ORDER: usize = 5;
 const NEWTON_MAXITER: usize = 4;
@@ -137,16 +135,7 @@ impl Bdf {
         y0[yl.v.clone()].copy_from_slice(&state.v);
         y0[yl.lambda.clone()].copy_from_slice(&accelerations.lambda);
         yp0[yl.v.clone()].copy_from_slice(&accelerations.vdot);
-        for b in 0..model.bodies.len() {
-            let (qo, vo) = (model.layout.q_offset[b], model.layout.v_offset[b]);
-            yp0[qo..qo + 3].copy_from_slice(&state.v[vo..vo + 3]);
-            let p = Vec4::from_column_slice(&state.q[qo + 3..qo + 7]);
-            let w = Vec3::from_column_slice(&state.v[vo + 3..vo + 6]);
-            let p_rate = 0.5 * g_matrix(&p).transpose() * w;
-            yp0[qo + 3..qo + 7].copy_from_slice(p_rate.as_slice());
-            let m = model.layout.modes[b];
-            yp0[qo + 7..qo + 7 + m].copy_from_slice(&state.v[vo + 6..vo + 6 + m]);
-        }
+        position_rates(&model, &state.q, &state.v, &mut yp0[yl.q.clone()]);
         if !y0.iter().chain(&yp0).all(|x| x.is_finite()) {
             return Err(IntegrationError::InitialConditions {
                 t: state.t,
@@ -652,15 +641,8 @@ impl Bdf {
     /// Accepts `y_new` at `t_new`: renormalizes Euler parameters, updates the differences and counters.
     fn accept(&mut self, t_new: f64) {
         let n = self.n;
-        for b in 0..self.model.bodies.len() {
-            let qo = self.yl.q.start + self.model.layout.q_offset[b];
-            let norm = (3..7).map(|k| self.y_new[qo + k].powi(2)).sum::<f64>().sqrt();
-            for k in 3..7 {
-                let normalized = self.y_new[qo + k] / norm;
-                self.corr[qo + k] += normalized - self.y_new[qo + k];
-                self.y_new[qo + k] = normalized;
-            }
-        }
+        let (corr, q_start) = (&mut self.corr, self.yl.q.start);
+        normalize_euler_parameters(&self.model, &mut self.y_new[self.yl.q.clone()], |k, change| corr[q_start + k] += change);
         let h = t_new - self.t;
         self.t_old = self.t;
         self.t = t_new;

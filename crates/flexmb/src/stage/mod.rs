@@ -3,6 +3,7 @@
 //! residual, the index-1 acceleration solve and the generalized-α equations of motion are built on it.
 
 mod constraints;
+mod coordinate_rates;
 mod energy;
 mod forces;
 mod forward;
@@ -13,6 +14,7 @@ mod modal;
 mod residual;
 
 pub(crate) use constraints::{add_jacobian_transpose, constraint_equations, jacobian_entries};
+pub(crate) use coordinate_rates::{euler_parameter_rates, normalize_euler_parameters, position_rates};
 pub use energy::Energy;
 pub(crate) use energy::{energy, nonconservative_power};
 pub(crate) use forces::applied_forces;

@@ -39,7 +39,7 @@ use crate::integrate::{
 use crate::model::Model;
 use crate::stage::{kinematics, update_angle_references};
 
-use super::kkt::velocity_map;
+use crate::stage::position_rates;
 use super::method::{AdamsStepper, AttemptFailure, EvaluationFailure, OdeSystem, StepControl, StepFailure};
 use super::partitioning::{PartitionReport, PartitionedMechanism};
 use super::projection::{ProjectedMechanism, ProjectionDrift};
@@ -140,7 +140,7 @@ impl Adams {
                 y0[..nq].copy_from_slice(&state.q);
                 y0[nq..].copy_from_slice(&state.v);
                 yp0[nq..].copy_from_slice(&accelerations.vdot);
-                velocity_map(&model, &state.q, &state.v, &mut yp0[..nq]);
+                position_rates(&model, &state.q, &state.v, &mut yp0[..nq]);
                 (System::Projection(Box::new(system)), y0, yp0)
             }
             ConstraintHandling::Partitioning => {

@@ -27,7 +27,8 @@ use crate::math::{Vec3, Vec4};
 use crate::model::Model;
 use crate::stage::{constraint_equations, jacobian_entries, kinematics, update_angle_references};
 
-use super::kkt::{velocity_map, Kkt};
+use super::kkt::Kkt;
+use crate::stage::position_rates;
 use super::method::{EvaluationFailure, OdeSystem};
 
 /// Newton iterations for the dependent coordinates of one evaluation, at most.
@@ -210,7 +211,7 @@ impl PartitionedMechanism {
         let rows: Vec<usize> = (0..l.nc).filter(|r| active[*r]).collect();
         let m = rows.len() + model.bodies.len();
         let mut qdot = vec![0.0; nq];
-        velocity_map(&model, q, v, &mut qdot);
+        position_rates(&model, q, v, &mut qdot);
         let mut s = Self {
             data: Data::new(&model),
             kkt: Kkt::new(&model, active),

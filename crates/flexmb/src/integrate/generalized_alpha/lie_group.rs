@@ -8,9 +8,9 @@
 //! so that `A(p) ← A(p) exp(d̃_ω̄)`: the body frame turned by the body-frame rotation vector `d_ω̄`. The
 //! result is exactly unit (it is renormalized against round-off).
 
-use crate::math::euler_parameters::g_matrix;
 use crate::math::{skew, Mat3, Vec3, Vec4};
 use crate::model::Layout;
+use crate::stage::euler_parameter_rates;
 
 /// Hamilton product `p ⊗ r`, so that `A(p ⊗ r) = A(p) A(r)`.
 #[inline]
@@ -61,7 +61,7 @@ pub(super) fn position_sum_of_squares(layout: &Layout, q: &[f64], d: &[f64], ato
             sum += w(d[vo + k], q[qo + k]).powi(2);
         }
         let p = Vec4::new(q[qo + 3], q[qo + 4], q[qo + 5], q[qo + 6]);
-        let dp = 0.5 * g_matrix(&p).transpose() * Vec3::new(d[vo + 3], d[vo + 4], d[vo + 5]);
+        let dp = euler_parameter_rates(&p, &Vec3::new(d[vo + 3], d[vo + 4], d[vo + 5]));
         for k in 0..4 {
             sum += w(dp[k], p[k]).powi(2);
         }
