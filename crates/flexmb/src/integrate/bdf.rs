@@ -20,6 +20,7 @@
 
 use crate::analysis::{Accelerations, State};
 use crate::data::Data;
+use crate::integrate::diagnosis::{self, EquationRow};
 use crate::integrate::iteration_matrix::IterationMatrix;
 use crate::integrate::newton::{ConvergenceTest, Verdict};
 use crate::integrate::{
@@ -679,45 +680,33 @@ impl Bdf {
             self.yp[k] = self.psi[k] / c;
         }
         residual(&self.model, &mut self.data, &self.yl, &self.active, t_new, &self.y_pred, &self.yp, &mut self.res);
-        let worst = |rows: std::ops::Range<usize>, scale: f64| {
-            rows.map(|i| (i, (scale * self.res[i]).abs())).fold((usize::MAX, 0.0), |a, x| if x.1 > a.1 { x } else { a })
-        };
-        let (row_d, value_d) = worst(0..self.n_diff, c);
-        let (row_c, value_c) = worst(self.yl.lambda.start..self.n, 1.0);
-        let mut text = String::new();
-        if row_d != usize::MAX {
-            text += &format!("largest residual {value_d:.3e} in {}", describe_y_row(&self.model, &self.yl, row_d));
-        }
-        if row_c != usize::MAX {
-            text += &format!(
-                "; largest constraint residual {value_c:.3e} in {}",
-                describe_y_row(&self.model, &self.yl, row_c)
-            );
-        }
-        let q = self.y_pred[self.yl.q.clone()].to_vec();
-        if let Some(note) = crate::analysis::newly_dependent_rows(&self.model, &mut self.data, t_new, &q, &self.active) {
-            text += "; ";
-            text += &note;
-        }
-        text
+        let (model, yl, res, n_diff) = (&self.model, &self.yl, &self.res, self.n_diff);
+        diagnosis::worst_equations(
+            model,
+            &mut self.data,
+            t_new,
+            &self.y_pred[yl.q.clone()],
+            &self.active,
+            (0..n_diff, yl.lambda.start..self.n),
+            // The differential rows' residuals are rates; times c they are the change over the step.
+            |i| if i < n_diff { c * res[i] } else { res[i] },
+            |row| equation_row(model, yl, row),
+        )
     }
 }
 
-
-/// Names row `row` of the residual.
-fn describe_y_row(model: &Model, yl: &YLayout, row: usize) -> String {
-    let l = &model.layout;
+/// What row `row` of the residual is.
+fn equation_row(model: &Model, yl: &YLayout, row: usize) -> EquationRow {
     if yl.q.contains(&row) {
-        let b = l.body_of_position(row - yl.q.start);
-        format!("the kinematic equations of body '{}'", model.bodies[b.0].name)
+        EquationRow::Kinematic(model.layout.body_of_position(row - yl.q.start).0)
     } else if yl.v.contains(&row) {
-        model.describe_velocity_row(row - yl.v.start)
+        EquationRow::Motion(row - yl.v.start)
     } else if yl.lambda.contains(&row) {
-        format!("the velocity constraint of {}", model.describe_constraint_row(row - yl.lambda.start))
-    } else if row - yl.mu.start < l.nc {
-        format!("the position constraint of {}", model.describe_constraint_row(row - yl.mu.start))
+        EquationRow::VelocityConstraint(row - yl.lambda.start)
+    } else if row - yl.mu.start < model.layout.nc {
+        EquationRow::PositionConstraint(row - yl.mu.start)
     } else {
-        format!("the Euler-parameter normalization of body '{}'", model.bodies[row - yl.mu.start - l.nc].name)
+        EquationRow::Normalization(row - yl.mu.start - model.layout.nc)
     }
 }
 

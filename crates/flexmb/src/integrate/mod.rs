@@ -26,6 +26,7 @@ pub mod adams;
 mod bdf;
 mod checkpoint;
 mod config;
+mod diagnosis;
 mod error;
 pub mod generalized_alpha;
 mod integrator;

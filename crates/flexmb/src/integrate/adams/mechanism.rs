@@ -357,9 +357,7 @@ impl Adams {
         let q = Integrator::state(self).0.to_vec();
         let model = Arc::clone(self.system.model());
         let active = self.system.active().to_vec();
-        crate::analysis::newly_dependent_rows(&model, self.system.data(), t, &q, &active)
-            .map(|note| format!("; {note}"))
-            .unwrap_or_default()
+        crate::integrate::diagnosis::dependent_constraints(&model, self.system.data(), t, &q, &active)
     }
 }
 

@@ -90,6 +90,7 @@ use lie_group::{position_sum_of_squares, right_jacobian_inverse};
 
 use crate::analysis::{Accelerations, State};
 use crate::data::Data;
+use crate::integrate::diagnosis::{self, EquationRow};
 use crate::integrate::newton::{ConvergenceTest, Verdict};
 use std::sync::Arc;
 
@@ -702,46 +703,28 @@ impl GeneralizedAlpha {
         self.predict(h);
         self.evaluate_residual(t_new, h);
         let (cb, cg) = (self.coefficients.beta_prime() * h * h, self.coefficients.gamma_prime() * h);
+        let (model, res) = (&self.model, &self.res);
+        // The constraint rows unscaled: `B v + Φ_t` and `Φ` themselves.
         let unscaled = |i: usize| {
             if i < nv {
-                self.res[i]
+                res[i]
             } else if i < nv + nc {
-                cg * self.res[i]
+                cg * res[i]
             } else {
-                cb * self.res[i]
+                cb * res[i]
             }
         };
-        let worst = |rows: std::ops::Range<usize>| {
-            rows.map(|i| (i, unscaled(i).abs())).fold((usize::MAX, 0.0), |a, x| if x.1 > a.1 { x } else { a })
+        let name = |row: usize| {
+            if row < nv {
+                EquationRow::Motion(row)
+            } else if row < nv + nc {
+                EquationRow::VelocityConstraint(row - nv)
+            } else {
+                EquationRow::PositionConstraint(row - nv - nc)
+            }
         };
-        let (row_d, value_d) = worst(0..nv);
-        let (row_c, value_c) = worst(nv..nv + 2 * nc);
-        let mut text = String::new();
-        if row_d != usize::MAX {
-            text += &format!("largest residual {value_d:.3e} in {}", describe_row(&self.model, row_d));
-        }
-        if row_c != usize::MAX {
-            text += &format!("; largest constraint residual {value_c:.3e} in {}", describe_row(&self.model, row_c));
-        }
-        let q = self.q_new.clone();
-        if let Some(note) = crate::analysis::newly_dependent_rows(&self.model, &mut self.data, t_new, &q, &self.active) {
-            text += "; ";
-            text += &note;
-        }
-        text
-    }
-}
-
-
-/// Names row `row` of the residual `[dynamics; velocity constraints; position constraints]`.
-fn describe_row(model: &Model, row: usize) -> String {
-    let l = &model.layout;
-    if row < l.nv {
-        model.describe_velocity_row(row)
-    } else if row < l.nv + l.nc {
-        format!("the velocity constraint of {}", model.describe_constraint_row(row - l.nv))
-    } else {
-        format!("the position constraint of {}", model.describe_constraint_row(row - l.nv - l.nc))
+        let rows = (0..nv, nv..nv + 2 * nc);
+        diagnosis::worst_equations(model, &mut self.data, t_new, &self.q_new, &self.active, rows, unscaled, name)
     }
 }
 
