@@ -21,6 +21,7 @@
 use crate::analysis::{Accelerations, State};
 use crate::data::Data;
 use crate::integrate::diagnosis::{self, EquationRow};
+use crate::integrate::error_norm::{error_weight, weighted_rms_norm};
 use crate::integrate::iteration_matrix::IterationMatrix;
 use crate::integrate::newton::{ConvergenceTest, Verdict};
 use crate::integrate::{
@@ -401,8 +402,9 @@ impl Bdf {
             }
             // Weights of every component: the error test uses those of q and v, the Newton
             // convergence test all of them (as IDA does), so that the multipliers converge too.
+            let Tolerances { atol, rtol, .. } = self.tolerances;
             for k in 0..n {
-                self.scale[k] = self.tolerances.atol + self.tolerances.rtol * self.y_pred[k].abs();
+                self.scale[k] = error_weight(atol, rtol, self.y_pred[k]);
             }
             let c = h / alpha;
             if self.refresh_ahead > 0 && self.jac_age > 0 {
@@ -451,7 +453,7 @@ impl Bdf {
             }
             let safety = 0.9 * (2 * NEWTON_MAXITER + 1) as f64 / (2 * NEWTON_MAXITER + iterations) as f64;
             for k in 0..self.n_diff {
-                self.scale[k] = self.tolerances.atol + self.tolerances.rtol * self.y_new[k].abs();
+                self.scale[k] = error_weight(atol, rtol, self.y_new[k]);
             }
             let mut error_norm = self.rms_norm(&self.corr, error_const(order));
             if self.filter_steps > 0 || error_norm > 1.0 {
@@ -605,13 +607,10 @@ impl Bdf {
     /// (their impulse over the step), so their increments are weighted by `c` (Hairer and Wanner's
     /// scaling of index-2 components).
     fn newton_norm(&self, x: &[f64], c: f64) -> f64 {
-        let sum: f64 = (0..self.n)
-            .map(|k| {
-                let weight = if k < self.n_diff { 1.0 } else { c };
-                (weight * x[k] / self.scale[k]).powi(2)
-            })
-            .sum();
-        (sum / self.n.max(1) as f64).sqrt()
+        weighted_rms_norm((0..self.n).map(|k| {
+            let weight = if k < self.n_diff { 1.0 } else { c };
+            (weight * x[k], self.scale[k])
+        }))
     }
 
     /// The error estimate `rhs` filtered through the iteration matrix, `x = J⁻¹ [F_ẏ e; F_y e]` with
@@ -635,8 +634,7 @@ impl Bdf {
 
     /// Weighted RMS norm of `factor · x` over the differential components.
     fn rms_norm(&self, x: &[f64], factor: f64) -> f64 {
-        let sum: f64 = (0..self.n_diff).map(|k| (factor * x[k] / self.scale[k]).powi(2)).sum();
-        (sum / self.n_diff.max(1) as f64).sqrt()
+        weighted_rms_norm((0..self.n_diff).map(|k| (factor * x[k], self.scale[k])))
     }
 
     /// Accepts `y_new` at `t_new`: renormalizes Euler parameters, updates the differences and counters.
@@ -732,14 +730,8 @@ fn compute_r(order: usize, factor: f64) -> [[f64; MAX_ORDER + 1]; MAX_ORDER + 1]
 
 /// First step from the size of the state and its derivative (Hairer, Nørsett and Wanner, II.4).
 fn initial_step(tolerances: &Tolerances, y0: &[f64], yp0: &[f64]) -> f64 {
-    let norm = |x: &[f64]| {
-        let s: f64 = x
-            .iter()
-            .zip(y0)
-            .map(|(xi, yi)| (xi / (tolerances.atol + tolerances.rtol * yi.abs())).powi(2))
-            .sum();
-        (s / x.len().max(1) as f64).sqrt()
-    };
+    let Tolerances { atol, rtol, .. } = *tolerances;
+    let norm = |x: &[f64]| weighted_rms_norm(x.iter().zip(y0).map(|(&xi, &yi)| (xi, error_weight(atol, rtol, yi))));
     let d0 = norm(y0);
     let d1 = norm(yp0);
     let h = if d0 < 1e-5 || d1 < 1e-5 { 1e-6 } else { 0.01 * d0 / d1 };

@@ -28,6 +28,7 @@ mod checkpoint;
 mod config;
 mod diagnosis;
 mod error;
+mod error_norm;
 pub mod generalized_alpha;
 mod integrator;
 mod iteration_matrix;

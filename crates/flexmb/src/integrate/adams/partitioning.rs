@@ -28,6 +28,7 @@ use crate::model::Model;
 use crate::stage::{constraint_equations, jacobian_entries, kinematics, update_angle_references};
 
 use super::kkt::Kkt;
+use crate::integrate::error_norm::{error_weight, root_mean_square};
 use crate::stage::position_rates;
 use super::method::{EvaluationFailure, OdeSystem};
 
@@ -411,13 +412,13 @@ impl PartitionedMechanism {
             let mut sum = 0.0;
             let mut at_round_off = true;
             for (j, &c) in self.state.dependent.iter().enumerate() {
-                sum += (dx[j] / (self.atol + self.rtol * self.state.q[c].abs())).powi(2);
+                sum += (dx[j] / error_weight(self.atol, self.rtol, self.state.q[c])).powi(2);
                 at_round_off &= dx[j].abs() <= 16.0 * f64::EPSILON * self.state.q[c].abs().max(1.0);
                 self.state.q[c] += dx[j];
             }
             self.phi = dx;
             self.state.report.newton_iterations += 1;
-            let size = (sum / self.m.max(1) as f64).sqrt();
+            let size = root_mean_square(sum, self.m);
             // Converged far below the tolerance, or as far as the precision allows.
             if size <= CORRECTION_TOLERANCE || at_round_off {
                 return Ok(());

@@ -39,6 +39,7 @@ use crate::model::Model;
 use crate::stage::{constraint_equations, kinematics, update_angle_references};
 
 use super::kkt::{constraint_rate, position_residual, Kkt};
+use crate::integrate::error_norm::{error_weight, position_sum_of_squares, root_mean_square, weighted_rms_norm};
 use crate::math::{Vec3, Vec4};
 use crate::stage::{euler_parameter_rates, normalize_euler_parameters, position_rates};
 use super::method::{EvaluationFailure, OdeSystem};
@@ -224,9 +225,8 @@ impl OdeSystem for ProjectedMechanism {
         update_angle_references(model, &mut self.data);
         // The size of the projection's change in the units of the error test.
         let (rtol, atol) = (self.rtol, self.atol);
-        let sum: f64 =
-            self.y_before.iter().zip(y.iter()).map(|(b, a)| ((a - b) / (atol + rtol * b.abs())).powi(2)).sum();
-        let weighted = (sum / y.len().max(1) as f64).sqrt();
+        let weighted =
+            weighted_rms_norm(self.y_before.iter().zip(y.iter()).map(|(&b, &a)| (a - b, error_weight(atol, rtol, b))));
         let d = &mut self.drift;
         d.projections += 1;
         d.max_weighted_correction = d.max_weighted_correction.max(weighted);
@@ -239,24 +239,22 @@ impl OdeSystem for ProjectedMechanism {
 /// `atol + rtol |q|`.
 fn apply_correction(model: &Model, q: &mut [f64], dv: &[f64], rtol: f64, atol: f64) -> f64 {
     let l = &model.layout;
-    let mut sum = 0.0;
-    let mut dq = [0.0; 7];
+    let sum = position_sum_of_squares(l, q, dv, atol, rtol);
     for b in 0..model.bodies.len() {
         let (qo, vo, m) = (l.q_offset[b], l.v_offset[b], l.modes[b]);
-        // T(q) δv for the rigid part of the body: δR, ½ Gᵀ δω̄.
-        dq[..3].copy_from_slice(&dv[vo..vo + 3]);
+        // T(q) δv: δR, ½ Gᵀ δω̄, δa.
         let p = Vec4::new(q[qo + 3], q[qo + 4], q[qo + 5], q[qo + 6]);
-        dq[3..].copy_from_slice(euler_parameter_rates(&p, &Vec3::new(dv[vo + 3], dv[vo + 4], dv[vo + 5])).as_slice());
-        for k in 0..7 {
-            sum += (dq[k] / (atol + rtol * q[qo + k].abs())).powi(2);
-            q[qo + k] += dq[k];
+        let dp = euler_parameter_rates(&p, &Vec3::new(dv[vo + 3], dv[vo + 4], dv[vo + 5]));
+        for k in 0..3 {
+            q[qo + k] += dv[vo + k];
+        }
+        for k in 0..4 {
+            q[qo + 3 + k] += dp[k];
         }
         for k in 0..m {
-            let d = dv[vo + 6 + k];
-            sum += (d / (atol + rtol * q[qo + 7 + k].abs())).powi(2);
-            q[qo + 7 + k] += d;
+            q[qo + 7 + k] += dv[vo + 6 + k];
         }
     }
     normalize_euler_parameters(model, q, |_, _| {});
-    (sum / l.nq.max(1) as f64).sqrt()
+    root_mean_square(sum, l.nq)
 }

@@ -86,11 +86,12 @@ mod lie_group;
 pub(crate) use iteration_matrix::IterationMatrix;
 use iteration_matrix::equations_of_motion;
 pub(crate) use lie_group::retract;
-use lie_group::{position_sum_of_squares, right_jacobian_inverse};
+use lie_group::right_jacobian_inverse;
 
 use crate::analysis::{Accelerations, State};
 use crate::data::Data;
 use crate::integrate::diagnosis::{self, EquationRow};
+use crate::integrate::error_norm::{error_weight, position_sum_of_squares, root_mean_square};
 use crate::integrate::newton::{ConvergenceTest, Verdict};
 use std::sync::Arc;
 
@@ -610,12 +611,12 @@ impl GeneralizedAlpha {
         }
         let mut sum = position_sum_of_squares(&self.model.layout, &self.q_new, &self.work, atol, rtol);
         for k in 0..nv {
-            sum += (cg * self.dx[k] / (atol + rtol * self.v_new[k].abs())).powi(2);
+            sum += (cg * self.dx[k] / error_weight(atol, rtol, self.v_new[k])).powi(2);
         }
         for r in 0..nc {
-            sum += (cg * self.dx[nv + r] / (atol + rtol * self.x[nv + r].abs())).powi(2);
+            sum += (cg * self.dx[nv + r] / error_weight(atol, rtol, self.x[nv + r])).powi(2);
         }
-        (sum / (self.model.layout.nq + nv + nc).max(1) as f64).sqrt()
+        root_mean_square(sum, self.model.layout.nq + nv + nc)
     }
 
     /// Weighted RMS norm of the local error estimates of the positions and the velocities (see the
@@ -633,9 +634,9 @@ impl GeneralizedAlpha {
             // Third-order velocity from the accelerations at t_{n−1}, t_n, t_{n+1} (quadratic, integrated).
             let curvature = if h_p > 0.0 { ((a1 - a0) / h - (a0 - self.vdot_old[k]) / h_p) / (h + h_p) } else { 0.0 };
             let v3 = self.v[k] + 0.5 * h * (a0 + a1) - h * h * h / 6.0 * curvature;
-            sum += ((self.v_new[k] - v3) / (atol + rtol * self.v_new[k].abs())).powi(2);
+            sum += ((self.v_new[k] - v3) / error_weight(atol, rtol, self.v_new[k])).powi(2);
         }
-        (sum / (self.model.layout.nq + self.nv).max(1) as f64).sqrt()
+        root_mean_square(sum, self.model.layout.nq + self.nv)
     }
 
     /// Accepts the converged step to `t_new`.
@@ -732,7 +733,7 @@ impl GeneralizedAlpha {
 /// error grows as `h³`), at most 10 ms.
 fn initial_step(model: &Model, tolerances: &Tolerances, q: &[f64], v: &[f64], vdot: &[f64]) -> f64 {
     let l = &model.layout;
-    let norm = |x: &[f64]| (position_sum_of_squares(l, q, x, tolerances.atol, tolerances.rtol) / l.nq.max(1) as f64).sqrt();
+    let norm = |x: &[f64]| root_mean_square(position_sum_of_squares(l, q, x, tolerances.atol, tolerances.rtol), l.nq);
     let d = norm(v).max(norm(vdot));
     if d > 1e-10 {
         (0.5 * d.powf(-1.0 / 3.0)).min(1e-2)
