@@ -23,7 +23,7 @@ use crate::data::Data;
 use crate::integrate::diagnosis::{self, EquationRow};
 use crate::integrate::error_norm::{error_weight, weighted_rms_norm};
 use crate::integrate::iteration_matrix::IterationMatrix;
-use crate::integrate::newton::{ConvergenceTest, Verdict};
+use crate::integrate::newton::{self, ConvergenceTest, NewtonSystem};
 use crate::integrate::{
     check_len, AttemptFailure, BdfCheckpoint, BdfConfig, CheckpointError, IntegrationError, Integrator, IntegratorCheckpoint, Stats,
     Tolerances,
@@ -562,42 +562,14 @@ impl Bdf {
     /// `c_f` is the `c` the factors were made for; rows are scaled by it and the increments by
     /// `2/(1 + c_f/c)`, which makes the iteration exact for the `F_ẏ` part when `c_f ≠ c`.
     fn newton(&mut self, t_new: f64, c: f64, c_f: f64) -> (bool, usize) {
-        let increment_scale = 2.0 / (1.0 + c_f / c);
         self.corr.fill(0.0);
         self.y_new.copy_from_slice(&self.y_pred);
         let mut test = ConvergenceTest::new(self.newton_tol, NEWTON_MAXITER);
-        for k in 0..NEWTON_MAXITER {
-            for i in 0..self.n {
-                self.yp[i] = (self.psi[i] + self.corr[i]) / c;
-            }
-            residual(&self.model, &mut self.data, &self.yl, &self.active, t_new, &self.y_new, &self.yp, &mut self.res);
-            self.stats.residual_evaluations += 1;
-            if !self.res.iter().all(|x| x.is_finite()) {
-                return (false, k + 1);
-            }
-            for i in 0..self.n {
-                self.rhs[i] = if i < self.n_diff { -c_f * self.res[i] } else { -self.res[i] };
-            }
-            if self.jac.solve_in_place(&mut self.rhs).is_err() {
-                return (false, k + 1);
-            }
-            if increment_scale != 1.0 {
-                self.rhs.iter_mut().for_each(|x| *x *= increment_scale);
-            }
-            self.stats.newton_iterations += 1;
-            let verdict = test.assess(k, self.newton_norm(&self.rhs, c));
-            if verdict == Verdict::Diverging {
-                return (false, k + 1);
-            }
-            for i in 0..self.n {
-                self.y_new[i] += self.rhs[i];
-                self.corr[i] += self.rhs[i];
-            }
-            if verdict == Verdict::Converged {
-                return (true, k + 1);
-            }
-        }
-        (false, NEWTON_MAXITER)
+        let increment_scale = 2.0 / (1.0 + c_f / c);
+        let mut corrector = Corrector { bdf: self, t_new, c, c_f, increment_scale };
+        let outcome = newton::iterate(&mut corrector, &mut test, NEWTON_MAXITER);
+        self.stats.newton_iterations += outcome.solves;
+        (outcome.converged, outcome.iterations)
     }
 
     /// Weighted RMS norm of a Newton increment over all components, multipliers included: a chord
@@ -690,6 +662,55 @@ impl Bdf {
             |i| if i < n_diff { c * res[i] } else { res[i] },
             |row| equation_row(model, yl, row),
         )
+    }
+}
+
+/// The corrector equations `F(t_new, y⁽⁰⁾ + d, (ψ + d)/c) = 0` of one attempt, in the correction `d`
+/// (`corr`, with the iterate `y_new = y⁽⁰⁾ + d`), for the Newton driver.
+struct Corrector<'a> {
+    bdf: &'a mut Bdf,
+    t_new: f64,
+    c: f64,
+    /// The `c` the factors were made for, and the increments' scale `2/(1 + c_f/c)`.
+    c_f: f64,
+    increment_scale: f64,
+}
+
+impl NewtonSystem for Corrector<'_> {
+    fn residual(&mut self, _k: usize) -> &[f64] {
+        let b = &mut *self.bdf;
+        for i in 0..b.n {
+            b.yp[i] = (b.psi[i] + b.corr[i]) / self.c;
+        }
+        residual(&b.model, &mut b.data, &b.yl, &b.active, self.t_new, &b.y_new, &b.yp, &mut b.res);
+        b.stats.residual_evaluations += 1;
+        &b.res
+    }
+
+    fn solve(&mut self) -> bool {
+        let b = &mut *self.bdf;
+        for i in 0..b.n {
+            b.rhs[i] = if i < b.n_diff { -self.c_f * b.res[i] } else { -b.res[i] };
+        }
+        if b.jac.solve_in_place(&mut b.rhs).is_err() {
+            return false;
+        }
+        if self.increment_scale != 1.0 {
+            b.rhs.iter_mut().for_each(|x| *x *= self.increment_scale);
+        }
+        true
+    }
+
+    fn increment_norm(&mut self) -> f64 {
+        self.bdf.newton_norm(&self.bdf.rhs, self.c)
+    }
+
+    fn apply(&mut self) {
+        let b = &mut *self.bdf;
+        for i in 0..b.n {
+            b.y_new[i] += b.rhs[i];
+            b.corr[i] += b.rhs[i];
+        }
     }
 }
 

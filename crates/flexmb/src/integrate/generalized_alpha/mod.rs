@@ -92,7 +92,7 @@ use crate::analysis::{Accelerations, State};
 use crate::data::Data;
 use crate::integrate::diagnosis::{self, EquationRow};
 use crate::integrate::error_norm::{error_weight, position_sum_of_squares, root_mean_square};
-use crate::integrate::newton::{ConvergenceTest, Verdict};
+use crate::integrate::newton::{self, ConvergenceTest, NewtonSystem};
 use std::sync::Arc;
 
 use crate::integrate::{
@@ -556,46 +556,14 @@ impl GeneralizedAlpha {
     /// factored. Returns whether it converged; the state of the converged unknowns is then in `q_new`,
     /// `v_new`, `a_new`, `d_step`.
     fn newton(&mut self, t_new: f64, h: f64) -> bool {
-        let (nv, nc) = (self.nv, self.nc);
-        let cb = self.coefficients.beta_prime() * h * h;
         let mut test = ConvergenceTest::new(self.newton_tol, NEWTON_MAXITER);
-        for k in 0..NEWTON_MAXITER {
-            if k > 0 {
-                self.state_from_unknowns(h);
-                self.evaluate_residual(t_new, h);
-            }
-            if !self.res.iter().all(|x| x.is_finite()) {
-                return false;
-            }
-            for (d, r) in self.dx.iter_mut().zip(&self.res) {
-                *d = -r;
-            }
-            if self.matrix.solve_in_place(&mut self.dx).is_err() {
-                return false;
-            }
-            self.stats.newton_iterations += 1;
-            // The position correction Bᵀμ of the new multipliers, with B of this iterate (in `data`).
-            for r in 0..nc {
-                self.mu[r] = if self.active[r] { cb * (self.x[nv + nc + r] + self.dx[nv + nc + r]) } else { 0.0 };
-            }
-            self.delta_new.fill(0.0);
-            self.matrix.add_start_jacobian_transpose(&self.mu, &mut self.delta_new);
-            add_jacobian_transpose(&self.model, &self.data, &self.mu, &mut self.delta_new);
-            let verdict = test.assess(k, self.increment_norm(h));
-            if verdict == Verdict::Diverging {
-                return false;
-            }
-            for (x, d) in self.x.iter_mut().zip(&self.dx) {
-                *x += d;
-            }
-            self.delta.copy_from_slice(&self.delta_new);
-            if verdict == Verdict::Converged {
-                self.state_from_unknowns(h);
-                self.refresh_next = test.slowest > SLOW_RATE && !self.derivatives_current;
-                return true;
-            }
+        let outcome = newton::iterate(&mut StepEquations { integrator: self, t_new, h }, &mut test, NEWTON_MAXITER);
+        self.stats.newton_iterations += outcome.solves;
+        if outcome.converged {
+            self.state_from_unknowns(h);
+            self.refresh_next = test.slowest > SLOW_RATE && !self.derivatives_current;
         }
-        false
+        outcome.converged
     }
 
     /// Weighted RMS norm of a Newton increment: the position increment `β'h² Δv̇ + Δ(Bᵀμ)` and the
@@ -726,6 +694,56 @@ impl GeneralizedAlpha {
         };
         let rows = (0..nv, nv..nv + 2 * nc);
         diagnosis::worst_equations(model, &mut self.data, t_new, &self.q_new, &self.active, rows, unscaled, name)
+    }
+}
+
+/// The step equations of one attempt in the unknowns `[v̇, λ, μ̃]`, for the Newton driver; the first
+/// iteration starts from the predictor's residual, already in `res`.
+struct StepEquations<'a> {
+    integrator: &'a mut GeneralizedAlpha,
+    t_new: f64,
+    h: f64,
+}
+
+impl NewtonSystem for StepEquations<'_> {
+    fn residual(&mut self, k: usize) -> &[f64] {
+        let g = &mut *self.integrator;
+        if k > 0 {
+            g.state_from_unknowns(self.h);
+            g.evaluate_residual(self.t_new, self.h);
+        }
+        &g.res
+    }
+
+    fn solve(&mut self) -> bool {
+        let g = &mut *self.integrator;
+        for (d, r) in g.dx.iter_mut().zip(&g.res) {
+            *d = -r;
+        }
+        g.matrix.solve_in_place(&mut g.dx).is_ok()
+    }
+
+    /// Also makes the position correction `Bᵀμ` of the new multipliers, with `B` of this iterate (in
+    /// `data`), which the norm measures.
+    fn increment_norm(&mut self) -> f64 {
+        let g = &mut *self.integrator;
+        let (nv, nc) = (g.nv, g.nc);
+        let cb = g.coefficients.beta_prime() * self.h * self.h;
+        for r in 0..nc {
+            g.mu[r] = if g.active[r] { cb * (g.x[nv + nc + r] + g.dx[nv + nc + r]) } else { 0.0 };
+        }
+        g.delta_new.fill(0.0);
+        g.matrix.add_start_jacobian_transpose(&g.mu, &mut g.delta_new);
+        add_jacobian_transpose(&g.model, &g.data, &g.mu, &mut g.delta_new);
+        g.increment_norm(self.h)
+    }
+
+    fn apply(&mut self) {
+        let g = &mut *self.integrator;
+        for (x, d) in g.x.iter_mut().zip(&g.dx) {
+            *x += d;
+        }
+        g.delta.copy_from_slice(&g.delta_new);
     }
 }
 
