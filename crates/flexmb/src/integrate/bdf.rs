@@ -357,7 +357,6 @@ impl Bdf {
         if self.stats.steps >= self.tolerances.max_steps {
             return Err(IntegrationError::TooManySteps { t: self.t, max_steps: self.tolerances.max_steps });
         }
-        let n = self.n;
         let t = self.t;
         let min_step = super::smallest_step(t, t_stop);
         if self.h > self.tolerances.h_max {
@@ -386,27 +385,8 @@ impl Bdf {
                 self.factored_c = None;
             }
             let order = self.order;
-            let alpha = GAMMA[order];
-            for k in 0..n {
-                let mut yp = 0.0;
-                let mut psi = 0.0;
-                for j in 0..=order {
-                    let dj = self.d[j * n + k];
-                    yp += dj;
-                    if j > 0 {
-                        psi += dj * GAMMA[j];
-                    }
-                }
-                self.y_pred[k] = yp;
-                self.psi[k] = psi / alpha;
-            }
-            // Weights of every component: the error test uses those of q and v, the Newton
-            // convergence test all of them (as IDA does), so that the multipliers converge too.
-            let Tolerances { atol, rtol, .. } = self.tolerances;
-            for k in 0..n {
-                self.scale[k] = error_weight(atol, rtol, self.y_pred[k]);
-            }
-            let c = h / alpha;
+            self.predict();
+            let c = h / GAMMA[order];
             if self.refresh_ahead > 0 && self.jac_age > 0 {
                 self.refresh_ahead -= 1;
                 self.refresh_jacobian(t_new, c);
@@ -452,20 +432,7 @@ impl Bdf {
                 self.first_reuse_failures = 0;
             }
             let safety = 0.9 * (2 * NEWTON_MAXITER + 1) as f64 / (2 * NEWTON_MAXITER + iterations) as f64;
-            for k in 0..self.n_diff {
-                self.scale[k] = error_weight(atol, rtol, self.y_new[k]);
-            }
-            let mut error_norm = self.rms_norm(&self.corr, error_const(order));
-            if self.filter_steps > 0 || error_norm > 1.0 {
-                self.rhs.copy_from_slice(&self.corr);
-                let filtered = self.filtered_norm(error_const(order));
-                if filtered < FILTER_RATIO * error_norm {
-                    self.filter_steps = FILTER_HOLD;
-                }
-                if self.filter_steps > 0 {
-                    error_norm = filtered;
-                }
-            }
+            let error_norm = self.local_error();
             if error_norm > 1.0 {
                 // The estimate grew fast at an unchanged step size: a lightly damped oscillation that
                 // orders 3–5 amplify at this h λ (they are not A-stable), not the smooth solution.
@@ -494,9 +461,18 @@ impl Bdf {
         self.filter_steps = self.filter_steps.saturating_sub(1);
 
         // Order and step-size selection after k + 1 steps of equal size.
-        if self.n_equal_steps < self.order + 1 {
-            return Ok(());
+        if self.n_equal_steps > self.order {
+            self.select_order_and_step(safety, filtering);
         }
+        Ok(())
+    }
+
+    /// After `k + 1` steps of equal size: the order among `k − 1, k, k + 1` whose error estimate allows
+    /// the largest next step (each bounded by its stability limit), and that step, the differences
+    /// rescaled to it. `safety` is the factor the last Newton iteration allows, `filtering` whether the
+    /// estimates are filtered like the error test's.
+    fn select_order_and_step(&mut self, safety: f64, filtering: bool) {
+        let n = self.n;
         let order = self.order;
         // The estimates at orders k − 1, k, k + 1 from ∇ᵏy, ∇ᵏ⁺¹y, ∇ᵏ⁺²y, filtered like the error test's.
         let estimate = |bdf: &mut Self, row: usize, k: usize| {
@@ -537,7 +513,55 @@ impl Bdf {
         self.change_differences(new_order, factor);
         self.n_equal_steps = 0;
         self.factored_c = None;
-        Ok(())
+    }
+
+    /// The predictor of the current order from the differences, `y⁽⁰⁾ = Σ_{j≤k} ∇ʲyₙ` (`y_pred`), the
+    /// history term `ψ = Σ_{1≤j≤k} γ_j ∇ʲyₙ / γ_k` (`psi`), and the error weights at the predictor of every
+    /// component: the error test uses those of q and v, the Newton convergence test all of them (as IDA
+    /// does), so that the multipliers converge too.
+    fn predict(&mut self) {
+        let (n, order) = (self.n, self.order);
+        let alpha = GAMMA[order];
+        for k in 0..n {
+            let mut yp = 0.0;
+            let mut psi = 0.0;
+            for j in 0..=order {
+                let dj = self.d[j * n + k];
+                yp += dj;
+                if j > 0 {
+                    psi += dj * GAMMA[j];
+                }
+            }
+            self.y_pred[k] = yp;
+            self.psi[k] = psi / alpha;
+        }
+        let Tolerances { atol, rtol, .. } = self.tolerances;
+        for k in 0..n {
+            self.scale[k] = error_weight(atol, rtol, self.y_pred[k]);
+        }
+    }
+
+    /// The weighted norm of the local error estimate `d/(k + 1)` of the converged corrector, with the
+    /// error weights of the positions and velocities moved to the new values; filtered through the
+    /// iteration matrix while stiff components inflate it (see [`filtered_norm`](Self::filtered_norm)).
+    fn local_error(&mut self) -> f64 {
+        let Tolerances { atol, rtol, .. } = self.tolerances;
+        for k in 0..self.n_diff {
+            self.scale[k] = error_weight(atol, rtol, self.y_new[k]);
+        }
+        let order = self.order;
+        let mut error_norm = self.rms_norm(&self.corr, error_const(order));
+        if self.filter_steps > 0 || error_norm > 1.0 {
+            self.rhs.copy_from_slice(&self.corr);
+            let filtered = self.filtered_norm(error_const(order));
+            if filtered < FILTER_RATIO * error_norm {
+                self.filter_steps = FILTER_HOLD;
+            }
+            if self.filter_steps > 0 {
+                error_norm = filtered;
+            }
+        }
+        error_norm
     }
 
     fn reduce_step(&mut self, factor: f64) {
