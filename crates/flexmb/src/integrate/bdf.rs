@@ -99,11 +99,7 @@ pub struct Bdf {
     /// Accepted steps left during which the error estimates are filtered.
     filter_steps: usize,
     filtered: Vec<f64>,
-    /// Largest step for each order found stable (infinite until a limit is found; orders 1, 2 never).
-    h_limit: [f64; MAX_ORDER + 1],
-    /// Step size and error estimate of the last accepted step.
-    last_h: f64,
-    last_error: f64,
+    stability: StabilityLimits,
     newton_tol: f64,
     y_pred: Vec<f64>,
     psi: Vec<f64>,
@@ -182,9 +178,7 @@ impl Bdf {
             refresh_ahead: 0,
             filter_steps: 0,
             filtered: vec![0.0; n],
-            h_limit: [f64::INFINITY; MAX_ORDER + 1],
-            last_h: 0.0,
-            last_error: f64::INFINITY,
+            stability: StabilityLimits::new(),
             newton_tol,
             y_pred: vec![0.0; n],
             psi: vec![0.0; n],
@@ -250,9 +244,9 @@ impl Bdf {
             first_reuse_failures: self.first_reuse_failures,
             refresh_ahead: self.refresh_ahead,
             filter_steps: self.filter_steps,
-            step_limits: self.h_limit.to_vec(),
-            last_h: self.last_h,
-            last_error: self.last_error,
+            step_limits: self.stability.h_limit.to_vec(),
+            last_h: self.stability.last_h,
+            last_error: self.stability.last_error,
             active: self.active.clone(),
             angle_reference: self.data.angle_reference.clone(),
             stats: self.stats,
@@ -266,7 +260,7 @@ impl Bdf {
         check_len("the backward differences", self.d.len(), c.differences.len())?;
         check_len("the Jacobian", f_y.len(), c.jacobian.len())?;
         check_len("the Jacobian's derivative part", f_yp.len(), c.jacobian_derivative.len())?;
-        check_len("the stability limits", self.h_limit.len(), c.step_limits.len())?;
+        check_len("the stability limits", self.stability.h_limit.len(), c.step_limits.len())?;
         check_len("the constraint rows in force", self.active.len(), c.active.len())?;
         check_len("the joint angles", self.data.angle_reference.len(), c.angle_reference.len())?;
         if !(1..=self.config.max_order).contains(&c.order) {
@@ -288,9 +282,9 @@ impl Bdf {
         self.first_reuse_failures = c.first_reuse_failures;
         self.refresh_ahead = c.refresh_ahead;
         self.filter_steps = c.filter_steps;
-        self.h_limit.copy_from_slice(&c.step_limits);
-        self.last_h = c.last_h;
-        self.last_error = c.last_error;
+        self.stability.h_limit.copy_from_slice(&c.step_limits);
+        self.stability.last_h = c.last_h;
+        self.stability.last_error = c.last_error;
         self.active.copy_from_slice(&c.active);
         self.data.angle_reference.copy_from_slice(&c.angle_reference);
         self.stats = c.stats;
@@ -434,14 +428,8 @@ impl Bdf {
             let safety = 0.9 * (2 * NEWTON_MAXITER + 1) as f64 / (2 * NEWTON_MAXITER + iterations) as f64;
             let error_norm = self.local_error();
             if error_norm > 1.0 {
-                // The estimate grew fast at an unchanged step size: a lightly damped oscillation that
-                // orders 3–5 amplify at this h λ (they are not A-stable), not the smooth solution.
-                if self.config.stability_limits
-                    && order >= 3
-                    && h == self.last_h
-                    && error_norm > STABILITY_GROWTH * self.last_error
-                {
-                    self.h_limit[order] = self.h_limit[order].min(STABILITY_MARGIN * h);
+                if self.config.stability_limits {
+                    self.stability.error_test_failed(order, h, error_norm);
                 }
                 self.stats.error_test_failures += 1;
                 let factor = MIN_FACTOR.max(safety * error_norm.powf(-1.0 / (order + 1) as f64));
@@ -449,13 +437,12 @@ impl Bdf {
                 self.reduce_step(factor);
                 continue;
             }
-            self.last_h = h;
-            self.last_error = error_norm;
+            self.stability.accepted(h, error_norm);
             break (t_new, safety);
         };
         self.accept(t_new);
         if self.config.stability_limits {
-            self.h_limit.iter_mut().for_each(|l| *l *= STABILITY_RELAX);
+            self.stability.relax();
         }
         let filtering = self.filter_steps > 0;
         self.filter_steps = self.filter_steps.saturating_sub(1);
@@ -492,7 +479,7 @@ impl Bdf {
         // Each order's step is also bounded by its stability limit (infinite for orders 1 and 2).
         for (i, f) in factors.iter_mut().enumerate() {
             let k = (order + i - 1).min(MAX_ORDER);
-            *f = f.min(self.h_limit[k] / (safety * self.h));
+            *f = f.min(self.stability.h_limit[k] / (safety * self.h));
         }
         let (best, mut best_factor) =
             factors.iter().enumerate().fold((1, factors[1]), |acc, (i, f)| if *f > acc.1 { (i, *f) } else { acc });
@@ -500,7 +487,7 @@ impl Bdf {
         // Held back by stability at order ≥ 3: order 2 (A-stable) may allow a larger step. The order drops
         // directly, not one at a time: the orders in between are not A-stable either (for 2 % damping their
         // unstable bands start at h ω = 0.47 to 0.81).
-        if self.order >= 3 && self.h_limit[self.order] <= safety * self.h * best_factor * (1.0 + 1e-12) {
+        if self.order >= 3 && self.stability.h_limit[self.order] <= safety * self.h * best_factor * (1.0 + 1e-12) {
             let factor_2 = factor_of(estimate(self, 3, 2), 3);
             if factor_2 > best_factor {
                 self.order = 2;
@@ -686,6 +673,41 @@ impl Bdf {
             |i| if i < n_diff { c * res[i] } else { res[i] },
             |row| equation_row(model, yl, row),
         )
+    }
+}
+
+/// The step bounds of orders 3–5 learned from unstable steps ([`BdfConfig::stability_limits`]).
+struct StabilityLimits {
+    /// Largest step for each order found stable (infinite until a limit is found; orders 1, 2 never).
+    h_limit: [f64; MAX_ORDER + 1],
+    /// Step size and error estimate of the last accepted step.
+    last_h: f64,
+    last_error: f64,
+}
+
+impl StabilityLimits {
+    fn new() -> Self {
+        Self { h_limit: [f64::INFINITY; MAX_ORDER + 1], last_h: 0.0, last_error: f64::INFINITY }
+    }
+
+    /// An error-test failure with estimate `error_norm` at `order` and step `h`. If the estimate grew fast
+    /// at an unchanged step size, a lightly damped oscillation that orders 3–5 amplify at this `h λ` (they
+    /// are not A-stable), not the smooth solution, made it: the order's steps are kept below this one.
+    fn error_test_failed(&mut self, order: usize, h: f64, error_norm: f64) {
+        if order >= 3 && h == self.last_h && error_norm > STABILITY_GROWTH * self.last_error {
+            self.h_limit[order] = self.h_limit[order].min(STABILITY_MARGIN * h);
+        }
+    }
+
+    /// A step of size `h` accepted with estimate `error_norm`.
+    fn accepted(&mut self, h: f64, error_norm: f64) {
+        self.last_h = h;
+        self.last_error = error_norm;
+    }
+
+    /// Relaxes every bound by [`STABILITY_RELAX`] (once per accepted step), so that an order is retried.
+    fn relax(&mut self) {
+        self.h_limit.iter_mut().for_each(|l| *l *= STABILITY_RELAX);
     }
 }
 
