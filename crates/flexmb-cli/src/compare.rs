@@ -99,8 +99,10 @@ pub fn compare_model(path: &Path, options: &CompareOptions) -> Result<String, Cl
     // The reference: the BDF at a thousandth of the tolerances and orders up to 5 (its steps are then
     // small enough to resolve every retained mode, so the high orders are accurate and stable).
     let reference_tolerance = (rtol * 1e-3).max(1e-11);
-    let mut reference_settings = settings(Method::Bdf, reference_tolerance, (atol * 1e-3).max(1e-11));
-    reference_settings.integrator.max_order = 5;
+    let mut reference_settings = settings(Method::default(), reference_tolerance, (atol * 1e-3).max(1e-11));
+    if let Method::Bdf(config) = &mut reference_settings.method {
+        config.max_order = 5;
+    }
     let reference = run_with(model, &reference_settings, "reference");
     if let Some(f) = &reference.failure {
         return Err(CliError(format!("{}: the reference run failed: {f}", path.display())));

@@ -10,7 +10,7 @@ use flexmb::analysis::{simulate, SimulationSettings};
 use flexmb::body::{InitialState, Marker, ModalDamping};
 use flexmb::force::{ForceElement, ForceFrame, ForceKind};
 use flexmb::function::Expression;
-use flexmb::integrate::BdfConfig;
+use flexmb::integrate::{BdfConfig, Tolerances};
 use flexmb::joint::{Joint, JointKind};
 use flexmb::math::{Mat3, Vec3};
 use flexmb::model::{BodyRef, Model, ModelBuilder, OutputKind};
@@ -44,7 +44,7 @@ fn settings(t_end: f64, output_step: f64, tolerance: f64) -> SimulationSettings 
     SimulationSettings {
         t_end,
         output_step,
-        integrator: BdfConfig { rtol: tolerance, atol: tolerance, ..Default::default() },
+        tolerances: Tolerances::new(tolerance, tolerance),
         ..Default::default()
     }
 }
@@ -289,9 +289,8 @@ fn on_a_stiff_flexible_model_adams_needs_many_more_steps() {
     let model = flexmb_cli::bench::pendulums::flexible_pendulum(Some("10N")).unwrap();
     let tip = |frames: &[Vec<f64>]| frames.iter().map(|f| [f[0], f[1]]).collect::<Vec<_>>();
     let mut results = Vec::new();
-    for method in [Method::Bdf, Method::Adams(AdamsConfig::default()), Method::GeneralizedAlpha { spectral_radius: 0.9 }] {
+    for method in [Method::Bdf(BdfConfig::for_model(&model)), Method::Adams(AdamsConfig::default()), Method::generalized_alpha(0.9)] {
         let s = SimulationSettings { method, ..settings(1.0, 0.005, 1e-6) };
-        let s = SimulationSettings { integrator: BdfConfig { rtol: 1e-6, atol: 1e-6, ..BdfConfig::for_model(&model) }, ..s };
         let mut frames = Vec::new();
         let report = simulate(&model, &s, &mut |f| frames.push(f.values.to_vec())).unwrap();
         results.push((report.method, report.stats.steps, tip(&frames)));

@@ -7,7 +7,7 @@ use std::time::SystemTime;
 
 use flexmb::analysis::{output_columns, simulate, SimulationSettings};
 use flexmb::body::ModalDamping;
-use flexmb::integrate::BdfConfig;
+use flexmb::integrate::Tolerances;
 use flexmb::model::{BodyId, MarkerId};
 use flexmb_files::fe_model_file::load_fe_model;
 use flexmb_files::flexible_body::modal_body;
@@ -516,7 +516,7 @@ fn the_shipped_flexible_pendulum_swings_and_bends() {
     let settings = SimulationSettings {
         t_end: 0.3,
         output_step: 0.1,
-        integrator: BdfConfig { rtol: 1e-6, atol: 1e-6, ..Default::default() },
+        tolerances: Tolerances::new(1e-6, 1e-6),
         ..Default::default()
     };
     let mut rows = Vec::new();

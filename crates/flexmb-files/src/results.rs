@@ -398,8 +398,8 @@ pub fn record_run(
         model_name: model.name(),
         t_end: settings.t_end,
         output_step: settings.output_step,
-        rtol: settings.integrator.rtol,
-        atol: settings.integrator.atol,
+        rtol: settings.tolerances.rtol,
+        atol: settings.tolerances.atol,
         integrator: if report.method.is_empty() { "bdf" } else { report.method },
         limits: settings.physics_limits,
     };

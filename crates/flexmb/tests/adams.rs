@@ -12,7 +12,7 @@ use flexmb::analysis::{SimulationReport, SimulationSettings};
 use flexmb::force::{ForceElement, ForceKind};
 use flexmb::function::TimeFunction;
 use flexmb::integrate::adams::ConstraintHandling;
-use flexmb::integrate::{Adams, AdamsConfig, BdfConfig, IntegrationError, Method};
+use flexmb::integrate::{Adams, AdamsConfig, BdfConfig, IntegrationError, Method, Tolerances};
 use flexmb::joint::JointKind;
 use flexmb::math::{EulerParameters, Mat3, Vec3};
 use flexmb::measure::{Measure, MeasureKind};
@@ -273,8 +273,8 @@ fn projection_moves_the_state_by_much_less_than_the_tolerance() {
     let (state, acc) = consistent_start(&model);
     eprintln!("free slider-crank, 2 s: drift before projection and the projection's change");
     for tol in [1e-5, 1e-8] {
-        let config = BdfConfig { rtol: tol, atol: tol, ..Default::default() };
-        let mut adams = Adams::new(Arc::new(model.clone()), &state, &acc, config, AdamsConfig::default()).unwrap();
+        let tolerances = Tolerances::new(tol, tol);
+        let mut adams = Adams::new(Arc::new(model.clone()), &state, &acc, tolerances, AdamsConfig::default()).unwrap();
         while adams.t() < 2.0 {
             adams.step(2.0).unwrap();
         }
@@ -321,7 +321,8 @@ fn flexible_pendulum_agrees_with_the_bdf_and_its_step_follows_the_highest_freque
         let s = settings(t_end, 0.005, 1e-6);
         let adams = run(&model, &with_adams(s));
         let bdf_settings = SimulationSettings {
-            integrator: BdfConfig { rtol: 1e-6, atol: 1e-6, ..BdfConfig::for_model(&model) },
+            tolerances: Tolerances::new(1e-6, 1e-6),
+            method: Method::Bdf(BdfConfig::for_model(&model)),
             ..s
         };
         let bdf = run(&model, &bdf_settings);
@@ -346,7 +347,7 @@ fn flexible_pendulum_agrees_with_the_bdf_and_its_step_follows_the_highest_freque
 fn too_many_steps_and_bad_settings_are_reported() {
     let model = free_slider_crank();
     let mut s = with_adams(settings(2.0, 0.01, 1e-8));
-    s.integrator.max_steps = 20;
+    s.tolerances.max_steps = 20;
     let (e, partial) = try_run(&model, &s).err().expect("the run stops");
     match e.cause {
         flexmb::analysis::SimulationFailure::Integration(IntegrationError::TooManySteps { t, max_steps: 20 }) => {
@@ -359,7 +360,7 @@ fn too_many_steps_and_bad_settings_are_reported() {
     let (e, _) = try_run(&model, &bad).err().expect("invalid order");
     assert!(e.to_string().contains("max_order"), "{e}");
     let mut no_atol = s;
-    no_atol.integrator.atol = 0.0;
+    no_atol.tolerances.atol = 0.0;
     let (e, _) = try_run(&model, &no_atol).err().expect("atol = 0");
     assert!(e.to_string().contains("atol > 0"), "{e}");
 }
@@ -386,8 +387,8 @@ fn partitioning_against_projection() {
             (largest_distance(&projection, &reference, output), largest_distance(&partitioning, &reference, output));
         // The partition's history, from a direct run.
         let (state, acc) = consistent_start(&model);
-        let config = BdfConfig { rtol: tol, atol: tol, ..Default::default() };
-        let mut direct = Adams::new(Arc::new(model.clone()), &state, &acc, config, partitioning_config).unwrap();
+        let tolerances = Tolerances::new(tol, tol);
+        let mut direct = Adams::new(Arc::new(model.clone()), &state, &acc, tolerances, partitioning_config).unwrap();
         while direct.t() < t_end {
             direct.step(t_end).unwrap();
         }

@@ -50,7 +50,7 @@ fn fixed_body() -> Model {
 #[test]
 fn a_body_at_rest_on_a_fixed_joint_steps_to_the_end_with_every_method() {
     let model = fixed_body();
-    for method in [Method::Bdf, Method::GeneralizedAlpha { spectral_radius: 0.9 }, Method::Adams(AdamsConfig::default())] {
+    for method in [Method::default(), Method::generalized_alpha(0.9), Method::Adams(AdamsConfig::default())] {
         let settings = SimulationSettings { method, ..settings(0.05, 0.01, 1e-6) };
         let run = try_run(&model, &settings).unwrap_or_else(|(e, _)| panic!("{method:?}: {e}"));
         assert_eq!(run.report.t_reached, 0.05, "{method:?}");

@@ -10,7 +10,7 @@ mod support;
 
 use std::sync::Arc;
 use flexmb::force::{ForceElement, ForceKind};
-use flexmb::integrate::{Bdf, BdfConfig};
+use flexmb::integrate::{Bdf, BdfConfig, Tolerances};
 use flexmb::joint::JointKind;
 use flexmb::math::{EulerParameters, Mat3, Vec3};
 use flexmb::model::{BodyRef, Model, ModelBuilder};
@@ -56,8 +56,8 @@ fn oscillator() -> Model {
 /// (steps, global error in position and velocity at `T_END`, fraction of steps at order `k`).
 fn run_at(model: &Model, max_order: usize, tol: f64) -> (usize, f64, f64) {
     let (state, acc) = consistent_start(model);
-    let config = BdfConfig { rtol: tol, atol: tol, max_order, ..Default::default() };
-    let mut bdf = Bdf::new(Arc::new(model.clone()), &state, &acc, config).unwrap();
+    let config = BdfConfig { max_order, ..Default::default() };
+    let mut bdf = Bdf::new(Arc::new(model.clone()), &state, &acc, Tolerances::new(tol, tol), config).unwrap();
     while bdf.t() < T_END {
         bdf.step(T_END).unwrap();
     }

@@ -14,7 +14,7 @@ mod support;
 
 use std::sync::Arc;
 use flexmb::analysis::{assemble, velocity_analysis, AccelerationSolver, State};
-use flexmb::integrate::{Bdf, BdfConfig};
+use flexmb::integrate::{Bdf, BdfConfig, Tolerances};
 use flexmb::math::{EulerParameters, Mat3, Vec3, Vec4};
 use flexmb::model::{Model, ModelBuilder};
 use flexmb::Data;
@@ -80,8 +80,7 @@ fn drifts(tol: f64) -> Drifts {
         .solve(&model, &mut data, 0.0, &state.q, &state.v, &state.active)
         .unwrap()
         .clone();
-    let config = BdfConfig { rtol: tol, atol: tol, ..Default::default() };
-    let mut bdf = Bdf::new(Arc::new(model.clone()), &state, &acc, config).unwrap();
+    let mut bdf = Bdf::new(Arc::new(model.clone()), &state, &acc, Tolerances::new(tol, tol), BdfConfig::default()).unwrap();
 
     let global_omega = |y: &[f64]| {
         EulerParameters(Vec4::new(y[3], y[4], y[5], y[6])).rotation_matrix() * Vec3::new(y[10], y[11], y[12])

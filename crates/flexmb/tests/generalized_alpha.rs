@@ -12,7 +12,7 @@ use flexmb::analysis::{
 };
 
 use flexmb::function::TimeFunction;
-use flexmb::integrate::{Bdf, BdfConfig, GeneralizedAlpha, GeneralizedAlphaConfig, IntegrationError, Method};
+use flexmb::integrate::{Bdf, BdfConfig, GeneralizedAlpha, GeneralizedAlphaConfig, IntegrationError, Method, Tolerances};
 use flexmb::joint::JointKind;
 use flexmb::math::{EulerParameters, Mat3, Vec3};
 use flexmb::measure::{Measure, MeasureKind};
@@ -25,9 +25,9 @@ const G: f64 = 9.81;
 /// Generalized-α at the fixed step `h` to `t_end`, Newton tolerance `tol`.
 fn fixed_step_run(model: &Model, rho: f64, h: f64, t_end: f64, tol: f64) -> GeneralizedAlpha {
     let (state, acc) = consistent_start(model);
-    let config = BdfConfig { rtol: tol, atol: tol, ..Default::default() };
+    let tolerances = Tolerances::new(tol, tol);
     let alpha = GeneralizedAlphaConfig { spectral_radius: rho, fixed_step: Some(h) };
-    let mut ga = GeneralizedAlpha::new(Arc::new(model.clone()), &state, &acc, config, alpha).unwrap();
+    let mut ga = GeneralizedAlpha::new(Arc::new(model.clone()), &state, &acc, tolerances, alpha).unwrap();
     while ga.t() < t_end {
         ga.step(t_end).unwrap();
     }
@@ -38,7 +38,7 @@ fn fixed_step_run(model: &Model, rho: f64, h: f64, t_end: f64, tol: f64) -> Gene
 /// `(q, v, λ)` at `t_end` from the BDF at tolerance `tol`.
 fn bdf_reference(model: &Model, t_end: f64, tol: f64) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
     let (state, acc) = consistent_start(model);
-    let mut bdf = Bdf::new(Arc::new(model.clone()), &state, &acc, BdfConfig { rtol: tol, atol: tol, ..Default::default() }).unwrap();
+    let mut bdf = Bdf::new(Arc::new(model.clone()), &state, &acc, Tolerances::new(tol, tol), BdfConfig::default()).unwrap();
     while bdf.t() < t_end {
         bdf.step(t_end).unwrap();
     }
@@ -105,7 +105,7 @@ fn second_order_at_fixed_step_on_a_pendulum() {
 /// `settings(t_end, output_step, tol)` for the generalized-α method.
 fn alpha_settings(t_end: f64, output_step: f64, tol: f64, rho: f64) -> SimulationSettings {
     SimulationSettings {
-        method: Method::GeneralizedAlpha { spectral_radius: rho },
+        method: Method::generalized_alpha(rho),
         ..settings(t_end, output_step, tol)
     }
 }
@@ -242,9 +242,9 @@ fn energy_of_a_conservative_pendulum_does_not_drift_at_rho_one() {
     let h = period / steps_per_period as f64;
     for rho in [1.0, 0.9] {
         let (state, acc) = consistent_start(&model);
-        let config = BdfConfig { rtol: 1e-11, atol: 1e-11, ..Default::default() };
+        let tolerances = Tolerances::new(1e-11, 1e-11);
         let alpha = GeneralizedAlphaConfig { spectral_radius: rho, fixed_step: Some(h) };
-        let mut ga = GeneralizedAlpha::new(Arc::new(model.clone()), &state, &acc, config, alpha).unwrap();
+        let mut ga = GeneralizedAlpha::new(Arc::new(model.clone()), &state, &acc, tolerances, alpha).unwrap();
         let e0 = pendulum_energy(ga.q(), ga.v(), m, ic);
         let scale = m * G * l * (1.0 - theta0.cos());
         let mut per_period = Vec::new();
@@ -294,9 +294,9 @@ fn rho_half_damps_an_unresolved_stiff_spring_and_keeps_the_swing() {
     for rho in [0.5, 1.0] {
         let (state, acc) = consistent_start(&excited);
         let fast0 = slow_and_fast(&state.q, &state.v).1;
-        let config = BdfConfig { rtol: 1e-9, atol: 1e-9, ..Default::default() };
+        let tolerances = Tolerances::new(1e-9, 1e-9);
         let alpha = GeneralizedAlphaConfig { spectral_radius: rho, fixed_step: Some(h) };
-        let mut ga = GeneralizedAlpha::new(Arc::new(excited.clone()), &state, &acc, config, alpha).unwrap();
+        let mut ga = GeneralizedAlpha::new(Arc::new(excited.clone()), &state, &acc, tolerances, alpha).unwrap();
         let mut fast_after_half = 0.0_f64;
         while ga.t() < t_end {
             ga.step(t_end).unwrap();

@@ -18,7 +18,7 @@ use std::sync::Mutex;
 use flexmb::force::{ForceElement, ForceFrame, ForceKind};
 use flexmb::function::{Expression, TimeFunction};
 use flexmb::integrate::{
-    Adams, AdamsConfig, Bdf, BdfConfig, GeneralizedAlpha, GeneralizedAlphaConfig, Integrator, Stats,
+    Adams, AdamsConfig, Bdf, BdfConfig, GeneralizedAlpha, GeneralizedAlphaConfig, Integrator, Stats, Tolerances,
 };
 use flexmb::joint::JointKind;
 use flexmb::math::Vec3;
@@ -173,7 +173,7 @@ fn in_faer_lu(trace: &str) -> bool {
 /// with their backtraces, allocations inside it).
 fn allocations_while_stepping(model: &Model, window: usize) -> (Vec<String>, usize) {
     let (state, acc) = consistent_start(model);
-    let mut bdf = Bdf::new(Arc::new(model.clone()), &state, &acc, BdfConfig { rtol: 1e-7, atol: 1e-7, ..Default::default() }).unwrap();
+    let mut bdf = Bdf::new(Arc::new(model.clone()), &state, &acc, Tolerances::new(1e-7, 1e-7), BdfConfig::default()).unwrap();
     let t_end = 3.0;
     for _ in 0..20 {
         bdf.step(t_end).unwrap();
@@ -250,8 +250,8 @@ fn bdf_step_of_a_flexible_model_does_not_allocate() {
 /// projection iterations made in the window.
 fn adams_allocations_while_stepping(model: &Model, window: usize) -> (Vec<String>, usize) {
     let (state, acc) = consistent_start(model);
-    let config = BdfConfig { rtol: 1e-7, atol: 1e-7, ..Default::default() };
-    let mut adams = Adams::new(Arc::new(model.clone()), &state, &acc, config, AdamsConfig::default()).unwrap();
+    let tolerances = Tolerances::new(1e-7, 1e-7);
+    let mut adams = Adams::new(Arc::new(model.clone()), &state, &acc, tolerances, AdamsConfig::default()).unwrap();
     let t_end = 3.0;
     for _ in 0..20 {
         adams.step(t_end).unwrap();
@@ -311,8 +311,8 @@ fn generalized_alpha_allocations_while_stepping(
     window: usize,
 ) -> (Vec<String>, Stats) {
     let (state, acc) = consistent_start(model);
-    let config = BdfConfig { rtol: 1e-7, atol: 1e-7, ..Default::default() };
-    let mut ga = GeneralizedAlpha::new(Arc::new(model.clone()), &state, &acc, config, alpha).unwrap();
+    let tolerances = Tolerances::new(1e-7, 1e-7);
+    let mut ga = GeneralizedAlpha::new(Arc::new(model.clone()), &state, &acc, tolerances, alpha).unwrap();
     let t_end = 3.0;
     // faer's simplicial LU keeps its numeric storage between factorizations and grows it (doubling) when
     // a pivot sequence needs more fill than any before; on the stiff-slider pendulum that happens once,

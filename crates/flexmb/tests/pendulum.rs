@@ -3,7 +3,7 @@
 mod support;
 
 use flexmb::analysis::{simulate, SimulationSettings};
-use flexmb::integrate::BdfConfig;
+use flexmb::integrate::Tolerances;
 use flexmb::model::OutputKind;
 
 #[test]
@@ -20,7 +20,7 @@ fn period_matches_elliptic_integral_and_energy_is_conserved() {
     let settings = SimulationSettings {
         t_end: 10.0 * period,
         output_step: 1e-3,
-        integrator: BdfConfig { rtol: 1e-9, atol: 1e-9, ..Default::default() },
+        tolerances: Tolerances::new(1e-9, 1e-9),
         ..Default::default()
     };
     let mut t = Vec::new();

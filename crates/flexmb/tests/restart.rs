@@ -141,7 +141,7 @@ fn bdf_restart_continues_the_same_steps_on_a_closed_loop() {
 fn bdf_restart_continues_the_same_steps_on_a_flexible_body() {
     let model = flexible_pendulum();
     let mut s = settings(0.5, 0.05, 1e-7);
-    s.integrator = flexmb::integrate::BdfConfig { stability_limits: true, ..s.integrator };
+    s.method = Method::Bdf(flexmb::integrate::BdfConfig { stability_limits: true, ..Default::default() });
     assert_restart_continues("bdf, flexible pendulum", model, s, &SPLITS);
 }
 
@@ -159,13 +159,13 @@ fn adams_restart_continues_the_same_steps_on_a_flexible_body() {
 
 #[test]
 fn generalized_alpha_restart_continues_the_same_steps_on_a_closed_loop() {
-    let s = with_method(settings(0.5, 0.05, 1e-6), Method::GeneralizedAlpha { spectral_radius: 0.8 });
+    let s = with_method(settings(0.5, 0.05, 1e-6), Method::generalized_alpha(0.8));
     assert_restart_continues("gen-alpha, slider-crank", slider_crank(), s, &SPLITS);
 }
 
 #[test]
 fn generalized_alpha_restart_continues_the_same_steps_on_a_flexible_body() {
-    let s = with_method(settings(0.5, 0.05, 1e-6), Method::GeneralizedAlpha { spectral_radius: 0.8 });
+    let s = with_method(settings(0.5, 0.05, 1e-6), Method::generalized_alpha(0.8));
     assert_restart_continues("gen-alpha, flexible pendulum", flexible_pendulum(), s, &SPLITS);
 }
 
@@ -212,7 +212,7 @@ fn checkpoints_that_cannot_be_resumed_say_why() {
     let mut simulation = Simulation::new(model.clone(), bdf).unwrap();
     simulation.advance_to(0.1, &mut |_: &flexmb::analysis::OutputFrame| {}).unwrap();
     let checkpoint = simulation.checkpoint().unwrap();
-    let gen_alpha = with_method(bdf, Method::GeneralizedAlpha { spectral_radius: 0.8 });
+    let gen_alpha = with_method(bdf, Method::generalized_alpha(0.8));
     let error = Simulation::resume(model.clone(), gen_alpha, &checkpoint).err().unwrap();
     assert_eq!(
         error.cause,
@@ -331,9 +331,9 @@ fn a_run_resumes_with_another_output_step() {
 #[test]
 fn checkpoints_and_readings_between_steps_leave_the_run_unchanged() {
     for (name, model, method) in [
-        ("bdf, flexible pendulum", flexible_pendulum(), Method::Bdf),
+        ("bdf, flexible pendulum", flexible_pendulum(), Method::default()),
         ("adams, slider-crank", slider_crank(), Method::Adams(AdamsConfig::default())),
-        ("gen-alpha, slider-crank", slider_crank(), Method::GeneralizedAlpha { spectral_radius: 0.8 }),
+        ("gen-alpha, slider-crank", slider_crank(), Method::generalized_alpha(0.8)),
     ] {
         let model = Arc::new(model);
         let s = with_method(settings(0.3, 0.05, 1e-7), method);

@@ -23,7 +23,7 @@ fn shipped(path: &str) -> PathBuf {
 fn load(path: &str, overrides: &ModelOverrides, t_end: f64) -> Result<(Model, SimulationSettings), String> {
     let options = LoadOptions { overrides: overrides.clone(), ..crate::limits::load_options() };
     let loaded = load_model_with(&shipped(path), &options).map_err(|e| e.to_string())?;
-    let d = SimulationDefaults { t_end, method: Method::Bdf, ..loaded.simulation };
+    let d = SimulationDefaults { t_end, method: Method::default(), ..loaded.simulation };
     let settings = d.settings(&loaded.model, d.assembly());
     Ok((std::sync::Arc::unwrap_or_clone(loaded.model), settings))
 }

@@ -15,7 +15,7 @@ use std::time::Instant;
 
 use flexmb::analysis::{simulate, AssemblySettings, SimulationReport, SimulationSettings};
 use flexmb::body::{InitialState, Marker, RigidBody};
-use flexmb::integrate::BdfConfig;
+use flexmb::integrate::{BdfConfig, Method};
 use flexmb::joint::{Joint, JointKind};
 use flexmb::math::{EulerParameters, Mat3, Vec3};
 use flexmb::model::{BodyRef, ModelBuilder, ModelError};
@@ -94,7 +94,7 @@ fn default_settings(model: &Model, t_end: f64) -> SimulationSettings {
     SimulationSettings {
         t_end,
         output_step: 0.01,
-        integrator: BdfConfig::for_model(model),
+        method: Method::Bdf(BdfConfig::for_model(model)),
         assembly: AssemblySettings::default(),
         ..Default::default()
     }

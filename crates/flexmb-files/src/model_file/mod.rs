@@ -57,7 +57,7 @@ pub struct SimulationDefaults {
     /// Default BDF.
     pub method: flexmb::integrate::Method,
     /// Highest BDF order (`max_order`, 1 to 5); `None`: 5 (with stability limits on orders 3–5 for
-    /// models with flexible bodies, see `BdfConfig::for_model`).
+    /// models with flexible bodies, see [`BdfConfig::for_model`](flexmb::integrate::BdfConfig::for_model)).
     pub max_order: Option<usize>,
     /// Interval between the frames of the ParaView output (`vtk_step`, s); `None`: the output step.
     pub vtk_step: Option<f64>,
@@ -80,7 +80,7 @@ impl Default for SimulationDefaults {
             rtol: 1e-6,
             atol: 1e-6,
             modal_assembly: flexmb::analysis::ModalAssembly::Held,
-            method: flexmb::integrate::Method::Bdf,
+            method: flexmb::integrate::Method::default(),
             max_order: None,
             vtk_step: None,
             max_output_rows: crate::output_limits::DEFAULT_MAX_OUTPUT_ROWS,
@@ -91,10 +91,23 @@ impl Default for SimulationDefaults {
 }
 
 impl SimulationDefaults {
-    /// The integrator settings for `model` with these tolerances and the model's order limit.
-    pub fn integrator(&self, model: &flexmb::Model, rtol: f64, atol: f64) -> flexmb::integrate::BdfConfig {
-        let base = flexmb::integrate::BdfConfig::for_model(model);
-        flexmb::integrate::BdfConfig { rtol, atol, max_order: self.max_order.unwrap_or(base.max_order), ..base }
+    /// The error tolerances and step limits these defaults ask for.
+    pub fn tolerances(&self) -> flexmb::integrate::Tolerances {
+        flexmb::integrate::Tolerances::new(self.rtol, self.atol)
+    }
+
+    /// The integration method for `model`: [`method`](Self::method), the BDF with the settings for the
+    /// model ([`BdfConfig::for_model`](flexmb::integrate::BdfConfig::for_model)) and the order limit
+    /// [`max_order`](Self::max_order).
+    pub fn method_for(&self, model: &flexmb::Model) -> flexmb::integrate::Method {
+        use flexmb::integrate::{BdfConfig, Method};
+        match self.method {
+            Method::Bdf(_) => {
+                let base = BdfConfig::for_model(model);
+                Method::Bdf(BdfConfig { max_order: self.max_order.unwrap_or(base.max_order), ..base })
+            }
+            other => other,
+        }
     }
 
     /// The assembly settings these defaults ask for (with the memory available on this machine as
@@ -118,9 +131,9 @@ impl SimulationDefaults {
         flexmb::analysis::SimulationSettings {
             t_end: self.t_end,
             output_step: self.output_step,
-            integrator: self.integrator(model, self.rtol, self.atol),
+            tolerances: self.tolerances(),
             assembly,
-            method: self.method,
+            method: self.method_for(model),
             physics_limits: self.physics_limits,
         }
     }

@@ -14,7 +14,7 @@ use nalgebra::{DMatrix, DVector, Matrix3xX};
 use crate::analysis::{simulate, SimulationSettings};
 use crate::body::{InitialState, LumpedNode, Marker, ModalBody, ModalInvariants, ModalNode, RigidBody};
 use crate::data::Data;
-use crate::integrate::BdfConfig;
+use crate::integrate::Tolerances;
 use crate::joint::{Joint, JointKind};
 use crate::math::euler_parameters::{g_matrix, rotation_matrix};
 use crate::math::{skew, EulerParameters, Mat3, Vec3, Vec4};
@@ -391,7 +391,7 @@ fn settings(t_end: f64, output_step: f64, tolerance: f64) -> SimulationSettings 
     SimulationSettings {
         t_end,
         output_step,
-        integrator: BdfConfig { rtol: tolerance, atol: tolerance, ..Default::default() },
+        tolerances: Tolerances::new(tolerance, tolerance),
         ..Default::default()
     }
 }

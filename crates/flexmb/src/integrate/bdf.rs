@@ -20,17 +20,18 @@
 
 use crate::analysis::{Accelerations, State};
 use crate::data::Data;
+use crate::integrate::diagnosis::{self, EquationRow};
+use crate::integrate::error_norm::{error_weight, weighted_rms_norm};
 use crate::integrate::iteration_matrix::IterationMatrix;
-use crate::integrate::newton::{ConvergenceTest, Verdict};
+use crate::integrate::newton::{self, ConvergenceTest, NewtonSystem};
 use crate::integrate::{
     check_len, AttemptFailure, BdfCheckpoint, BdfConfig, CheckpointError, IntegrationError, Integrator, IntegratorCheckpoint, Stats,
+    Tolerances,
 };
-use crate::math::euler_parameters::g_matrix;
-use crate::math::{Vec3, Vec4};
 use std::sync::Arc;
 
 use crate::model::Model;
-use crate::stage::{residual, update_angle_references, YLayout};
+use crate::stage::{normalize_euler_parameters, position_rates, residual, update_angle_references, YLayout};
 
 const MAX_ORDER: usize = 5;
 const NEWTON_MAXITER: usize = 4;
@@ -74,6 +75,7 @@ pub struct Bdf {
     y_interp: Vec<f64>,
     yl: YLayout,
     active: Vec<bool>,
+    tolerances: Tolerances,
     config: BdfConfig,
     n: usize,
     n_diff: usize,
@@ -97,11 +99,7 @@ pub struct Bdf {
     /// Accepted steps left during which the error estimates are filtered.
     filter_steps: usize,
     filtered: Vec<f64>,
-    /// Largest step for each order found stable (infinite until a limit is found; orders 1, 2 never).
-    h_limit: [f64; MAX_ORDER + 1],
-    /// Step size and error estimate of the last accepted step.
-    last_h: f64,
-    last_error: f64,
+    stability: StabilityLimits,
     newton_tol: f64,
     y_pred: Vec<f64>,
     psi: Vec<f64>,
@@ -117,11 +115,13 @@ pub struct Bdf {
 }
 
 impl Bdf {
-    /// Starts from a consistent state (assembled, velocity-analysed) and its accelerations.
+    /// Starts from a consistent state (assembled, velocity-analysed) and its accelerations, with the
+    /// error tolerances and step limits of `tolerances` and the order limit of `config`.
     pub fn new(
         model: Arc<Model>,
         state: &State,
         accelerations: &Accelerations,
+        tolerances: Tolerances,
         config: BdfConfig,
     ) -> Result<Self, IntegrationError> {
         let yl = YLayout::new(&model);
@@ -133,16 +133,7 @@ impl Bdf {
         y0[yl.v.clone()].copy_from_slice(&state.v);
         y0[yl.lambda.clone()].copy_from_slice(&accelerations.lambda);
         yp0[yl.v.clone()].copy_from_slice(&accelerations.vdot);
-        for b in 0..model.bodies.len() {
-            let (qo, vo) = (model.layout.q_offset[b], model.layout.v_offset[b]);
-            yp0[qo..qo + 3].copy_from_slice(&state.v[vo..vo + 3]);
-            let p = Vec4::from_column_slice(&state.q[qo + 3..qo + 7]);
-            let w = Vec3::from_column_slice(&state.v[vo + 3..vo + 6]);
-            let p_rate = 0.5 * g_matrix(&p).transpose() * w;
-            yp0[qo + 3..qo + 7].copy_from_slice(p_rate.as_slice());
-            let m = model.layout.modes[b];
-            yp0[qo + 7..qo + 7 + m].copy_from_slice(&state.v[vo + 6..vo + 6 + m]);
-        }
+        position_rates(&model, &state.q, &state.v, &mut yp0[yl.q.clone()]);
         if !y0.iter().chain(&yp0).all(|x| x.is_finite()) {
             return Err(IntegrationError::InitialConditions {
                 t: state.t,
@@ -151,7 +142,10 @@ impl Bdf {
         }
         let max_order = config.max_order.clamp(1, MAX_ORDER);
         let config = BdfConfig { max_order, ..config };
-        let h0 = config.h_init.unwrap_or_else(|| initial_step(&config, &y0[..n_diff], &yp0[..n_diff])).min(config.h_max);
+        let h0 = tolerances
+            .h_init
+            .unwrap_or_else(|| initial_step(&tolerances, &y0[..n_diff], &yp0[..n_diff]))
+            .min(tolerances.h_max);
         let mut d = vec![0.0; (MAX_ORDER + 3) * n];
         d[..n].copy_from_slice(&y0);
         for k in 0..n {
@@ -161,11 +155,12 @@ impl Bdf {
         let references = state_angle_references(&model, &mut data, state);
         data.angle_reference.copy_from_slice(&references);
         let jac = IterationMatrix::new(&model, &yl);
-        let newton_tol = (10.0 * f64::EPSILON / config.rtol).max(config.rtol.sqrt().min(0.03));
+        let newton_tol = tolerances.newton_tolerance();
         let mut bdf = Self {
             model,
             yl,
             active: state.active.clone(),
+            tolerances,
             config,
             n,
             n_diff,
@@ -183,9 +178,7 @@ impl Bdf {
             refresh_ahead: 0,
             filter_steps: 0,
             filtered: vec![0.0; n],
-            h_limit: [f64::INFINITY; MAX_ORDER + 1],
-            last_h: 0.0,
-            last_error: f64::INFINITY,
+            stability: StabilityLimits::new(),
             newton_tol,
             y_pred: vec![0.0; n],
             psi: vec![0.0; n],
@@ -251,9 +244,9 @@ impl Bdf {
             first_reuse_failures: self.first_reuse_failures,
             refresh_ahead: self.refresh_ahead,
             filter_steps: self.filter_steps,
-            step_limits: self.h_limit.to_vec(),
-            last_h: self.last_h,
-            last_error: self.last_error,
+            step_limits: self.stability.h_limit.to_vec(),
+            last_h: self.stability.last_h,
+            last_error: self.stability.last_error,
             active: self.active.clone(),
             angle_reference: self.data.angle_reference.clone(),
             stats: self.stats,
@@ -267,7 +260,7 @@ impl Bdf {
         check_len("the backward differences", self.d.len(), c.differences.len())?;
         check_len("the Jacobian", f_y.len(), c.jacobian.len())?;
         check_len("the Jacobian's derivative part", f_yp.len(), c.jacobian_derivative.len())?;
-        check_len("the stability limits", self.h_limit.len(), c.step_limits.len())?;
+        check_len("the stability limits", self.stability.h_limit.len(), c.step_limits.len())?;
         check_len("the constraint rows in force", self.active.len(), c.active.len())?;
         check_len("the joint angles", self.data.angle_reference.len(), c.angle_reference.len())?;
         if !(1..=self.config.max_order).contains(&c.order) {
@@ -289,9 +282,9 @@ impl Bdf {
         self.first_reuse_failures = c.first_reuse_failures;
         self.refresh_ahead = c.refresh_ahead;
         self.filter_steps = c.filter_steps;
-        self.h_limit.copy_from_slice(&c.step_limits);
-        self.last_h = c.last_h;
-        self.last_error = c.last_error;
+        self.stability.h_limit.copy_from_slice(&c.step_limits);
+        self.stability.last_h = c.last_h;
+        self.stability.last_error = c.last_error;
         self.active.copy_from_slice(&c.active);
         self.data.angle_reference.copy_from_slice(&c.angle_reference);
         self.stats = c.stats;
@@ -355,15 +348,14 @@ impl Bdf {
 
     /// Takes one accepted step, not passing `t_stop`.
     pub fn step(&mut self, t_stop: f64) -> Result<(), IntegrationError> {
-        if self.stats.steps >= self.config.max_steps {
-            return Err(IntegrationError::TooManySteps { t: self.t, max_steps: self.config.max_steps });
+        if self.stats.steps >= self.tolerances.max_steps {
+            return Err(IntegrationError::TooManySteps { t: self.t, max_steps: self.tolerances.max_steps });
         }
-        let n = self.n;
         let t = self.t;
         let min_step = super::smallest_step(t, t_stop);
-        if self.h > self.config.h_max {
-            self.change_differences(self.order, self.config.h_max / self.h);
-            self.h = self.config.h_max;
+        if self.h > self.tolerances.h_max {
+            self.change_differences(self.order, self.tolerances.h_max / self.h);
+            self.h = self.tolerances.h_max;
             self.factored_c = None;
         } else if self.h < min_step {
             self.change_differences(self.order, min_step / self.h);
@@ -387,26 +379,8 @@ impl Bdf {
                 self.factored_c = None;
             }
             let order = self.order;
-            let alpha = GAMMA[order];
-            for k in 0..n {
-                let mut yp = 0.0;
-                let mut psi = 0.0;
-                for j in 0..=order {
-                    let dj = self.d[j * n + k];
-                    yp += dj;
-                    if j > 0 {
-                        psi += dj * GAMMA[j];
-                    }
-                }
-                self.y_pred[k] = yp;
-                self.psi[k] = psi / alpha;
-            }
-            // Weights of every component: the error test uses those of q and v, the Newton
-            // convergence test all of them (as IDA does), so that the multipliers converge too.
-            for k in 0..n {
-                self.scale[k] = self.config.atol + self.config.rtol * self.y_pred[k].abs();
-            }
-            let c = h / alpha;
+            self.predict();
+            let c = h / GAMMA[order];
             if self.refresh_ahead > 0 && self.jac_age > 0 {
                 self.refresh_ahead -= 1;
                 self.refresh_jacobian(t_new, c);
@@ -452,29 +426,10 @@ impl Bdf {
                 self.first_reuse_failures = 0;
             }
             let safety = 0.9 * (2 * NEWTON_MAXITER + 1) as f64 / (2 * NEWTON_MAXITER + iterations) as f64;
-            for k in 0..self.n_diff {
-                self.scale[k] = self.config.atol + self.config.rtol * self.y_new[k].abs();
-            }
-            let mut error_norm = self.rms_norm(&self.corr, error_const(order));
-            if self.filter_steps > 0 || error_norm > 1.0 {
-                self.rhs.copy_from_slice(&self.corr);
-                let filtered = self.filtered_norm(error_const(order));
-                if filtered < FILTER_RATIO * error_norm {
-                    self.filter_steps = FILTER_HOLD;
-                }
-                if self.filter_steps > 0 {
-                    error_norm = filtered;
-                }
-            }
+            let error_norm = self.local_error();
             if error_norm > 1.0 {
-                // The estimate grew fast at an unchanged step size: a lightly damped oscillation that
-                // orders 3–5 amplify at this h λ (they are not A-stable), not the smooth solution.
-                if self.config.stability_limits
-                    && order >= 3
-                    && h == self.last_h
-                    && error_norm > STABILITY_GROWTH * self.last_error
-                {
-                    self.h_limit[order] = self.h_limit[order].min(STABILITY_MARGIN * h);
+                if self.config.stability_limits {
+                    self.stability.error_test_failed(order, h, error_norm);
                 }
                 self.stats.error_test_failures += 1;
                 let factor = MIN_FACTOR.max(safety * error_norm.powf(-1.0 / (order + 1) as f64));
@@ -482,21 +437,29 @@ impl Bdf {
                 self.reduce_step(factor);
                 continue;
             }
-            self.last_h = h;
-            self.last_error = error_norm;
+            self.stability.accepted(h, error_norm);
             break (t_new, safety);
         };
         self.accept(t_new);
         if self.config.stability_limits {
-            self.h_limit.iter_mut().for_each(|l| *l *= STABILITY_RELAX);
+            self.stability.relax();
         }
         let filtering = self.filter_steps > 0;
         self.filter_steps = self.filter_steps.saturating_sub(1);
 
         // Order and step-size selection after k + 1 steps of equal size.
-        if self.n_equal_steps < self.order + 1 {
-            return Ok(());
+        if self.n_equal_steps > self.order {
+            self.select_order_and_step(safety, filtering);
         }
+        Ok(())
+    }
+
+    /// After `k + 1` steps of equal size: the order among `k − 1, k, k + 1` whose error estimate allows
+    /// the largest next step (each bounded by its stability limit), and that step, the differences
+    /// rescaled to it. `safety` is the factor the last Newton iteration allows, `filtering` whether the
+    /// estimates are filtered like the error test's.
+    fn select_order_and_step(&mut self, safety: f64, filtering: bool) {
+        let n = self.n;
         let order = self.order;
         // The estimates at orders k − 1, k, k + 1 from ∇ᵏy, ∇ᵏ⁺¹y, ∇ᵏ⁺²y, filtered like the error test's.
         let estimate = |bdf: &mut Self, row: usize, k: usize| {
@@ -516,7 +479,7 @@ impl Bdf {
         // Each order's step is also bounded by its stability limit (infinite for orders 1 and 2).
         for (i, f) in factors.iter_mut().enumerate() {
             let k = (order + i - 1).min(MAX_ORDER);
-            *f = f.min(self.h_limit[k] / (safety * self.h));
+            *f = f.min(self.stability.h_limit[k] / (safety * self.h));
         }
         let (best, mut best_factor) =
             factors.iter().enumerate().fold((1, factors[1]), |acc, (i, f)| if *f > acc.1 { (i, *f) } else { acc });
@@ -524,7 +487,7 @@ impl Bdf {
         // Held back by stability at order ≥ 3: order 2 (A-stable) may allow a larger step. The order drops
         // directly, not one at a time: the orders in between are not A-stable either (for 2 % damping their
         // unstable bands start at h ω = 0.47 to 0.81).
-        if self.order >= 3 && self.h_limit[self.order] <= safety * self.h * best_factor * (1.0 + 1e-12) {
+        if self.order >= 3 && self.stability.h_limit[self.order] <= safety * self.h * best_factor * (1.0 + 1e-12) {
             let factor_2 = factor_of(estimate(self, 3, 2), 3);
             if factor_2 > best_factor {
                 self.order = 2;
@@ -537,7 +500,55 @@ impl Bdf {
         self.change_differences(new_order, factor);
         self.n_equal_steps = 0;
         self.factored_c = None;
-        Ok(())
+    }
+
+    /// The predictor of the current order from the differences, `y⁽⁰⁾ = Σ_{j≤k} ∇ʲyₙ` (`y_pred`), the
+    /// history term `ψ = Σ_{1≤j≤k} γ_j ∇ʲyₙ / γ_k` (`psi`), and the error weights at the predictor of every
+    /// component: the error test uses those of q and v, the Newton convergence test all of them (as IDA
+    /// does), so that the multipliers converge too.
+    fn predict(&mut self) {
+        let (n, order) = (self.n, self.order);
+        let alpha = GAMMA[order];
+        for k in 0..n {
+            let mut yp = 0.0;
+            let mut psi = 0.0;
+            for j in 0..=order {
+                let dj = self.d[j * n + k];
+                yp += dj;
+                if j > 0 {
+                    psi += dj * GAMMA[j];
+                }
+            }
+            self.y_pred[k] = yp;
+            self.psi[k] = psi / alpha;
+        }
+        let Tolerances { atol, rtol, .. } = self.tolerances;
+        for k in 0..n {
+            self.scale[k] = error_weight(atol, rtol, self.y_pred[k]);
+        }
+    }
+
+    /// The weighted norm of the local error estimate `d/(k + 1)` of the converged corrector, with the
+    /// error weights of the positions and velocities moved to the new values; filtered through the
+    /// iteration matrix while stiff components inflate it (see [`filtered_norm`](Self::filtered_norm)).
+    fn local_error(&mut self) -> f64 {
+        let Tolerances { atol, rtol, .. } = self.tolerances;
+        for k in 0..self.n_diff {
+            self.scale[k] = error_weight(atol, rtol, self.y_new[k]);
+        }
+        let order = self.order;
+        let mut error_norm = self.rms_norm(&self.corr, error_const(order));
+        if self.filter_steps > 0 || error_norm > 1.0 {
+            self.rhs.copy_from_slice(&self.corr);
+            let filtered = self.filtered_norm(error_const(order));
+            if filtered < FILTER_RATIO * error_norm {
+                self.filter_steps = FILTER_HOLD;
+            }
+            if self.filter_steps > 0 {
+                error_norm = filtered;
+            }
+        }
+        error_norm
     }
 
     fn reduce_step(&mut self, factor: f64) {
@@ -562,42 +573,14 @@ impl Bdf {
     /// `c_f` is the `c` the factors were made for; rows are scaled by it and the increments by
     /// `2/(1 + c_f/c)`, which makes the iteration exact for the `F_ẏ` part when `c_f ≠ c`.
     fn newton(&mut self, t_new: f64, c: f64, c_f: f64) -> (bool, usize) {
-        let increment_scale = 2.0 / (1.0 + c_f / c);
         self.corr.fill(0.0);
         self.y_new.copy_from_slice(&self.y_pred);
         let mut test = ConvergenceTest::new(self.newton_tol, NEWTON_MAXITER);
-        for k in 0..NEWTON_MAXITER {
-            for i in 0..self.n {
-                self.yp[i] = (self.psi[i] + self.corr[i]) / c;
-            }
-            residual(&self.model, &mut self.data, &self.yl, &self.active, t_new, &self.y_new, &self.yp, &mut self.res);
-            self.stats.residual_evaluations += 1;
-            if !self.res.iter().all(|x| x.is_finite()) {
-                return (false, k + 1);
-            }
-            for i in 0..self.n {
-                self.rhs[i] = if i < self.n_diff { -c_f * self.res[i] } else { -self.res[i] };
-            }
-            if self.jac.solve_in_place(&mut self.rhs).is_err() {
-                return (false, k + 1);
-            }
-            if increment_scale != 1.0 {
-                self.rhs.iter_mut().for_each(|x| *x *= increment_scale);
-            }
-            self.stats.newton_iterations += 1;
-            let verdict = test.assess(k, self.newton_norm(&self.rhs, c));
-            if verdict == Verdict::Diverging {
-                return (false, k + 1);
-            }
-            for i in 0..self.n {
-                self.y_new[i] += self.rhs[i];
-                self.corr[i] += self.rhs[i];
-            }
-            if verdict == Verdict::Converged {
-                return (true, k + 1);
-            }
-        }
-        (false, NEWTON_MAXITER)
+        let increment_scale = 2.0 / (1.0 + c_f / c);
+        let mut corrector = Corrector { bdf: self, t_new, c, c_f, increment_scale };
+        let outcome = newton::iterate(&mut corrector, &mut test, NEWTON_MAXITER);
+        self.stats.newton_iterations += outcome.solves;
+        (outcome.converged, outcome.iterations)
     }
 
     /// Weighted RMS norm of a Newton increment over all components, multipliers included: a chord
@@ -607,13 +590,10 @@ impl Bdf {
     /// (their impulse over the step), so their increments are weighted by `c` (Hairer and Wanner's
     /// scaling of index-2 components).
     fn newton_norm(&self, x: &[f64], c: f64) -> f64 {
-        let sum: f64 = (0..self.n)
-            .map(|k| {
-                let weight = if k < self.n_diff { 1.0 } else { c };
-                (weight * x[k] / self.scale[k]).powi(2)
-            })
-            .sum();
-        (sum / self.n.max(1) as f64).sqrt()
+        weighted_rms_norm((0..self.n).map(|k| {
+            let weight = if k < self.n_diff { 1.0 } else { c };
+            (weight * x[k], self.scale[k])
+        }))
     }
 
     /// The error estimate `rhs` filtered through the iteration matrix, `x = J⁻¹ [F_ẏ e; F_y e]` with
@@ -637,22 +617,14 @@ impl Bdf {
 
     /// Weighted RMS norm of `factor · x` over the differential components.
     fn rms_norm(&self, x: &[f64], factor: f64) -> f64 {
-        let sum: f64 = (0..self.n_diff).map(|k| (factor * x[k] / self.scale[k]).powi(2)).sum();
-        (sum / self.n_diff.max(1) as f64).sqrt()
+        weighted_rms_norm((0..self.n_diff).map(|k| (factor * x[k], self.scale[k])))
     }
 
     /// Accepts `y_new` at `t_new`: renormalizes Euler parameters, updates the differences and counters.
     fn accept(&mut self, t_new: f64) {
         let n = self.n;
-        for b in 0..self.model.bodies.len() {
-            let qo = self.yl.q.start + self.model.layout.q_offset[b];
-            let norm = (3..7).map(|k| self.y_new[qo + k].powi(2)).sum::<f64>().sqrt();
-            for k in 3..7 {
-                let normalized = self.y_new[qo + k] / norm;
-                self.corr[qo + k] += normalized - self.y_new[qo + k];
-                self.y_new[qo + k] = normalized;
-            }
-        }
+        let (corr, q_start) = (&mut self.corr, self.yl.q.start);
+        normalize_euler_parameters(&self.model, &mut self.y_new[self.yl.q.clone()], |k, change| corr[q_start + k] += change);
         let h = t_new - self.t;
         self.t_old = self.t;
         self.t = t_new;
@@ -689,45 +661,117 @@ impl Bdf {
             self.yp[k] = self.psi[k] / c;
         }
         residual(&self.model, &mut self.data, &self.yl, &self.active, t_new, &self.y_pred, &self.yp, &mut self.res);
-        let worst = |rows: std::ops::Range<usize>, scale: f64| {
-            rows.map(|i| (i, (scale * self.res[i]).abs())).fold((usize::MAX, 0.0), |a, x| if x.1 > a.1 { x } else { a })
-        };
-        let (row_d, value_d) = worst(0..self.n_diff, c);
-        let (row_c, value_c) = worst(self.yl.lambda.start..self.n, 1.0);
-        let mut text = String::new();
-        if row_d != usize::MAX {
-            text += &format!("largest residual {value_d:.3e} in {}", describe_y_row(&self.model, &self.yl, row_d));
-        }
-        if row_c != usize::MAX {
-            text += &format!(
-                "; largest constraint residual {value_c:.3e} in {}",
-                describe_y_row(&self.model, &self.yl, row_c)
-            );
-        }
-        let q = self.y_pred[self.yl.q.clone()].to_vec();
-        if let Some(note) = crate::analysis::newly_dependent_rows(&self.model, &mut self.data, t_new, &q, &self.active) {
-            text += "; ";
-            text += &note;
-        }
-        text
+        let (model, yl, res, n_diff) = (&self.model, &self.yl, &self.res, self.n_diff);
+        diagnosis::worst_equations(
+            model,
+            &mut self.data,
+            t_new,
+            &self.y_pred[yl.q.clone()],
+            &self.active,
+            (0..n_diff, yl.lambda.start..self.n),
+            // The differential rows' residuals are rates; times c they are the change over the step.
+            |i| if i < n_diff { c * res[i] } else { res[i] },
+            |row| equation_row(model, yl, row),
+        )
     }
 }
 
+/// The step bounds of orders 3–5 learned from unstable steps ([`BdfConfig::stability_limits`]).
+struct StabilityLimits {
+    /// Largest step for each order found stable (infinite until a limit is found; orders 1, 2 never).
+    h_limit: [f64; MAX_ORDER + 1],
+    /// Step size and error estimate of the last accepted step.
+    last_h: f64,
+    last_error: f64,
+}
 
-/// Names row `row` of the residual.
-fn describe_y_row(model: &Model, yl: &YLayout, row: usize) -> String {
-    let l = &model.layout;
+impl StabilityLimits {
+    fn new() -> Self {
+        Self { h_limit: [f64::INFINITY; MAX_ORDER + 1], last_h: 0.0, last_error: f64::INFINITY }
+    }
+
+    /// An error-test failure with estimate `error_norm` at `order` and step `h`. If the estimate grew fast
+    /// at an unchanged step size, a lightly damped oscillation that orders 3–5 amplify at this `h λ` (they
+    /// are not A-stable), not the smooth solution, made it: the order's steps are kept below this one.
+    fn error_test_failed(&mut self, order: usize, h: f64, error_norm: f64) {
+        if order >= 3 && h == self.last_h && error_norm > STABILITY_GROWTH * self.last_error {
+            self.h_limit[order] = self.h_limit[order].min(STABILITY_MARGIN * h);
+        }
+    }
+
+    /// A step of size `h` accepted with estimate `error_norm`.
+    fn accepted(&mut self, h: f64, error_norm: f64) {
+        self.last_h = h;
+        self.last_error = error_norm;
+    }
+
+    /// Relaxes every bound by [`STABILITY_RELAX`] (once per accepted step), so that an order is retried.
+    fn relax(&mut self) {
+        self.h_limit.iter_mut().for_each(|l| *l *= STABILITY_RELAX);
+    }
+}
+
+/// The corrector equations `F(t_new, y⁽⁰⁾ + d, (ψ + d)/c) = 0` of one attempt, in the correction `d`
+/// (`corr`, with the iterate `y_new = y⁽⁰⁾ + d`), for the Newton driver.
+struct Corrector<'a> {
+    bdf: &'a mut Bdf,
+    t_new: f64,
+    c: f64,
+    /// The `c` the factors were made for, and the increments' scale `2/(1 + c_f/c)`.
+    c_f: f64,
+    increment_scale: f64,
+}
+
+impl NewtonSystem for Corrector<'_> {
+    fn residual(&mut self, _k: usize) -> &[f64] {
+        let b = &mut *self.bdf;
+        for i in 0..b.n {
+            b.yp[i] = (b.psi[i] + b.corr[i]) / self.c;
+        }
+        residual(&b.model, &mut b.data, &b.yl, &b.active, self.t_new, &b.y_new, &b.yp, &mut b.res);
+        b.stats.residual_evaluations += 1;
+        &b.res
+    }
+
+    fn solve(&mut self) -> bool {
+        let b = &mut *self.bdf;
+        for i in 0..b.n {
+            b.rhs[i] = if i < b.n_diff { -self.c_f * b.res[i] } else { -b.res[i] };
+        }
+        if b.jac.solve_in_place(&mut b.rhs).is_err() {
+            return false;
+        }
+        if self.increment_scale != 1.0 {
+            b.rhs.iter_mut().for_each(|x| *x *= self.increment_scale);
+        }
+        true
+    }
+
+    fn increment_norm(&mut self) -> f64 {
+        self.bdf.newton_norm(&self.bdf.rhs, self.c)
+    }
+
+    fn apply(&mut self) {
+        let b = &mut *self.bdf;
+        for i in 0..b.n {
+            b.y_new[i] += b.rhs[i];
+            b.corr[i] += b.rhs[i];
+        }
+    }
+}
+
+/// What row `row` of the residual is.
+fn equation_row(model: &Model, yl: &YLayout, row: usize) -> EquationRow {
     if yl.q.contains(&row) {
-        let b = l.body_of_position(row - yl.q.start);
-        format!("the kinematic equations of body '{}'", model.bodies[b.0].name)
+        EquationRow::Kinematic(model.layout.body_of_position(row - yl.q.start).0)
     } else if yl.v.contains(&row) {
-        model.describe_velocity_row(row - yl.v.start)
+        EquationRow::Motion(row - yl.v.start)
     } else if yl.lambda.contains(&row) {
-        format!("the velocity constraint of {}", model.describe_constraint_row(row - yl.lambda.start))
-    } else if row - yl.mu.start < l.nc {
-        format!("the position constraint of {}", model.describe_constraint_row(row - yl.mu.start))
+        EquationRow::VelocityConstraint(row - yl.lambda.start)
+    } else if row - yl.mu.start < model.layout.nc {
+        EquationRow::PositionConstraint(row - yl.mu.start)
     } else {
-        format!("the Euler-parameter normalization of body '{}'", model.bodies[row - yl.mu.start - l.nc].name)
+        EquationRow::Normalization(row - yl.mu.start - model.layout.nc)
     }
 }
 
@@ -752,15 +796,9 @@ fn compute_r(order: usize, factor: f64) -> [[f64; MAX_ORDER + 1]; MAX_ORDER + 1]
 }
 
 /// First step from the size of the state and its derivative (Hairer, Nørsett and Wanner, II.4).
-fn initial_step(config: &BdfConfig, y0: &[f64], yp0: &[f64]) -> f64 {
-    let norm = |x: &[f64]| {
-        let s: f64 = x
-            .iter()
-            .zip(y0)
-            .map(|(xi, yi)| (xi / (config.atol + config.rtol * yi.abs())).powi(2))
-            .sum();
-        (s / x.len().max(1) as f64).sqrt()
-    };
+fn initial_step(tolerances: &Tolerances, y0: &[f64], yp0: &[f64]) -> f64 {
+    let Tolerances { atol, rtol, .. } = *tolerances;
+    let norm = |x: &[f64]| weighted_rms_norm(x.iter().zip(y0).map(|(&xi, &yi)| (xi, error_weight(atol, rtol, yi))));
     let d0 = norm(y0);
     let d1 = norm(yp0);
     let h = if d0 < 1e-5 || d1 < 1e-5 { 1e-6 } else { 0.01 * d0 / d1 };

@@ -2,7 +2,7 @@
 
 use crate::analysis::test_models::pendulum_with_stiff_slider;
 use crate::analysis::{simulate, SimulationReport, SimulationSettings};
-use crate::integrate::BdfConfig;
+use crate::integrate::Tolerances;
 use crate::math::Vec3;
 use crate::model::Model;
 
@@ -11,7 +11,7 @@ fn bob_path(model: &Model, tol: f64) -> (Vec<Vec3>, SimulationReport) {
     let settings = SimulationSettings {
         t_end: 2.0,
         output_step: 0.01,
-        integrator: BdfConfig { rtol: tol, atol: tol, ..Default::default() },
+        tolerances: Tolerances::new(tol, tol),
         ..Default::default()
     };
     let mut path = Vec::new();

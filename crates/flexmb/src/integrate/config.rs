@@ -1,20 +1,11 @@
 //! Integrator settings with documented defaults.
 
-/// Settings of the BDF integrator.
-#[derive(Clone, Copy, Debug)]
+/// Settings of the BDF that the other methods do not share (tolerances and step limits are in
+/// [`Tolerances`](super::Tolerances)).
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BdfConfig {
-    /// Relative tolerance of the local error test on positions and velocities. Default `1e-6`.
-    pub rtol: f64,
-    /// Absolute tolerance (m, rad, m/s, rad/s alike). Default `1e-6`.
-    pub atol: f64,
-    /// Largest step (s). Default unlimited.
-    pub h_max: f64,
-    /// First step (s); chosen from the initial derivatives when `None`.
-    pub h_init: Option<f64>,
     /// Highest order used, 1 to 5. Default 5.
     pub max_order: usize,
-    /// Most steps before giving up. Default 10⁷.
-    pub max_steps: usize,
     /// Detect steps limited by the stability of orders 3–5 and choose the order accordingly. BDF orders
     /// above 2 are not A-stable: a lightly damped oscillation whose `h λ` falls near the imaginary axis
     /// (for 2 % damping: `h ω` from 0.47 to 1.8 at order 3, 0.59 to 4.6 at order 4, 0.81 to 9.2 at order 5)
@@ -44,24 +35,15 @@ impl BdfConfig {
 
 impl Default for BdfConfig {
     fn default() -> Self {
-        Self {
-            rtol: 1e-6,
-            atol: 1e-6,
-            h_max: f64::INFINITY,
-            h_init: None,
-            max_order: 5,
-            max_steps: 10_000_000,
-            stability_limits: false,
-        }
+        Self { max_order: 5, stability_limits: false }
     }
 }
 
 /// The integration method of a simulation.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Method {
     /// Variable-order (1–5), variable-step BDF on the stabilized index-2 equations (stiff; default).
-    #[default]
-    Bdf,
+    Bdf(BdfConfig),
     /// Variable-order (1–12), variable-step Adams–Bashforth–Moulton PECE method of Shampine and Gordon,
     /// the DADS code's non-stiff method, on `y = [q, v]` with the positions and velocities projected
     /// onto the constraints after every step (non-stiff: the step follows the highest frequency); see
@@ -70,13 +52,26 @@ pub enum Method {
     /// Generalized-α (Arnold–Brüls, stabilized index-2 constraints, Lie-group position update) with
     /// high-frequency spectral radius `spectral_radius` ∈ [0, 1], fixed second order, step size from a
     /// local error estimate; see [`GeneralizedAlphaConfig`].
-    GeneralizedAlpha {
-        /// `ρ∞` ∈ [0, 1].
-        spectral_radius: f64,
-    },
+    GeneralizedAlpha(GeneralizedAlphaConfig),
 }
 
-/// Settings of the generalized-α method; the tolerances and step limits are those of [`BdfConfig`].
+impl Default for Method {
+    /// The BDF with its default settings.
+    fn default() -> Self {
+        Method::Bdf(BdfConfig::default())
+    }
+}
+
+impl Method {
+    /// The generalized-α method with high-frequency spectral radius `spectral_radius` and the step size
+    /// from its local error estimate.
+    pub fn generalized_alpha(spectral_radius: f64) -> Self {
+        Method::GeneralizedAlpha(GeneralizedAlphaConfig { spectral_radius, ..Default::default() })
+    }
+}
+
+/// Settings of the generalized-α method that the other methods do not share (tolerances and step limits
+/// are in [`Tolerances`](super::Tolerances)).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GeneralizedAlphaConfig {
     /// Spectral radius at infinite frequency `ρ∞` ∈ [0, 1]: the factor by which the amplitude of an

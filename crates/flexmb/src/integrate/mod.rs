@@ -1,6 +1,7 @@
 //! Time integration of the equations of motion.
 //!
-//! Three methods implement [`Integrator`], chosen by [`Method`]. The default is a variable-order (1–5),
+//! Three methods implement [`Integrator`], chosen by [`Method`] (with each method's own settings), all
+//! reading one record of error tolerances and step limits, [`Tolerances`]. The default is a variable-order (1–5),
 //! variable-step BDF in the backward-difference form of Shampine and Reichelt (the MATLAB `ode15s`
 //! family, with `κ = 0`, i.e. true BDF as in DASSL) applied to the stabilized index-2 form of the
 //! equations (see [`crate::stage`] `residual`).
@@ -12,7 +13,7 @@
 //! keeps the velocities accurate. The cost is `nc + nb` extra unknowns `μ`, which are zero at the
 //! solution.
 //!
-//! [`GeneralizedAlpha`] (`Method::GeneralizedAlpha { spectral_radius }`) is the generalized-α method of
+//! [`GeneralizedAlpha`] (`Method::GeneralizedAlpha`) is the generalized-α method of
 //! Chung and Hulbert in Arnold and Brüls's form, with stabilized index-2 constraints, the positions updated
 //! on their Lie group and the step size from a local error estimate: second order, with numerical damping
 //! of unresolved high frequencies set by `ρ∞` (see [`generalized_alpha`]).
@@ -25,12 +26,15 @@ pub mod adams;
 mod bdf;
 mod checkpoint;
 mod config;
+mod diagnosis;
 mod error;
+mod error_norm;
 pub mod generalized_alpha;
 mod integrator;
 mod iteration_matrix;
 mod newton;
 mod stats;
+mod tolerances;
 
 pub use adams::{Adams, AdamsConfig};
 pub use bdf::Bdf;
@@ -43,6 +47,7 @@ pub use error::IntegrationError;
 pub use generalized_alpha::GeneralizedAlpha;
 pub use integrator::Integrator;
 pub use stats::Stats;
+pub use tolerances::Tolerances;
 
 /// The smallest step an integrator takes at `t` toward `t_stop` before it declares a failure: ten
 /// units of rounding of the time scale `max(|t|, |t_stop|)`, as in DASSL (`|t|` alone when there is no

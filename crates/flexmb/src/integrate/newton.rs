@@ -1,5 +1,7 @@
-//! The convergence test of the simplified Newton iterations of the implicit methods (the BDF and the
-//! generalized-α method): the rate-based test of Shampine (Hairer and Wanner, *Solving Ordinary
+//! The simplified Newton iteration of the implicit methods (the BDF and the generalized-α method):
+//! [`iterate`] drives it (evaluate the residual, check it is finite, solve with the factored iteration
+//! matrix, test the increment, apply it), each method supplying its equations as a [`NewtonSystem`];
+//! the convergence test is the rate-based test of Shampine (Hairer and Wanner, *Solving Ordinary
 //! Differential Equations II*, section IV.8), with an absolute test for increments lost in round-off.
 
 /// What an iteration does with its increment.
@@ -58,6 +60,55 @@ impl ConvergenceTest {
     }
 }
 
+/// The equations of one simplified Newton iteration, as an implicit method gives them to [`iterate`].
+pub(crate) trait NewtonSystem {
+    /// Evaluates the residual at the current iterate (iteration `k`, from 0) and returns it.
+    fn residual(&mut self, k: usize) -> &[f64];
+    /// Solves the factored iteration matrix for the increment from the residual; `false` when it cannot.
+    fn solve(&mut self) -> bool;
+    /// The weighted norm of the increment, the convergence test's measure.
+    fn increment_norm(&mut self) -> f64;
+    /// Adds the increment to the iterate.
+    fn apply(&mut self);
+}
+
+/// How a Newton iteration ended.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct NewtonOutcome {
+    /// The iteration converged (its last increment applied).
+    pub converged: bool,
+    /// Iterations begun (residuals evaluated).
+    pub iterations: usize,
+    /// Linear solves made, the Newton iterations of the statistics.
+    pub solves: usize,
+}
+
+/// At most `max_iterations` simplified Newton iterations on `system`, tested by `test` (made for the same
+/// `max_iterations`): a residual that is not finite, a failed solve or a diverging increment ends it
+/// unconverged, the increment of a diverging iteration not applied.
+pub(crate) fn iterate(system: &mut impl NewtonSystem, test: &mut ConvergenceTest, max_iterations: usize) -> NewtonOutcome {
+    let mut solves = 0;
+    let end = |converged: bool, iterations: usize, solves: usize| NewtonOutcome { converged, iterations, solves };
+    for k in 0..max_iterations {
+        if !system.residual(k).iter().all(|x| x.is_finite()) {
+            return end(false, k + 1, solves);
+        }
+        if !system.solve() {
+            return end(false, k + 1, solves);
+        }
+        solves += 1;
+        let verdict = test.assess(k, system.increment_norm());
+        if verdict == Verdict::Diverging {
+            return end(false, k + 1, solves);
+        }
+        system.apply();
+        if verdict == Verdict::Converged {
+            return end(true, k + 1, solves);
+        }
+    }
+    end(false, max_iterations, solves)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -84,5 +135,55 @@ mod tests {
         let mut test = ConvergenceTest::new(1e-3, 4);
         assert_eq!(test.assess(0, 1e-7), Verdict::Continue);
         assert_eq!(test.assess(1, 2e-7), Verdict::Diverging);
+    }
+
+    /// Newton's method on the scalar `x² − 2 = 0` with the derivative frozen at the start (a chord
+    /// iteration, as the integrators' reused iteration matrix): it converges linearly to √2, at the
+    /// rate `|1 − f'(√2)/f'(x₀)|`.
+    struct Chord {
+        x: f64,
+        slope: f64,
+        residual: [f64; 1],
+        dx: f64,
+    }
+
+    impl NewtonSystem for Chord {
+        fn residual(&mut self, _k: usize) -> &[f64] {
+            self.residual[0] = self.x * self.x - 2.0;
+            &self.residual
+        }
+        fn solve(&mut self) -> bool {
+            self.dx = -self.residual[0] / self.slope;
+            true
+        }
+        fn increment_norm(&mut self) -> f64 {
+            self.dx.abs()
+        }
+        fn apply(&mut self) {
+            self.x += self.dx;
+        }
+    }
+
+    #[test]
+    fn a_chord_iteration_converges_to_the_root_within_the_tolerance() {
+        let mut chord = Chord { x: 1.5, slope: 3.0, residual: [0.0], dx: 0.0 };
+        let mut test = ConvergenceTest::new(1e-10, 8);
+        let outcome = iterate(&mut chord, &mut test, 8);
+        assert!(outcome.converged, "{outcome:?}");
+        assert_eq!(outcome.iterations, outcome.solves);
+        assert!((chord.x - 2f64.sqrt()).abs() < 1e-10, "{}", chord.x);
+        let rate = (1.0 - 2.0 * 2f64.sqrt() / 3.0).abs();
+        assert!((test.slowest - rate).abs() < 0.02, "contraction {} against {rate}", test.slowest);
+    }
+
+    #[test]
+    fn a_diverging_or_not_finite_iteration_stops_unconverged() {
+        // A slope of the wrong sign: the iterates run away from the root.
+        let mut chord = Chord { x: 1.5, slope: -3.0, residual: [0.0], dx: 0.0 };
+        let outcome = iterate(&mut chord, &mut ConvergenceTest::new(1e-10, 8), 8);
+        assert!(!outcome.converged && outcome.iterations < 8, "{outcome:?}");
+        let mut chord = Chord { x: f64::INFINITY, slope: 3.0, residual: [0.0], dx: 0.0 };
+        let outcome = iterate(&mut chord, &mut ConvergenceTest::new(1e-10, 8), 8);
+        assert_eq!(outcome, NewtonOutcome { converged: false, iterations: 1, solves: 0 });
     }
 }

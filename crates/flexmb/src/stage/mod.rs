@@ -4,6 +4,7 @@
 //! ([`AccelerationSolver`](crate::analysis::AccelerationSolver)) and the linearization are built on it.
 
 mod constraints;
+mod coordinate_rates;
 mod energy;
 mod equations_of_motion;
 mod forces;
@@ -15,6 +16,7 @@ mod modal;
 mod residual;
 
 pub(crate) use constraints::{add_jacobian_transpose, constraint_equations, jacobian_entries};
+pub(crate) use coordinate_rates::{euler_parameter_rates, normalize_euler_parameters, position_rates};
 pub use energy::Energy;
 pub(crate) use equations_of_motion::equations_of_motion;
 pub(crate) use energy::{energy, nonconservative_power};

@@ -18,7 +18,7 @@ use crate::data::Data;
 use crate::math::euler_parameters::g_matrix;
 use crate::math::{Vec3, Vec4};
 use crate::model::Model;
-use crate::stage::{add_jacobian_transpose, run_forward};
+use crate::stage::{add_jacobian_transpose, euler_parameter_rates, run_forward};
 
 /// Ranges of the blocks of `y = [q, v, λ, μ]` (and of the matching residual rows).
 #[derive(Clone, Debug)]
@@ -85,7 +85,7 @@ pub(crate) fn residual(
         let mu_r = Vec3::new(bt[vo], bt[vo + 1], bt[vo + 2]);
         let mu_w = Vec3::new(bt[vo + 3], bt[vo + 4], bt[vo + 5]);
         let mu_norm = mu[nc + b];
-        let p_rate = 0.5 * g.transpose() * w_bar + 2.0 * g.transpose() * mu_w + 2.0 * mu_norm * p;
+        let p_rate = euler_parameter_rates(&p, &w_bar) + 2.0 * g.transpose() * mu_w + 2.0 * mu_norm * p;
         for k in 0..3 {
             res[qo + k] = qp[qo + k] - v[vo + k] - mu_r[k];
         }

@@ -4,7 +4,7 @@
 
 use flexmb::analysis::{output_columns, simulate, SimulationError, SimulationReport, SimulationSettings};
 use flexmb::body::{InitialState, LumpedNode, Marker, ModalBody, ModalDamping, RigidBody};
-use flexmb::integrate::BdfConfig;
+use flexmb::integrate::Tolerances;
 use flexmb::force::{ForceElement, ForceKind};
 use flexmb::joint::{Joint, JointKind};
 use flexmb::math::{EulerParameters, Mat3, Vec3};
@@ -60,7 +60,7 @@ pub fn settings(t_end: f64, output_step: f64, tol: f64) -> SimulationSettings {
     SimulationSettings {
         t_end,
         output_step,
-        integrator: BdfConfig { rtol: tol, atol: tol, ..Default::default() },
+        tolerances: Tolerances::new(tol, tol),
         ..Default::default()
     }
 }

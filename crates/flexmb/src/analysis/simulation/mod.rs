@@ -25,7 +25,7 @@ use super::{assemble, linearize_at, velocity_analysis, AccelerationSolver, Accel
 use crate::data::Data;
 use crate::integrate::Adams;
 use crate::integrate::{Bdf, Integrator, Method};
-use crate::integrate::{GeneralizedAlpha, GeneralizedAlphaConfig};
+use crate::integrate::GeneralizedAlpha;
 use crate::model::{BodyId, Model};
 use crate::stage::{energy, run_kinematic_stages, measures, nonconservative_power};
 
@@ -138,7 +138,7 @@ impl Simulation {
         accelerations: AccelerationSolver,
         report: SimulationReport,
     ) -> Self {
-        let watchdog = Watchdog::new(&model, settings.physics_limits, settings.integrator.atol);
+        let watchdog = Watchdog::new(&model, settings.physics_limits, settings.tolerances.atol);
         let active = integrator.active().to_vec();
         let (nq, nv) = (model.layout.nq, model.layout.nv);
         Self {
@@ -557,15 +557,14 @@ fn start_integrator(
 ) -> Result<Box<dyn Integrator>, SimulationFailure> {
     let model = Arc::clone(model);
     Ok(match settings.method {
-        Method::Bdf => Box::new(Bdf::new(model, state, acc, settings.integrator)?),
+        Method::Bdf(config) => Box::new(Bdf::new(model, state, acc, settings.tolerances, config)?),
         Method::Adams(config) => {
             config.validate().map_err(SimulationFailure::Invalid)?;
-            Box::new(Adams::new(model, state, acc, settings.integrator, config)?)
+            Box::new(Adams::new(model, state, acc, settings.tolerances, config)?)
         }
-        Method::GeneralizedAlpha { spectral_radius } => {
-            let config = GeneralizedAlphaConfig { spectral_radius, ..Default::default() };
+        Method::GeneralizedAlpha(config) => {
             config.validate().map_err(SimulationFailure::Invalid)?;
-            Box::new(GeneralizedAlpha::new(model, state, acc, settings.integrator, config)?)
+            Box::new(GeneralizedAlpha::new(model, state, acc, settings.tolerances, config)?)
         }
     })
 }

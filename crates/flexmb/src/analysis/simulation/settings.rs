@@ -2,7 +2,7 @@
 //! the physics watchdog's limits.
 
 use crate::analysis::{AssemblySettings, PhysicsLimits};
-use crate::integrate::{BdfConfig, Method};
+use crate::integrate::{Method, Tolerances};
 
 /// What to simulate and how.
 #[derive(Clone, Copy, Debug)]
@@ -11,11 +11,12 @@ pub struct SimulationSettings {
     pub t_end: f64,
     /// Spacing of the output times (s).
     pub output_step: f64,
-    /// Tolerances and step limits (every method reads them; `max_order` is each method's own).
-    pub integrator: BdfConfig,
+    /// Error tolerances and step limits (every method reads them).
+    pub tolerances: Tolerances,
     /// How the initial positions are assembled onto the constraints.
     pub assembly: AssemblySettings,
-    /// The integration method. Default [`Method::Bdf`].
+    /// The integration method with its own settings. Default [`Method::Bdf`] with
+    /// [`BdfConfig::default`](crate::integrate::BdfConfig::default).
     pub method: Method,
     /// When the physics watchdog warns and when it stops the run.
     pub physics_limits: PhysicsLimits,
@@ -26,9 +27,9 @@ impl Default for SimulationSettings {
         Self {
             t_end: 1.0,
             output_step: 0.01,
-            integrator: BdfConfig::default(),
+            tolerances: Tolerances::default(),
             assembly: AssemblySettings::default(),
-            method: Method::Bdf,
+            method: Method::default(),
             physics_limits: PhysicsLimits::default(),
         }
     }

@@ -5,8 +5,6 @@
 use crate::data::Data;
 use crate::integrate::adams::method::EvaluationFailure;
 use crate::analysis::AccelerationSolver;
-use crate::math::euler_parameters::g_matrix;
-use crate::math::{Vec3, Vec4};
 use crate::model::Model;
 
 pub(super) const SINGULAR: EvaluationFailure =
@@ -81,33 +79,6 @@ impl Kkt {
         }
         self.solver.solve_in_place(&mut self.rhs).map_err(|_| SINGULAR)
     }
-}
-
-/// `q̇ = T(q) v`: `Ṙ`, `ṗ = ½ Gᵀ(p) ω̄`, `ȧ` per body.
-pub(super) fn velocity_map(model: &Model, q: &[f64], v: &[f64], qdot: &mut [f64]) {
-    let l = &model.layout;
-    for b in 0..model.bodies.len() {
-        let (qo, vo, m) = (l.q_offset[b], l.v_offset[b], l.modes[b]);
-        qdot[qo..qo + 3].copy_from_slice(&v[vo..vo + 3]);
-        let p = Vec4::new(q[qo + 3], q[qo + 4], q[qo + 5], q[qo + 6]);
-        let w = Vec3::new(v[vo + 3], v[vo + 4], v[vo + 5]);
-        let p_rate = 0.5 * g_matrix(&p).transpose() * w;
-        qdot[qo + 3..qo + 7].copy_from_slice(p_rate.as_slice());
-        qdot[qo + 7..qo + 7 + m].copy_from_slice(&v[vo + 6..vo + 6 + m]);
-    }
-}
-
-/// Rescales every body's Euler parameters to unit norm; returns the largest `|pᵀp − 1|` found.
-pub(super) fn normalize_euler_parameters(model: &Model, q: &mut [f64]) -> f64 {
-    let mut worst = 0.0_f64;
-    for b in 0..model.bodies.len() {
-        let qo = model.layout.q_offset[b];
-        let norm2: f64 = (3..7).map(|k| q[qo + k].powi(2)).sum();
-        worst = worst.max((norm2 - 1.0).abs());
-        let norm = norm2.sqrt();
-        q[qo + 3..qo + 7].iter_mut().for_each(|x| *x /= norm);
-    }
-    worst
 }
 
 /// The largest `|Φ|` over the active rows (after the constraint stage).

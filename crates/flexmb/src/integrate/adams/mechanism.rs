@@ -34,12 +34,12 @@ use crate::data::Data;
 use std::sync::Arc;
 
 use crate::integrate::{
-    check_len, AdamsCheckpoint, BdfConfig, CheckpointError, IntegrationError, Integrator, IntegratorCheckpoint, Stats,
+    check_len, AdamsCheckpoint, CheckpointError, IntegrationError, Integrator, IntegratorCheckpoint, Stats, Tolerances,
 };
 use crate::model::Model;
 use crate::stage::{kinematics, update_angle_references};
 
-use super::kkt::velocity_map;
+use crate::stage::position_rates;
 use super::method::{AdamsStepper, AttemptFailure, EvaluationFailure, OdeSystem, StepControl, StepFailure};
 use super::partitioning::{PartitionReport, PartitionedMechanism};
 use super::projection::{ProjectedMechanism, ProjectionDrift};
@@ -99,13 +99,13 @@ pub struct Adams {
 
 impl Adams {
     /// Starts from a consistent state (assembled, velocity-analysed) and its accelerations, with the
-    /// tolerances and step limits of `tolerances` (its `max_order` is the BDF's and is ignored) and the
+    /// tolerances and step limits of `tolerances` and the
     /// order limit and constraint handling of `config`.
     pub fn new(
         model: Arc<Model>,
         state: &State,
         accelerations: &Accelerations,
-        tolerances: BdfConfig,
+        tolerances: Tolerances,
         config: AdamsConfig,
     ) -> Result<Self, IntegrationError> {
         let (nq, nv) = (model.layout.nq, model.layout.nv);
@@ -140,7 +140,7 @@ impl Adams {
                 y0[..nq].copy_from_slice(&state.q);
                 y0[nq..].copy_from_slice(&state.v);
                 yp0[nq..].copy_from_slice(&accelerations.vdot);
-                velocity_map(&model, &state.q, &state.v, &mut yp0[..nq]);
+                position_rates(&model, &state.q, &state.v, &mut yp0[..nq]);
                 (System::Projection(Box::new(system)), y0, yp0)
             }
             ConstraintHandling::Partitioning => {
@@ -357,9 +357,7 @@ impl Adams {
         let q = Integrator::state(self).0.to_vec();
         let model = Arc::clone(self.system.model());
         let active = self.system.active().to_vec();
-        crate::analysis::newly_dependent_rows(&model, self.system.data(), t, &q, &active)
-            .map(|note| format!("; {note}"))
-            .unwrap_or_default()
+        crate::integrate::diagnosis::dependent_constraints(&model, self.system.data(), t, &q, &active)
     }
 }
 

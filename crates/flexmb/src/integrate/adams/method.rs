@@ -42,6 +42,8 @@
 //!
 //! Nothing here allocates after [`AdamsStepper::new`].
 
+use crate::integrate::error_norm::error_weight;
+
 /// Highest order of the method (the order of its Adams–Bashforth predictor).
 pub const MAX_ORDER: usize = 12;
 
@@ -358,7 +360,7 @@ impl AdamsStepper {
         let root_n = (n.max(1) as f64).sqrt();
         if !self.fixed {
             for l in 0..n {
-                self.wt[l] = (self.control.rtol * self.y[l].abs() + self.control.atol) * root_n;
+                self.wt[l] = error_weight(self.control.atol, self.control.rtol, self.y[l]) * root_n;
             }
         }
         let eps = 1.0;

@@ -39,8 +39,8 @@ pub use method::{
 pub use partitioning::{PartitionCheckpoint, PartitionReport};
 pub use projection::ProjectionDrift;
 
-/// Settings of the Adams method that the BDF does not share (tolerances, step limits and the step
-/// count limit come from [`BdfConfig`](super::BdfConfig), whose `max_order` the Adams method ignores).
+/// Settings of the Adams method that the other methods do not share (tolerances, step limits and the
+/// step count limit are in [`Tolerances`](super::Tolerances)).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AdamsConfig {
     /// Highest order `k` of the Adams–Bashforth predictor, 1 to 12; the Adams–Moulton corrector, with

@@ -27,7 +27,9 @@ use crate::math::{Vec3, Vec4};
 use crate::model::Model;
 use crate::stage::{jacobian_entries, run_kinematic_stages, kinematics, update_angle_references};
 
-use super::kkt::{velocity_map, Kkt};
+use super::kkt::Kkt;
+use crate::integrate::error_norm::{error_weight, root_mean_square};
+use crate::stage::position_rates;
 use super::method::{EvaluationFailure, OdeSystem};
 
 /// Newton iterations for the dependent coordinates of one evaluation, at most.
@@ -210,7 +212,7 @@ impl PartitionedMechanism {
         let rows: Vec<usize> = (0..l.nc).filter(|r| active[*r]).collect();
         let m = rows.len() + model.bodies.len();
         let mut qdot = vec![0.0; nq];
-        velocity_map(&model, q, v, &mut qdot);
+        position_rates(&model, q, v, &mut qdot);
         let mut s = Self {
             data: Data::new(&model),
             kkt: Kkt::new(&model, active),
@@ -409,13 +411,13 @@ impl PartitionedMechanism {
             let mut sum = 0.0;
             let mut at_round_off = true;
             for (j, &c) in self.state.dependent.iter().enumerate() {
-                sum += (dx[j] / (self.atol + self.rtol * self.state.q[c].abs())).powi(2);
+                sum += (dx[j] / error_weight(self.atol, self.rtol, self.state.q[c])).powi(2);
                 at_round_off &= dx[j].abs() <= 16.0 * f64::EPSILON * self.state.q[c].abs().max(1.0);
                 self.state.q[c] += dx[j];
             }
             self.phi = dx;
             self.state.report.newton_iterations += 1;
-            let size = (sum / self.m.max(1) as f64).sqrt();
+            let size = root_mean_square(sum, self.m);
             // Converged far below the tolerance, or as far as the precision allows.
             if size <= CORRECTION_TOLERANCE || at_round_off {
                 return Ok(());

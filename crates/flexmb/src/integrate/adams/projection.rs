@@ -38,7 +38,10 @@ use std::sync::Arc;
 use crate::model::Model;
 use crate::stage::{run_kinematic_stages, update_angle_references};
 
-use super::kkt::{constraint_rate, normalize_euler_parameters, position_residual, velocity_map, Kkt};
+use super::kkt::{constraint_rate, position_residual, Kkt};
+use crate::integrate::error_norm::{error_weight, position_sum_of_squares, root_mean_square, weighted_rms_norm};
+use crate::math::{Vec3, Vec4};
+use crate::stage::{euler_parameter_rates, normalize_euler_parameters, position_rates};
 use super::method::{EvaluationFailure, OdeSystem};
 
 /// Position Newton iterations of one projection, at most.
@@ -124,7 +127,7 @@ impl ProjectedMechanism {
         self.evaluations += 1;
         let nq = self.nq;
         self.kkt.accelerations(&self.model, &mut self.data, t, &mut dy[nq..])?;
-        velocity_map(&self.model, q, v, &mut dy[..nq]);
+        position_rates(&self.model, q, v, &mut dy[..nq]);
         Ok(())
     }
 
@@ -186,7 +189,7 @@ impl ProjectedMechanism {
     pub fn project_output(&mut self, t: f64, q: &mut [f64], v: &mut [f64]) -> Result<(), EvaluationFailure> {
         let model = &*self.model;
         let drift = self.drift;
-        normalize_euler_parameters(model, q);
+        normalize_euler_parameters(model, q, |_, _| {});
         let projected = self.project_positions(t, q, v);
         self.drift = drift;
         projected?;
@@ -207,7 +210,7 @@ impl OdeSystem for ProjectedMechanism {
         let model = &*model;
         self.y_before.copy_from_slice(y);
         let (q, v) = y.split_at_mut(self.nq);
-        let normalization = normalize_euler_parameters(model, q);
+        let normalization = normalize_euler_parameters(model, q, |_, _| {});
         self.drift.max_normalization_error = self.drift.max_normalization_error.max(normalization);
         self.project_positions(t, q, v)?;
         // Velocities at the projected positions, with factors made there (used for v̇ too).
@@ -218,9 +221,8 @@ impl OdeSystem for ProjectedMechanism {
         update_angle_references(model, &mut self.data);
         // The size of the projection's change in the units of the error test.
         let (rtol, atol) = (self.rtol, self.atol);
-        let sum: f64 =
-            self.y_before.iter().zip(y.iter()).map(|(b, a)| ((a - b) / (atol + rtol * b.abs())).powi(2)).sum();
-        let weighted = (sum / y.len().max(1) as f64).sqrt();
+        let weighted =
+            weighted_rms_norm(self.y_before.iter().zip(y.iter()).map(|(&b, &a)| (a - b, error_weight(atol, rtol, b))));
         let d = &mut self.drift;
         d.projections += 1;
         d.max_weighted_correction = d.max_weighted_correction.max(weighted);
@@ -233,36 +235,22 @@ impl OdeSystem for ProjectedMechanism {
 /// `atol + rtol |q|`.
 fn apply_correction(model: &Model, q: &mut [f64], dv: &[f64], rtol: f64, atol: f64) -> f64 {
     let l = &model.layout;
-    let mut sum = 0.0;
-    let mut dq = [0.0; 7];
+    let sum = position_sum_of_squares(l, q, dv, atol, rtol);
     for b in 0..model.bodies.len() {
         let (qo, vo, m) = (l.q_offset[b], l.v_offset[b], l.modes[b]);
-        // T(q) δv for the rigid part of the body: δR, ½ Gᵀ δω̄.
-        let mut rigid_q = [0.0; 7];
-        rigid_q.copy_from_slice(&q[qo..qo + 7]);
-        let mut rigid_v = [0.0; 6];
-        rigid_v.copy_from_slice(&dv[vo..vo + 6]);
-        velocity_map_rigid(&rigid_q, &rigid_v, &mut dq);
-        for k in 0..7 {
-            sum += (dq[k] / (atol + rtol * q[qo + k].abs())).powi(2);
-            q[qo + k] += dq[k];
+        // T(q) δv: δR, ½ Gᵀ δω̄, δa.
+        let p = Vec4::new(q[qo + 3], q[qo + 4], q[qo + 5], q[qo + 6]);
+        let dp = euler_parameter_rates(&p, &Vec3::new(dv[vo + 3], dv[vo + 4], dv[vo + 5]));
+        for k in 0..3 {
+            q[qo + k] += dv[vo + k];
+        }
+        for k in 0..4 {
+            q[qo + 3 + k] += dp[k];
         }
         for k in 0..m {
-            let d = dv[vo + 6 + k];
-            sum += (d / (atol + rtol * q[qo + 7 + k].abs())).powi(2);
-            q[qo + 7 + k] += d;
+            q[qo + 7 + k] += dv[vo + 6 + k];
         }
     }
-    normalize_euler_parameters(model, q);
-    (sum / l.nq.max(1) as f64).sqrt()
-}
-
-/// `T(q) v` of one rigid body's 7 positions and 6 velocities.
-fn velocity_map_rigid(q: &[f64; 7], v: &[f64; 6], qdot: &mut [f64; 7]) {
-    use crate::math::euler_parameters::g_matrix;
-    use crate::math::{Vec3, Vec4};
-    qdot[..3].copy_from_slice(&v[..3]);
-    let p = Vec4::new(q[3], q[4], q[5], q[6]);
-    let p_rate = 0.5 * g_matrix(&p).transpose() * Vec3::new(v[3], v[4], v[5]);
-    qdot[3..].copy_from_slice(p_rate.as_slice());
+    normalize_euler_parameters(model, q, |_, _| {});
+    root_mean_square(sum, l.nq)
 }

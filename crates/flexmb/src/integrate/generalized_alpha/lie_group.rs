@@ -8,7 +8,6 @@
 //! so that `A(p) ← A(p) exp(d̃_ω̄)`: the body frame turned by the body-frame rotation vector `d_ω̄`. The
 //! result is exactly unit (it is renormalized against round-off).
 
-use crate::math::euler_parameters::g_matrix;
 use crate::math::{skew, Mat3, Vec3, Vec4};
 use crate::model::Layout;
 
@@ -47,29 +46,6 @@ pub(crate) fn retract(layout: &Layout, q: &[f64], d: &[f64], out: &mut [f64]) {
             out[qo + 7 + k] = q[qo + 7 + k] + d[vo + 6 + k];
         }
     }
-}
-
-/// `Σ (δq_i / (atol + rtol |q_i|))²` over the position coordinates, for a position increment `d` given in
-/// velocity coordinates: `δR = d_R`, `δp = ½ Gᵀ(p) d_ω̄`, `δa = d_a`. This is the weighted norm the error
-/// test and the Newton test apply to positions, with the same weights `atol + rtol |q|` as the BDF.
-pub(super) fn position_sum_of_squares(layout: &Layout, q: &[f64], d: &[f64], atol: f64, rtol: f64) -> f64 {
-    let w = |x: f64, q: f64| x / (atol + rtol * q.abs());
-    let mut sum = 0.0;
-    for b in 0..layout.n_bodies() {
-        let (qo, vo, m) = (layout.q_offset[b], layout.v_offset[b], layout.modes[b]);
-        for k in 0..3 {
-            sum += w(d[vo + k], q[qo + k]).powi(2);
-        }
-        let p = Vec4::new(q[qo + 3], q[qo + 4], q[qo + 5], q[qo + 6]);
-        let dp = 0.5 * g_matrix(&p).transpose() * Vec3::new(d[vo + 3], d[vo + 4], d[vo + 5]);
-        for k in 0..4 {
-            sum += w(dp[k], p[k]).powi(2);
-        }
-        for k in 0..m {
-            sum += w(d[vo + 6 + k], q[qo + 7 + k]).powi(2);
-        }
-    }
-    sum
 }
 
 /// The tangent of the exponential map in the body frame, `J_r(u)`:

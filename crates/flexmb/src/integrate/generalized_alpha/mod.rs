@@ -60,7 +60,7 @@
 //! parts) is retried with `h/2`. On a change of step size `ã_n` is moved to the new size (see
 //! `predict`); without that, 15 % of the steps of a slider-crank at tolerance 1e-8 were
 //! rejected, with it 0.1 %. The first step is `h_init` or is chosen from the initial velocities and
-//! accelerations; `h_max` and `max_steps` of [`BdfConfig`] hold. [`GeneralizedAlphaConfig::fixed_step`]
+//! accelerations; `h_max` and `max_steps` of [`Tolerances`] hold. [`GeneralizedAlphaConfig::fixed_step`]
 //! switches the error control off.
 //!
 //! **Start.** `ã_0 = v̇_0`, the consistent accelerations of the driver. (Arnold and Brüls's perturbed
@@ -85,16 +85,18 @@ mod lie_group;
 
 pub(crate) use iteration_matrix::IterationMatrix;
 pub(crate) use lie_group::{quaternion_product, retract, rotation_quaternion};
-use lie_group::{position_sum_of_squares, right_jacobian_inverse};
+use lie_group::right_jacobian_inverse;
 
 use crate::analysis::{Accelerations, OperatingPoint, State};
 use crate::data::Data;
-use crate::integrate::newton::{ConvergenceTest, Verdict};
+use crate::integrate::diagnosis::{self, EquationRow};
+use crate::integrate::error_norm::{error_weight, position_sum_of_squares, root_mean_square};
+use crate::integrate::newton::{self, ConvergenceTest, NewtonSystem};
 use std::sync::Arc;
 
 use crate::integrate::{
-    check_len, AttemptFailure, BdfConfig, CheckpointError, GeneralizedAlphaCheckpoint, GeneralizedAlphaConfig, IntegrationError,
-    Integrator, IntegratorCheckpoint, Stats,
+    check_len, AttemptFailure, CheckpointError, GeneralizedAlphaCheckpoint, GeneralizedAlphaConfig, IntegrationError,
+    Integrator, IntegratorCheckpoint, Stats, Tolerances,
 };
 use crate::math::Vec3;
 use crate::model::Model;
@@ -145,7 +147,7 @@ pub struct GeneralizedAlpha {
     model: Arc<Model>,
     data: Data,
     active: Vec<bool>,
-    config: BdfConfig,
+    tolerances: Tolerances,
     fixed_step: Option<f64>,
     coefficients: Coefficients,
     nv: usize,
@@ -195,12 +197,14 @@ pub struct GeneralizedAlpha {
 }
 
 impl GeneralizedAlpha {
-    /// Starts from a consistent state (assembled, velocity-analysed) and its accelerations.
+    /// Starts from a consistent state (assembled, velocity-analysed) and its accelerations, with the
+    /// error tolerances and step limits of `tolerances` and the spectral radius (and fixed step, if any)
+    /// of `alpha`.
     pub fn new(
         model: Arc<Model>,
         state: &State,
         accelerations: &Accelerations,
-        config: BdfConfig,
+        tolerances: Tolerances,
         alpha: GeneralizedAlphaConfig,
     ) -> Result<Self, IntegrationError> {
         let t = state.t;
@@ -221,21 +225,21 @@ impl GeneralizedAlpha {
         let (nq, nv, nc) = (l.nq, l.nv, l.nc);
         let h0 = alpha
             .fixed_step
-            .or(config.h_init)
-            .unwrap_or_else(|| initial_step(&model, &config, &state.q, &state.v, &accelerations.vdot))
-            .min(config.h_max);
+            .or(tolerances.h_init)
+            .unwrap_or_else(|| initial_step(&model, &tolerances, &state.q, &state.v, &accelerations.vdot))
+            .min(tolerances.h_max);
         let mut data = Data::new(&model);
         run_kinematic_stages(&model, &mut data, t, &state.q, &state.v);
         data.angle_reference.fill(0.0);
         update_angle_references(&model, &mut data);
         let mut integrator = Self {
             active: state.active.clone(),
-            config,
+            tolerances,
             fixed_step: alpha.fixed_step,
             coefficients: Coefficients::from_spectral_radius(alpha.spectral_radius),
             nv,
             nc,
-            newton_tol: (10.0 * f64::EPSILON / config.rtol).max(config.rtol.sqrt().min(0.03)),
+            newton_tol: tolerances.newton_tolerance(),
             matrix: IterationMatrix::new(&model),
             data,
             derivatives_current: false,
@@ -380,15 +384,15 @@ impl GeneralizedAlpha {
 
     /// Takes one accepted step, not passing `t_stop`.
     pub fn step(&mut self, t_stop: f64) -> Result<(), IntegrationError> {
-        if self.stats.steps >= self.config.max_steps {
-            return Err(IntegrationError::TooManySteps { t: self.t, max_steps: self.config.max_steps });
+        if self.stats.steps >= self.tolerances.max_steps {
+            return Err(IntegrationError::TooManySteps { t: self.t, max_steps: self.tolerances.max_steps });
         }
         let t = self.t;
         if t_stop <= t {
             return Ok(());
         }
         let min_step = crate::integrate::smallest_step(t, t_stop);
-        let mut h = self.h.min(self.config.h_max);
+        let mut h = self.h.min(self.tolerances.h_max);
         // Why the last attempt failed; described (which allocates) only if the step size underflows.
         let mut failure = AttemptFailure::None;
         let mut rejected = false;
@@ -455,7 +459,7 @@ impl GeneralizedAlpha {
                     }
                 }
             }
-            .min(self.config.h_max);
+            .min(self.tolerances.h_max);
             return Ok(());
         }
     }
@@ -535,46 +539,14 @@ impl GeneralizedAlpha {
     /// factored. Returns whether it converged; the state of the converged unknowns is then in `q_new`,
     /// `v_new`, `a_new`, `d_step`.
     fn newton(&mut self, t_new: f64, h: f64) -> bool {
-        let (nv, nc) = (self.nv, self.nc);
-        let cb = self.coefficients.beta_prime() * h * h;
         let mut test = ConvergenceTest::new(self.newton_tol, NEWTON_MAXITER);
-        for k in 0..NEWTON_MAXITER {
-            if k > 0 {
-                self.state_from_unknowns(h);
-                self.evaluate_residual(t_new, h);
-            }
-            if !self.res.iter().all(|x| x.is_finite()) {
-                return false;
-            }
-            for (d, r) in self.dx.iter_mut().zip(&self.res) {
-                *d = -r;
-            }
-            if self.matrix.solve_in_place(&mut self.dx).is_err() {
-                return false;
-            }
-            self.stats.newton_iterations += 1;
-            // The position correction Bᵀμ of the new multipliers, with B of this iterate (in `data`).
-            for r in 0..nc {
-                self.mu[r] = if self.active[r] { cb * (self.x[nv + nc + r] + self.dx[nv + nc + r]) } else { 0.0 };
-            }
-            self.delta_new.fill(0.0);
-            self.matrix.add_start_jacobian_transpose(&self.mu, &mut self.delta_new);
-            add_jacobian_transpose(&self.model, &self.data, &self.mu, &mut self.delta_new);
-            let verdict = test.assess(k, self.increment_norm(h));
-            if verdict == Verdict::Diverging {
-                return false;
-            }
-            for (x, d) in self.x.iter_mut().zip(&self.dx) {
-                *x += d;
-            }
-            self.delta.copy_from_slice(&self.delta_new);
-            if verdict == Verdict::Converged {
-                self.state_from_unknowns(h);
-                self.refresh_next = test.slowest > SLOW_RATE && !self.derivatives_current;
-                return true;
-            }
+        let outcome = newton::iterate(&mut StepEquations { integrator: self, t_new, h }, &mut test, NEWTON_MAXITER);
+        self.stats.newton_iterations += outcome.solves;
+        if outcome.converged {
+            self.state_from_unknowns(h);
+            self.refresh_next = test.slowest > SLOW_RATE && !self.derivatives_current;
         }
-        false
+        outcome.converged
     }
 
     /// Weighted RMS norm of a Newton increment: the position increment `β'h² Δv̇ + Δ(Bᵀμ)` and the
@@ -584,24 +556,24 @@ impl GeneralizedAlpha {
     fn increment_norm(&mut self, h: f64) -> f64 {
         let (nv, nc) = (self.nv, self.nc);
         let (cb, cg) = (self.coefficients.beta_prime() * h * h, self.coefficients.gamma_prime() * h);
-        let (atol, rtol) = (self.config.atol, self.config.rtol);
+        let (atol, rtol) = (self.tolerances.atol, self.tolerances.rtol);
         for k in 0..nv {
             self.work[k] = cb * self.dx[k] + self.delta_new[k] - self.delta[k];
         }
         let mut sum = position_sum_of_squares(&self.model.layout, &self.q_new, &self.work, atol, rtol);
         for k in 0..nv {
-            sum += (cg * self.dx[k] / (atol + rtol * self.v_new[k].abs())).powi(2);
+            sum += (cg * self.dx[k] / error_weight(atol, rtol, self.v_new[k])).powi(2);
         }
         for r in 0..nc {
-            sum += (cg * self.dx[nv + r] / (atol + rtol * self.x[nv + r].abs())).powi(2);
+            sum += (cg * self.dx[nv + r] / error_weight(atol, rtol, self.x[nv + r])).powi(2);
         }
-        (sum / (self.model.layout.nq + nv + nc).max(1) as f64).sqrt()
+        root_mean_square(sum, self.model.layout.nq + nv + nc)
     }
 
     /// Weighted RMS norm of the local error estimates of the positions and the velocities (see the
     /// module documentation), over `nq + nv` components.
     fn error_norm(&mut self, h: f64) -> f64 {
-        let (atol, rtol) = (self.config.atol, self.config.rtol);
+        let (atol, rtol) = (self.tolerances.atol, self.tolerances.rtol);
         let c = h * h * (self.coefficients.beta - 1.0 / 6.0);
         for k in 0..self.nv {
             self.work[k] = c * (self.a_new[k] - self.a_start[k]);
@@ -613,9 +585,9 @@ impl GeneralizedAlpha {
             // Third-order velocity from the accelerations at t_{n−1}, t_n, t_{n+1} (quadratic, integrated).
             let curvature = if h_p > 0.0 { ((a1 - a0) / h - (a0 - self.vdot_old[k]) / h_p) / (h + h_p) } else { 0.0 };
             let v3 = self.v[k] + 0.5 * h * (a0 + a1) - h * h * h / 6.0 * curvature;
-            sum += ((self.v_new[k] - v3) / (atol + rtol * self.v_new[k].abs())).powi(2);
+            sum += ((self.v_new[k] - v3) / error_weight(atol, rtol, self.v_new[k])).powi(2);
         }
-        (sum / (self.model.layout.nq + self.nv).max(1) as f64).sqrt()
+        root_mean_square(sum, self.model.layout.nq + self.nv)
     }
 
     /// Accepts the converged step to `t_new`.
@@ -682,54 +654,86 @@ impl GeneralizedAlpha {
         self.predict(h);
         self.evaluate_residual(t_new, h);
         let (cb, cg) = (self.coefficients.beta_prime() * h * h, self.coefficients.gamma_prime() * h);
+        let (model, res) = (&self.model, &self.res);
+        // The constraint rows unscaled: `B v + Φ_t` and `Φ` themselves.
         let unscaled = |i: usize| {
             if i < nv {
-                self.res[i]
+                res[i]
             } else if i < nv + nc {
-                cg * self.res[i]
+                cg * res[i]
             } else {
-                cb * self.res[i]
+                cb * res[i]
             }
         };
-        let worst = |rows: std::ops::Range<usize>| {
-            rows.map(|i| (i, unscaled(i).abs())).fold((usize::MAX, 0.0), |a, x| if x.1 > a.1 { x } else { a })
+        let name = |row: usize| {
+            if row < nv {
+                EquationRow::Motion(row)
+            } else if row < nv + nc {
+                EquationRow::VelocityConstraint(row - nv)
+            } else {
+                EquationRow::PositionConstraint(row - nv - nc)
+            }
         };
-        let (row_d, value_d) = worst(0..nv);
-        let (row_c, value_c) = worst(nv..nv + 2 * nc);
-        let mut text = String::new();
-        if row_d != usize::MAX {
-            text += &format!("largest residual {value_d:.3e} in {}", describe_row(&self.model, row_d));
-        }
-        if row_c != usize::MAX {
-            text += &format!("; largest constraint residual {value_c:.3e} in {}", describe_row(&self.model, row_c));
-        }
-        let q = self.q_new.clone();
-        if let Some(note) = crate::analysis::newly_dependent_rows(&self.model, &mut self.data, t_new, &q, &self.active) {
-            text += "; ";
-            text += &note;
-        }
-        text
+        let rows = (0..nv, nv..nv + 2 * nc);
+        diagnosis::worst_equations(model, &mut self.data, t_new, &self.q_new, &self.active, rows, unscaled, name)
     }
 }
 
+/// The step equations of one attempt in the unknowns `[v̇, λ, μ̃]`, for the Newton driver; the first
+/// iteration starts from the predictor's residual, already in `res`.
+struct StepEquations<'a> {
+    integrator: &'a mut GeneralizedAlpha,
+    t_new: f64,
+    h: f64,
+}
 
-/// Names row `row` of the residual `[dynamics; velocity constraints; position constraints]`.
-fn describe_row(model: &Model, row: usize) -> String {
-    let l = &model.layout;
-    if row < l.nv {
-        model.describe_velocity_row(row)
-    } else if row < l.nv + l.nc {
-        format!("the velocity constraint of {}", model.describe_constraint_row(row - l.nv))
-    } else {
-        format!("the position constraint of {}", model.describe_constraint_row(row - l.nv - l.nc))
+impl NewtonSystem for StepEquations<'_> {
+    fn residual(&mut self, k: usize) -> &[f64] {
+        let g = &mut *self.integrator;
+        if k > 0 {
+            g.state_from_unknowns(self.h);
+            g.evaluate_residual(self.t_new, self.h);
+        }
+        &g.res
+    }
+
+    fn solve(&mut self) -> bool {
+        let g = &mut *self.integrator;
+        for (d, r) in g.dx.iter_mut().zip(&g.res) {
+            *d = -r;
+        }
+        g.matrix.solve_in_place(&mut g.dx).is_ok()
+    }
+
+    /// Also makes the position correction `Bᵀμ` of the new multipliers, with `B` of this iterate (in
+    /// `data`), which the norm measures.
+    fn increment_norm(&mut self) -> f64 {
+        let g = &mut *self.integrator;
+        let (nv, nc) = (g.nv, g.nc);
+        let cb = g.coefficients.beta_prime() * self.h * self.h;
+        for r in 0..nc {
+            g.mu[r] = if g.active[r] { cb * (g.x[nv + nc + r] + g.dx[nv + nc + r]) } else { 0.0 };
+        }
+        g.delta_new.fill(0.0);
+        g.matrix.add_start_jacobian_transpose(&g.mu, &mut g.delta_new);
+        add_jacobian_transpose(&g.model, &g.data, &g.mu, &mut g.delta_new);
+        g.increment_norm(self.h)
+    }
+
+    fn apply(&mut self) {
+        let g = &mut *self.integrator;
+        for (x, d) in g.x.iter_mut().zip(&g.dx) {
+            *x += d;
+        }
+        g.delta.copy_from_slice(&g.delta_new);
     }
 }
 
 /// First step: about `0.5 ‖·‖^(−1/3)` of the weighted initial velocities and accelerations (the local
 /// error grows as `h³`), at most 10 ms.
-fn initial_step(model: &Model, config: &BdfConfig, q: &[f64], v: &[f64], vdot: &[f64]) -> f64 {
+fn initial_step(model: &Model, tolerances: &Tolerances, q: &[f64], v: &[f64], vdot: &[f64]) -> f64 {
     let l = &model.layout;
-    let norm = |x: &[f64]| (position_sum_of_squares(l, q, x, config.atol, config.rtol) / l.nq.max(1) as f64).sqrt();
+    let norm = |x: &[f64]| root_mean_square(position_sum_of_squares(l, q, x, tolerances.atol, tolerances.rtol), l.nq);
     let d = norm(v).max(norm(vdot));
     if d > 1e-10 {
         (0.5 * d.powf(-1.0 / 3.0)).min(1e-2)

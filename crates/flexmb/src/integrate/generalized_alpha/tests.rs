@@ -69,7 +69,7 @@ fn iteration_matrix_is_the_derivative_of_the_step_equations() {
         .unwrap()
         .clone();
     let mut ga =
-        GeneralizedAlpha::new(Arc::new(model.clone()), &state, &acc, BdfConfig::default(), GeneralizedAlphaConfig::default()).unwrap();
+        GeneralizedAlpha::new(Arc::new(model.clone()), &state, &acc, Tolerances::default(), GeneralizedAlphaConfig::default()).unwrap();
     let (nv, nc) = (ga.nv, ga.nc);
     let n = nv + 2 * nc;
     let h = 0.02;
