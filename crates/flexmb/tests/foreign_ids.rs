@@ -49,6 +49,10 @@ fn lookups_by_an_id_the_model_does_not_have_are_none() {
     assert!(layout.modes(BodyId(beyond)).is_none());
     assert!(layout.modal_q_range(BodyId(beyond)).is_none() && layout.modal_v_range(BodyId(beyond)).is_none());
     assert_eq!(layout.joint_rows(JointId(0)), Some(0..5));
+    assert_eq!((layout.q_range(BodyId(0)), layout.v_range(BodyId(0))), (Some(0..7), Some(0..6)));
+    assert!(layout.q_range(BodyId(beyond)).is_none() && layout.v_range(BodyId(beyond)).is_none());
+    assert_eq!((layout.body_of_position(6), layout.body_of_velocity(5)), (Some(BodyId(0)), Some(BodyId(0))));
+    assert!(layout.body_of_position(7).is_none() && layout.body_of_velocity(6).is_none());
     assert!(layout.joint_rows(JointId(1)).is_none());
     let text = model.describe_constraint_row(layout.nc);
     assert!(text.contains("does not have (it has 5)"), "{text}");
@@ -101,6 +105,21 @@ fn the_analyses_refuse_a_state_a_workspace_or_a_solver_of_another_model() {
     assert!(error.what.starts_with("the linearization's workspace"), "{error}");
     let error = displaced_positions(&model, &state.q, &[0.0; 5]).unwrap_err();
     names(&error, "the increment d", 5, 6);
+    // An integrator started from another model's state.
+    use flexmb::integrate::{Adams, Bdf, GeneralizedAlpha, IntegrationError};
+    let (other_start, other_acc) = consistent_start(&other);
+    let model = Arc::new(model);
+    let starts = [
+        Bdf::new(model.clone(), &other_start, &other_acc, Default::default(), Default::default()).err(),
+        Adams::new(model.clone(), &other_start, &other_acc, Default::default(), Default::default()).err(),
+        GeneralizedAlpha::new(model.clone(), &other_start, &other_acc, Default::default(), Default::default()).err(),
+    ];
+    for error in starts {
+        let error = error.expect("refused");
+        assert!(matches!(&error, IntegrationError::InitialConditions { .. }), "{error}");
+        let expected = format!("positions q has {} entries where model 'pendulum' needs 7", other.layout().nq);
+        assert!(error.to_string().contains(&expected), "{error}");
+    }
     // The same calls with the model's own arguments work.
     assert!(linearize(&model, &mut data, &state, &acc).is_ok());
     assert_eq!(displaced_positions(&model, &state.q, &[0.0; 6]).unwrap(), state.q);

@@ -101,7 +101,7 @@ fn the_modal_stiffness_of_a_flexible_pendulum_is_in_its_linearization() {
     let (state, acc) = moving_state(&model);
     let mut data = Data::new(&model);
     let lin = linearize(&model, &mut data, &state, &acc).unwrap();
-    let vo = model.layout().v_range(beam).start + 6;
+    let vo = model.layout().v_range(beam).unwrap().start + 6;
     for (i, k) in [400.0, 3000.0, 9000.0].into_iter().enumerate() {
         let found = lin.stiffness[(vo + i, vo + i)];
         assert!((found - k).abs() < 1e-5 * k, "mode {i}: {found} against {k}");

@@ -31,7 +31,9 @@ pub(crate) struct PointMotion {
 impl<'a> BodyMotion<'a> {
     pub(crate) fn of(model: &Model, body: BodyId, q: &'a [f64], v: &'a [f64]) -> Self {
         let layout = model.layout();
-        let (qb, vb) = (&q[layout.q_range(body)], &v[layout.v_range(body)]);
+        let ranges = layout.q_range(body).zip(layout.v_range(body));
+        let (q_range, v_range) = ranges.expect("the parts of a loaded model are its own bodies");
+        let (qb, vb) = (&q[q_range], &v[v_range]);
         let m = qb.len() - 7;
         Self {
             origin: Vec3::from_column_slice(&qb[0..3]),

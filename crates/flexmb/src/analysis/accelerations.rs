@@ -11,7 +11,6 @@
 use crate::data::Data;
 use crate::linalg::{SingularMatrix, SparseLu};
 use crate::model::{Model, SizeCheck, SizeMismatch};
-use crate::model::BodyId;
 use crate::stage::{body_mass_entries, run_force_stages, jacobian_entries, run_kinematic_stages};
 
 /// Result of an acceleration solve.
@@ -36,7 +35,7 @@ impl KktMatrix {
         let l = &model.layout;
         let mut entries = Vec::new();
         for b in 0..model.bodies.len() {
-            let range = l.v_range(BodyId(b));
+            let range = l.v_span(b);
             for r in range.clone() {
                 for c in range.clone() {
                     entries.push((r, c));
@@ -46,7 +45,7 @@ impl KktMatrix {
         for (j, joint) in model.joints.iter().enumerate() {
             for b in model.joint_bodies(joint).into_iter().flatten() {
                 for row in l.joint_rows[j].clone() {
-                    for k in l.v_range(b) {
+                    for k in l.v_span(b.0) {
                         entries.push((l.nv + row, k));
                         entries.push((k, l.nv + row));
                     }

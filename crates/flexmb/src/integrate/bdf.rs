@@ -124,6 +124,7 @@ impl Bdf {
         tolerances: Tolerances,
         config: BdfConfig,
     ) -> Result<Self, IntegrationError> {
+        super::check_start(&model, state, accelerations)?;
         let yl = YLayout::new(&model);
         let n = yl.len();
         let n_diff = yl.n_differential();
@@ -763,7 +764,7 @@ impl NewtonSystem for Corrector<'_> {
 /// What row `row` of the residual is.
 fn equation_row(model: &Model, yl: &YLayout, row: usize) -> EquationRow {
     if yl.q.contains(&row) {
-        EquationRow::Kinematic(model.layout.body_of_position(row - yl.q.start).0)
+        EquationRow::Kinematic(model.layout.position_body(row - yl.q.start))
     } else if yl.v.contains(&row) {
         EquationRow::Motion(row - yl.v.start)
     } else if yl.lambda.contains(&row) {

@@ -11,7 +11,7 @@ use std::ops::Range;
 
 use crate::data::Data;
 use crate::linalg::{greedy_colouring, perturbation, SingularMatrix, SparseLu};
-use crate::model::{BodyId, Coupling, Model};
+use crate::model::{Coupling, Model};
 use crate::stage::{body_mass_entries, residual, YLayout};
 
 /// Iteration matrix with stored derivative parts and reusable LU factors.
@@ -34,11 +34,11 @@ impl IterationMatrix {
         let nj = model.joints.len();
         // Row blocks: Fq_b, Fv_b, λ_k, μ_k, normalization_b.
         let fq = |b: usize| {
-            let r = l.q_range(BodyId(b));
+            let r = l.q_span(b);
             yl.q.start + r.start..yl.q.start + r.end
         };
         let fv = |b: usize| {
-            let r = l.v_range(BodyId(b));
+            let r = l.v_span(b);
             yl.v.start + r.start..yl.v.start + r.end
         };
         let lam = |k: usize| yl.lambda.start + l.joint_rows[k].start..yl.lambda.start + l.joint_rows[k].end;
@@ -143,7 +143,7 @@ impl IterationMatrix {
         // F_ẏ at the base point (the stages still hold its kinematics).
         self.f_yp.fill(0.0);
         for b in 0..model.bodies.len() {
-            for k in model.layout.q_range(BodyId(b)) {
+            for k in model.layout.q_span(b) {
                 let s = self.lu.slot(yl.q.start + k, yl.q.start + k).expect("diagonal is in the pattern");
                 self.f_yp[s] = 1.0;
             }

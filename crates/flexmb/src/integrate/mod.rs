@@ -56,3 +56,20 @@ pub(crate) fn smallest_step(t: f64, t_stop: f64) -> f64 {
     let time_scale = if t_stop.is_finite() { t.abs().max(t_stop.abs()) } else { t.abs() };
     10.0 * (time_scale * f64::EPSILON).max(f64::MIN_POSITIVE)
 }
+
+/// The start of an integrator, a state and its accelerations, of `model`'s sizes: one made for another
+/// model is an initial-condition error that names what does not fit.
+pub(crate) fn check_start(
+    model: &crate::Model,
+    state: &crate::analysis::State,
+    accelerations: &crate::analysis::Accelerations,
+) -> Result<(), IntegrationError> {
+    crate::model::SizeCheck::new(model)
+        .positions(&state.q)
+        .and_then(|c| c.velocities("velocities v", &state.v))
+        .and_then(|c| c.rows("the rows in force (active)", state.active.len()))
+        .and_then(|c| c.velocities("accelerations v̇", &accelerations.vdot))
+        .and_then(|c| c.rows("multipliers λ", accelerations.lambda.len()))
+        .map(|_| ())
+        .map_err(|e| IntegrationError::InitialConditions { t: state.t, reason: e.to_string() })
+}

@@ -17,7 +17,7 @@ use crate::data::Data;
 use crate::function::TimeFunction;
 use crate::joint::{Axis, EquationTerms, Joint, JointKind};
 use crate::math::{EulerParameters, Mat3, Vec3, Vec4};
-use crate::model::{BodyId, BodyRef, MarkerId, Model, ModelBuilder};
+use crate::model::{BodyRef, MarkerId, Model, ModelBuilder};
 use crate::stage::{constraint_equations, jacobian_entries, kinematics, update_angle_references};
 use crate::test_support::{quat_mul, turn_body_frame, Lcg};
 
@@ -86,7 +86,7 @@ fn random_state(model: &Model, rng: &mut Lcg) -> (Vec<f64>, Vec<f64>) {
     let mut q = vec![0.0; l.nq];
     let mut v = vec![0.0; l.nv];
     for b in 0..l.n_bodies() {
-        let (qr, vr) = (l.q_range(BodyId(b)), l.v_range(BodyId(b)));
+        let (qr, vr) = (l.q_span(b), l.v_span(b));
         q[qr.start..qr.start + 3].copy_from_slice(rng.vec3(1.0).as_slice());
         q[qr.start + 3..qr.end].copy_from_slice(rng.rotation().0.as_slice());
         v[vr.start..vr.start + 3].copy_from_slice(rng.vec3(1.0).as_slice());

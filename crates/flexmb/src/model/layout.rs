@@ -13,8 +13,8 @@ use crate::model::{BodyId, JointId};
 
 /// The coordinate and equation layout of a model.
 ///
-/// The methods that take a [`BodyId`], a [`JointId`] or a coordinate index panic for one that is not
-/// of this model: ids come from the builder that made it, indices from its own ranges.
+/// The methods that take a [`BodyId`], a [`JointId`] or a coordinate index return `None` for one that
+/// is not of this model.
 #[derive(Clone, Debug)]
 pub struct Layout {
     /// Number of position coordinates (7 + m per body).
@@ -65,13 +65,23 @@ impl Layout {
     pub fn n_bodies(&self) -> usize {
         self.q_offset.len()
     }
-    /// Position coordinates of body `b` (`R`, `p`, then its modal coordinates).
-    pub fn q_range(&self, b: BodyId) -> Range<usize> {
-        self.q_offset[b.0]..self.q_offset[b.0] + 7 + self.modes[b.0]
+    /// Position coordinates of body `b` (`R`, `p`, then its modal coordinates); `None` for an id that
+    /// is not one of this model's bodies.
+    pub fn q_range(&self, b: BodyId) -> Option<Range<usize>> {
+        (b.0 < self.n_bodies()).then(|| self.q_span(b.0))
     }
-    /// Velocity coordinates of body `b` (`Ṙ`, `ω̄`, then its modal rates).
-    pub fn v_range(&self, b: BodyId) -> Range<usize> {
-        self.v_offset[b.0]..self.v_offset[b.0] + 6 + self.modes[b.0]
+    /// Velocity coordinates of body `b` (`Ṙ`, `ω̄`, then its modal rates); `None` for an id that is not
+    /// one of this model's bodies.
+    pub fn v_range(&self, b: BodyId) -> Option<Range<usize>> {
+        (b.0 < self.n_bodies()).then(|| self.v_span(b.0))
+    }
+    /// [`q_range`](Self::q_range) of the engine's own body index `b`.
+    pub(crate) fn q_span(&self, b: usize) -> Range<usize> {
+        self.q_offset[b]..self.q_offset[b] + 7 + self.modes[b]
+    }
+    /// [`v_range`](Self::v_range) of the engine's own body index `b`.
+    pub(crate) fn v_span(&self, b: usize) -> Range<usize> {
+        self.v_offset[b]..self.v_offset[b] + 6 + self.modes[b]
     }
     /// Number of modal coordinates of body `b` (0 for a rigid body); `None` for an id that is not one of
     /// this model's bodies.
@@ -89,13 +99,21 @@ impl Layout {
         let start = self.v_offset.get(b.0)? + 6;
         Some(start..start + self.modes[b.0])
     }
-    /// The body whose velocity coordinates hold index `k` of `v`.
-    pub fn body_of_velocity(&self, k: usize) -> BodyId {
-        BodyId(self.v_offset.partition_point(|&o| o <= k) - 1)
+    /// The body whose velocity coordinates hold index `k` of `v`; `None` for `k` not below `nv`.
+    pub fn body_of_velocity(&self, k: usize) -> Option<BodyId> {
+        (k < self.nv).then(|| BodyId(self.velocity_body(k)))
     }
-    /// The body whose position coordinates hold index `k` of `q`.
-    pub fn body_of_position(&self, k: usize) -> BodyId {
-        BodyId(self.q_offset.partition_point(|&o| o <= k) - 1)
+    /// The body whose position coordinates hold index `k` of `q`; `None` for `k` not below `nq`.
+    pub fn body_of_position(&self, k: usize) -> Option<BodyId> {
+        (k < self.nq).then(|| BodyId(self.position_body(k)))
+    }
+    /// [`body_of_velocity`](Self::body_of_velocity) of an index the engine knows is below `nv`.
+    pub(crate) fn velocity_body(&self, k: usize) -> usize {
+        self.v_offset.partition_point(|&o| o <= k) - 1
+    }
+    /// [`body_of_position`](Self::body_of_position) of an index the engine knows is below `nq`.
+    pub(crate) fn position_body(&self, k: usize) -> usize {
+        self.q_offset.partition_point(|&o| o <= k) - 1
     }
     /// Constraint rows of joint `j`; `None` for an id that is not one of this model's joints.
     pub fn joint_rows(&self, j: JointId) -> Option<Range<usize>> {

@@ -147,7 +147,7 @@ impl Model {
         if k >= self.layout.nv {
             return format!("velocity coordinate {k}, which this model does not have (it has {})", self.layout.nv);
         }
-        let b = self.layout.body_of_velocity(k);
+        let b = BodyId(self.layout.velocity_body(k));
         let local = k - self.layout.v_offset[b.0];
         let name = &self.bodies[b.0].name;
         match (&self.modal[b.0], local.checked_sub(6)) {

@@ -19,7 +19,7 @@ use crate::data::Data;
 use crate::integrate::generalized_alpha::{quaternion_product, rotation_quaternion};
 use crate::linalg::{greedy_colouring, perturbation, RELATIVE_STEP};
 use crate::math::{Vec3, Vec4};
-use crate::model::{BodyId, Coupling, Layout, Model, SizeCheck, SizeMismatch};
+use crate::model::{Coupling, Layout, Model, SizeCheck, SizeMismatch};
 use crate::stage::equations_of_motion;
 
 use super::OperatingPoint;
@@ -67,11 +67,11 @@ impl SparseLinearization {
         let mut col_ptr = vec![0];
         let mut row_idx = Vec::new();
         for b in 0..nb {
-            let mut rows: Vec<usize> = coupling.readers[b].iter().flat_map(|&r| l.v_range(BodyId(r))).collect();
+            let mut rows: Vec<usize> = coupling.readers[b].iter().flat_map(|&r| l.v_span(r)).collect();
             rows.extend(coupling.joints_of[b].iter().flat_map(|&k| l.joint_rows[k].clone().map(|i| nv + i)));
             rows.sort_unstable();
             rows.dedup();
-            for _ in l.v_range(BodyId(b)) {
+            for _ in l.v_span(b) {
                 row_idx.extend_from_slice(&rows);
                 col_ptr.push(row_idx.len());
             }
@@ -83,7 +83,7 @@ impl SparseLinearization {
             .collect();
         let colours = greedy_colouring(&touched, nb + nj)
             .into_iter()
-            .map(|bodies| bodies.into_iter().map(|b| l.v_range(BodyId(b))).collect())
+            .map(|bodies| bodies.into_iter().map(|b| l.v_span(b)).collect())
             .collect();
         let nnz = row_idx.len();
         Self {
@@ -146,7 +146,7 @@ impl SparseLinearization {
                     // Perturb column `local` of every body of this colour.
                     for range in colour.iter().filter(|r| local < r.len()) {
                         let c = range.start + local;
-                        let b = l.body_of_velocity(c).0;
+                        let b = l.velocity_body(c);
                         match pass {
                             Pass::Positions => perturb_position(l, &mut self.q_work, b, local, q),
                             Pass::Velocities => self.v_work[c] = v[c] + perturbation(v[c]),
@@ -156,11 +156,11 @@ impl SparseLinearization {
                     evaluations += 1;
                     for range in colour.iter().filter(|r| local < r.len()) {
                         let c = range.start + local;
-                        let b = l.body_of_velocity(c).0;
+                        let b = l.velocity_body(c);
                         let delta = match pass {
                             Pass::Positions => {
                                 let delta = position_perturbation(l, q, b, local);
-                                let qr = l.q_range(BodyId(b));
+                                let qr = l.q_span(b);
                                 self.q_work[qr.clone()].copy_from_slice(&q[qr]);
                                 delta
                             }
@@ -289,7 +289,7 @@ mod tests {
         equations_of_motion(&model, &mut data, active, t, q, v, &acc.vdot, &acc.lambda, &mut g0);
         let close = |dense: f64, coloured: f64| (dense - coloured).abs() / (1.0 + dense.abs()) < 1e-6;
         for col in 0..nv {
-            let b = l.body_of_velocity(col).0;
+            let b = l.velocity_body(col);
             let local = col - l.v_offset[b];
             let mut q_moved = q.clone();
             perturb_position(l, &mut q_moved, b, local, q);

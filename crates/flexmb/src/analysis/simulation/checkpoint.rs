@@ -8,8 +8,9 @@ use super::SimulationReport;
 use crate::analysis::WatchdogCheckpoint;
 use crate::integrate::IntegratorCheckpoint;
 
-/// Version of the checkpoint's layout; a checkpoint of another version is refused.
-pub const CHECKPOINT_VERSION: u32 = 1;
+/// Version of the checkpoint's layout; a checkpoint of another version is refused. Version 2: the
+/// generalized-α method keeps its stiffness and damping on the linearization's pattern.
+pub const CHECKPOINT_VERSION: u32 = 2;
 
 /// A simulation's complete state after an accepted step.
 #[derive(Clone, Debug, Serialize, Deserialize)]

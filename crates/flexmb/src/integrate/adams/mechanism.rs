@@ -108,6 +108,7 @@ impl Adams {
         tolerances: Tolerances,
         config: AdamsConfig,
     ) -> Result<Self, IntegrationError> {
+        crate::integrate::check_start(&model, state, accelerations)?;
         let (nq, nv) = (model.layout.nq, model.layout.nv);
         if !state.q.iter().chain(&state.v).chain(&accelerations.vdot).all(|x| x.is_finite()) {
             return Err(IntegrationError::InitialConditions {

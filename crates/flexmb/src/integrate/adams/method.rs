@@ -40,7 +40,7 @@
 //! and may move it (e.g. project a mechanism onto its constraints) before the final evaluation; the
 //! differences then hold the derivatives at the moved solution, and `y_n` is the moved one.
 //!
-//! Nothing here allocates after [`AdamsStepper::new`].
+//! Nothing here allocates after the stepper is made.
 
 use crate::integrate::error_norm::error_weight;
 
@@ -201,7 +201,7 @@ const FOURU: f64 = 4.0 * U;
 
 impl AdamsStepper {
     /// A stepper for `n` equations at `(t0, y0)` with `f(t0, y0) = yp0`.
-    pub fn new(control: StepControl, t0: f64, y0: &[f64], yp0: &[f64]) -> Self {
+    pub(crate) fn new(control: StepControl, t0: f64, y0: &[f64], yp0: &[f64]) -> Self {
         let n = y0.len();
         assert_eq!(yp0.len(), n, "y0 and yp0 differ in length");
         let control = StepControl { max_order: control.max_order.clamp(1, MAX_ORDER), ..control };
@@ -239,8 +239,9 @@ impl AdamsStepper {
         }
     }
 
-    /// A stepper at `(t0, y0)` that evaluates `f(t0, y0)` itself.
-    pub fn start<S: OdeSystem + ?Sized>(
+    /// A stepper at `(t0, y0)` that evaluates `f(t0, y0)` itself (the tests' systems).
+    #[cfg(test)]
+    pub(crate) fn start<S: OdeSystem + ?Sized>(
         control: StepControl,
         system: &mut S,
         t0: f64,
@@ -256,7 +257,8 @@ impl AdamsStepper {
     /// A stepper that takes steps of size `h` at order `k` from `t0` with no error control, its history
     /// the constant-step derivatives `past[j] = f(t0 − j h, y(t0 − j h))`, `j = 0..k` (for measuring
     /// the order of the formulas; `y0` is the solution at `t0`).
-    pub fn with_fixed_order_and_step(t0: f64, y0: &[f64], h: f64, past: &[Vec<f64>]) -> Self {
+    #[cfg(test)]
+    pub(crate) fn with_fixed_order_and_step(t0: f64, y0: &[f64], h: f64, past: &[Vec<f64>]) -> Self {
         let k = past.len();
         assert!((1..=MAX_ORDER).contains(&k), "order {k} outside 1..={MAX_ORDER}");
         let control = StepControl { max_order: k, rtol: 1.0, atol: 1.0, ..Default::default() };
@@ -290,7 +292,7 @@ impl AdamsStepper {
 
     /// Starts again at `(t0, y0)` with `f(t0, y0) = yp0` (same length), at order 1 with a new starting
     /// step, keeping the counters and the workspaces (no allocation).
-    pub fn restart(&mut self, t0: f64, y0: &[f64], yp0: &[f64]) {
+    pub(crate) fn restart(&mut self, t0: f64, y0: &[f64], yp0: &[f64]) {
         self.x = t0;
         self.x_old = t0;
         self.y.copy_from_slice(y0);
@@ -348,7 +350,7 @@ impl AdamsStepper {
     }
 
     /// Takes one accepted step, not passing `t_stop` (`t_stop > t`).
-    pub fn step<S: OdeSystem + ?Sized>(&mut self, system: &mut S, t_stop: f64) -> Result<(), StepFailure> {
+    pub(crate) fn step<S: OdeSystem + ?Sized>(&mut self, system: &mut S, t_stop: f64) -> Result<(), StepFailure> {
         let n = self.n;
         let remaining = t_stop - self.x;
         if remaining <= FOURU * self.x.abs() {
@@ -732,7 +734,7 @@ impl AdamsStepper {
 
     /// The solution and its derivative at `t` (normally within the last step) from the interpolating
     /// polynomial of the last step (INTRP). Does not allocate.
-    pub fn interpolate(&self, t: f64, y_out: &mut [f64], yp_out: &mut [f64]) {
+    pub(crate) fn interpolate(&self, t: f64, y_out: &mut [f64], yp_out: &mut [f64]) {
         let n = self.n;
         let hi = t - self.x;
         let ki = self.kold + 1;

@@ -26,7 +26,7 @@ use crate::analysis::SparseLinearization;
 use crate::data::Data;
 use crate::linalg::{SingularMatrix, SparseLu};
 use crate::math::{Mat3, Vec3};
-use crate::model::{BodyId, Coupling, Model};
+use crate::model::{Coupling, Model};
 use crate::stage::{body_mass_entries, jacobian_entries};
 
 /// The iteration matrix on its fixed sparse pattern, with the stored finite-difference parts.
@@ -57,7 +57,7 @@ impl IterationMatrix {
     pub fn new(model: &Model) -> Self {
         let l = &model.layout;
         let (nb, nv, nc) = (model.bodies.len(), l.nv, l.nc);
-        let v_range = |b: usize| l.v_range(BodyId(b));
+        let v_range = |b: usize| l.v_span(b);
         let coupling = Coupling::new(model);
         let Coupling { joint_bodies, joints_of, readers, .. } = &coupling;
         let mut entries = Vec::new();
@@ -193,7 +193,7 @@ impl IterationMatrix {
                 b_val[b_ptr[row] + cols.binary_search(&col).expect("B entry is in the row pattern")] += x;
                 lu.add(nv + row, col, x);
                 lu.add(col, nv + row, x);
-                let b = l.body_of_velocity(col).0;
+                let b = l.velocity_body(col);
                 let local = col - l.v_offset[b];
                 if (3..6).contains(&local) {
                     let o = l.v_offset[b] + 3;
@@ -212,7 +212,7 @@ impl IterationMatrix {
         for b in 0..model.bodies.len() {
             let vo = l.v_offset[b];
             let rotation_starts = [0, 1, 2].map(|i| self.derivatives.column(vo + 3 + i).0.start);
-            for col in l.v_range(BodyId(b)) {
+            for col in l.v_span(b) {
                 let local = col - vo;
                 let start = self.derivatives.column(col).0.start;
                 let (range, rows) = self.lu.column(col);

@@ -207,6 +207,7 @@ impl GeneralizedAlpha {
         tolerances: Tolerances,
         alpha: GeneralizedAlphaConfig,
     ) -> Result<Self, IntegrationError> {
+        crate::integrate::check_start(&model, state, accelerations)?;
         let t = state.t;
         if let Err(reason) = alpha.validate() {
             return Err(IntegrationError::InitialConditions {
@@ -631,7 +632,7 @@ impl GeneralizedAlpha {
             let u = Vec3::new(self.d_last[vo + 3], self.d_last[vo + 4], self.d_last[vo + 5]);
             let w = Vec3::new(self.v[vo + 3], self.v[vo + 4], self.v[vo + 5]);
             let end_rate = right_jacobian_inverse(&u) * w;
-            for k in l.v_range(crate::model::BodyId(b)) {
+            for k in l.v_span(b) {
                 let end = if (vo + 3..vo + 6).contains(&k) { end_rate[k - vo - 3] } else { self.v[k] };
                 self.work[k] = h10 * h * self.v_old[k] + h01 * self.d_last[k] + h11 * h * end;
             }
