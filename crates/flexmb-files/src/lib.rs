@@ -16,6 +16,31 @@
 //!
 //! The `flexmb` program is a thin layer over these calls: `flexmb run` is [`load_model`], the engine's
 //! assembly check, [`record_model_run`], and printing.
+//!
+//! How a binding loads, runs and reads a model: the shipped pendulum with its rod 2 m long instead of
+//! 1 m, run for one second into a table in memory, its swing angle read back by column name.
+//!
+//! ```
+//! use flexmb::analysis::{OutputTable, Simulation};
+//! use flexmb_files::{load_model_with, LoadOptions};
+//!
+//! # fn main() -> Result<(), Box<dyn std::error::Error>> {
+//! let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../models/pendulum.toml");
+//! let mut options = LoadOptions::default();
+//! options.overrides.parameters.push(("L".into(), 2.0));
+//! let loaded = load_model_with(std::path::Path::new(path), &options)?;
+//! let mut settings = loaded.simulation.settings(&loaded.model, loaded.simulation.assembly());
+//! settings.t_end = 1.0;
+//! let mut simulation = Simulation::new(loaded.model.clone(), settings)?;
+//! let mut table = OutputTable::new(&loaded.model);
+//! simulation.run(&mut table, &|| None)?;
+//! let angle = table.column("pivot_angle").ok_or("no column pivot_angle")?;
+//! assert_eq!(angle.len(), 101); // t = 0, 0.01, …, 1 s
+//! assert!((angle[0] - std::f64::consts::FRAC_PI_3).abs() < 1e-9, "released 60° out");
+//! assert!(angle[100] < angle[0], "swinging back");
+//! # Ok(())
+//! # }
+//! ```
 
 pub mod fe_model_file;
 pub mod flexible_body;
