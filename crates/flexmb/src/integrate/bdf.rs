@@ -87,15 +87,8 @@ pub struct Bdf {
     /// Backward differences `∇ʲy`, rows `j = 0..MAX_ORDER+2`, each of length `n`.
     d: Vec<f64>,
     jac: IterationMatrix,
-    factored_c: Option<f64>,
-    /// The Jacobian was evaluated at the predictor of the current attempt.
-    jac_at_attempt: bool,
-    /// Accepted steps since the Jacobian was evaluated.
-    jac_age: usize,
-    /// Consecutive steps whose Jacobian, evaluated during the step before, failed at its first reuse.
-    first_reuse_failures: usize,
-    /// Steps left that evaluate the Jacobian at their predictor before iterating.
-    refresh_ahead: usize,
+    /// When the iteration matrix was evaluated and factored, and when it is evaluated again.
+    reuse: MatrixReuse,
     /// Accepted steps left during which the error estimates are filtered.
     filter_steps: usize,
     filtered: Vec<f64>,
@@ -112,6 +105,23 @@ pub struct Bdf {
     change_tmp: Vec<f64>,
     /// The counters so far.
     pub stats: Stats,
+}
+
+/// The reuse of the iteration matrix across steps (DASSL's policy): the factors of a nearby `c = h/α`
+/// serve, the finite-difference part is re-evaluated only when a Newton iteration fails with one
+/// evaluated elsewhere, and ahead of time when such re-evaluations keep being needed.
+#[derive(Clone, Copy, Debug, Default)]
+struct MatrixReuse {
+    /// The `c` of the current factors; `None` when they must be made again.
+    factored_c: Option<f64>,
+    /// The Jacobian was evaluated at the predictor of the current attempt.
+    at_attempt: bool,
+    /// Accepted steps since the Jacobian was evaluated.
+    age: usize,
+    /// Consecutive steps whose Jacobian, evaluated during the step before, failed at its first reuse.
+    first_reuse_failures: usize,
+    /// Steps left that evaluate the Jacobian at their predictor before iterating.
+    refresh_ahead: usize,
 }
 
 impl Bdf {
@@ -172,11 +182,7 @@ impl Bdf {
             n_equal_steps: 0,
             d,
             jac,
-            factored_c: None,
-            jac_at_attempt: false,
-            jac_age: 0,
-            first_reuse_failures: 0,
-            refresh_ahead: 0,
+            reuse: MatrixReuse::default(),
             filter_steps: 0,
             filtered: vec![0.0; n],
             stability: StabilityLimits::new(),
@@ -239,11 +245,11 @@ impl Bdf {
             differences: self.d.clone(),
             jacobian: f_y.to_vec(),
             jacobian_derivative: f_yp.to_vec(),
-            factored_c: self.factored_c,
-            jacobian_at_attempt: self.jac_at_attempt,
-            jacobian_age: self.jac_age,
-            first_reuse_failures: self.first_reuse_failures,
-            refresh_ahead: self.refresh_ahead,
+            factored_c: self.reuse.factored_c,
+            jacobian_at_attempt: self.reuse.at_attempt,
+            jacobian_age: self.reuse.age,
+            first_reuse_failures: self.reuse.first_reuse_failures,
+            refresh_ahead: self.reuse.refresh_ahead,
             filter_steps: self.filter_steps,
             step_limits: self.stability.h_limit.to_vec(),
             last_h: self.stability.last_h,
@@ -277,11 +283,11 @@ impl Bdf {
         self.n_equal_steps = c.n_equal_steps;
         self.d.copy_from_slice(&c.differences);
         self.jac.set_stored_parts(&c.jacobian, &c.jacobian_derivative);
-        self.factored_c = c.factored_c.filter(|&cf| self.jac.factor(cf).is_ok());
-        self.jac_at_attempt = c.jacobian_at_attempt;
-        self.jac_age = c.jacobian_age;
-        self.first_reuse_failures = c.first_reuse_failures;
-        self.refresh_ahead = c.refresh_ahead;
+        self.reuse.factored_c = c.factored_c.filter(|&cf| self.jac.factor(cf).is_ok());
+        self.reuse.at_attempt = c.jacobian_at_attempt;
+        self.reuse.age = c.jacobian_age;
+        self.reuse.first_reuse_failures = c.first_reuse_failures;
+        self.reuse.refresh_ahead = c.refresh_ahead;
         self.filter_steps = c.filter_steps;
         self.stability.h_limit.copy_from_slice(&c.step_limits);
         self.stability.last_h = c.last_h;
@@ -316,8 +322,8 @@ impl Bdf {
         let evals = self.jac.evaluate(&self.model, &mut self.data, &self.yl, &self.active, t, y, yp);
         self.stats.jacobian_evaluations += 1;
         self.stats.residual_evaluations += evals;
-        self.factored_c = None;
-        self.jac_age = 0;
+        self.reuse.factored_c = None;
+        self.reuse.age = 0;
     }
 
     /// Rescales the differences for a step size change by `factor` at the current order.
@@ -357,11 +363,11 @@ impl Bdf {
         if self.h > self.tolerances.h_max {
             self.change_differences(self.order, self.tolerances.h_max / self.h);
             self.h = self.tolerances.h_max;
-            self.factored_c = None;
+            self.reuse.factored_c = None;
         } else if self.h < min_step {
             self.change_differences(self.order, min_step / self.h);
             self.h = min_step;
-            self.factored_c = None;
+            self.reuse.factored_c = None;
         }
         // Why the last attempt failed; described (which allocates) only if the step size underflows.
         let mut failure = AttemptFailure::None;
@@ -377,21 +383,21 @@ impl Bdf {
                 self.change_differences(self.order, (t_new - t) / h);
                 h = t_new - t;
                 self.h = h;
-                self.factored_c = None;
+                self.reuse.factored_c = None;
             }
             let order = self.order;
             self.predict();
             let c = h / GAMMA[order];
-            if self.refresh_ahead > 0 && self.jac_age > 0 {
-                self.refresh_ahead -= 1;
+            if self.reuse.refresh_ahead > 0 && self.reuse.age > 0 {
+                self.reuse.refresh_ahead -= 1;
                 self.refresh_jacobian(t_new, c);
             }
             // Reuse the factors of a nearby c (DASSL): the increments are then scaled by 2/(1 + c_f/c).
-            let reusable = self.factored_c.is_some_and(|cf| (REUSE_MIN..=REUSE_MAX).contains(&(c / cf)));
+            let reusable = self.reuse.factored_c.is_some_and(|cf| (REUSE_MIN..=REUSE_MAX).contains(&(c / cf)));
             if !reusable {
                 if self.jac.factor(c).is_err() {
                     self.stats.factorizations += 1;
-                    if !self.jac_at_attempt {
+                    if !self.reuse.at_attempt {
                         self.refresh_jacobian(t_new, c);
                         continue;
                     }
@@ -400,20 +406,20 @@ impl Bdf {
                     continue;
                 }
                 self.stats.factorizations += 1;
-                self.factored_c = Some(c);
+                self.reuse.factored_c = Some(c);
             }
-            let c_factored = self.factored_c.unwrap_or(c);
+            let c_factored = self.reuse.factored_c.unwrap_or(c);
             let (converged, iterations) = self.newton(t_new, c, c_factored);
             if !converged {
                 self.stats.newton_failures += 1;
                 // A Jacobian evaluated elsewhere (an earlier step, or this step's predictor for another
                 // step size) is re-evaluated here before the step is reduced: F_y of a stiff spring or of
                 // the constraints turns with the bodies, and a chord iteration with a turned one diverges.
-                if !self.jac_at_attempt {
-                    if self.jac_age == 1 {
-                        self.first_reuse_failures += 1;
-                        if self.first_reuse_failures >= REFRESH_AFTER {
-                            self.refresh_ahead = REFRESH_AHEAD;
+                if !self.reuse.at_attempt {
+                    if self.reuse.age == 1 {
+                        self.reuse.first_reuse_failures += 1;
+                        if self.reuse.first_reuse_failures >= REFRESH_AFTER {
+                            self.reuse.refresh_ahead = REFRESH_AHEAD;
                         }
                     }
                     self.refresh_jacobian(t_new, c);
@@ -423,8 +429,8 @@ impl Bdf {
                 self.reduce_step(0.5);
                 continue;
             }
-            if self.jac_age > 0 {
-                self.first_reuse_failures = 0;
+            if self.reuse.age > 0 {
+                self.reuse.first_reuse_failures = 0;
             }
             let safety = 0.9 * (2 * NEWTON_MAXITER + 1) as f64 / (2 * NEWTON_MAXITER + iterations) as f64;
             let error_norm = self.local_error();
@@ -500,7 +506,7 @@ impl Bdf {
         let new_order = self.order;
         self.change_differences(new_order, factor);
         self.n_equal_steps = 0;
-        self.factored_c = None;
+        self.reuse.factored_c = None;
     }
 
     /// The predictor of the current order from the differences, `y⁽⁰⁾ = Σ_{j≤k} ∇ʲyₙ` (`y_pred`), the
@@ -553,10 +559,10 @@ impl Bdf {
     }
 
     fn reduce_step(&mut self, factor: f64) {
-        self.jac_at_attempt = false;
+        self.reuse.at_attempt = false;
         self.h *= factor;
         self.change_differences(self.order, factor);
-        self.factored_c = None;
+        self.reuse.factored_c = None;
     }
 
     fn refresh_jacobian(&mut self, t_new: f64, c: f64) {
@@ -567,7 +573,7 @@ impl Bdf {
         self.evaluate_jacobian_at(t_new, &y, &yp);
         self.y_pred = y;
         self.yp = yp;
-        self.jac_at_attempt = true;
+        self.reuse.at_attempt = true;
     }
 
     /// Simplified Newton iteration on the corrector; returns (converged, iterations).
@@ -632,8 +638,8 @@ impl Bdf {
         self.stats.steps += 1;
         self.stats.sum_h_squared += h * h;
         self.stats.order_counts[self.order] += 1;
-        self.jac_at_attempt = false;
-        self.jac_age += 1;
+        self.reuse.at_attempt = false;
+        self.reuse.age += 1;
         self.n_equal_steps += 1;
         let order = self.order;
         for k in 0..n {
