@@ -23,7 +23,7 @@ pub use sparse::SparseLinearization;
 
 use super::{Accelerations, State};
 use crate::data::Data;
-use crate::integrate::generalized_alpha::retract;
+use crate::stage::retract;
 use crate::model::{Model, SizeCheck, SizeMismatch};
 use crate::stage::{body_mass_entries, jacobian_entries, run_kinematic_stages};
 

@@ -16,7 +16,7 @@ use std::ops::Range;
 use faer::Mat;
 
 use crate::data::Data;
-use crate::integrate::generalized_alpha::{quaternion_product, rotation_quaternion};
+use crate::stage::{quaternion_product, rotation_quaternion};
 use crate::linalg::{greedy_colouring, perturbation, RELATIVE_STEP};
 use crate::math::{Vec3, Vec4};
 use crate::model::{Coupling, Layout, Model, SizeCheck, SizeMismatch};

@@ -20,7 +20,7 @@
 //! pendulum. The constraint rows are scaled so that every block stays of order one as `h → 0`, where the
 //! matrix tends to `[M Bᵀ 0; B 0 0; B 0 BBᵀ]`.
 
-use super::lie_group::right_jacobian;
+use crate::stage::right_jacobian;
 use super::Coefficients;
 use crate::analysis::SparseLinearization;
 use crate::data::Data;

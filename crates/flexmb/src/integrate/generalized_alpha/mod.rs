@@ -81,11 +81,9 @@
 //! (rtol 1e-6) it takes 1223 steps to the BDF's 2070.
 
 mod iteration_matrix;
-mod lie_group;
 
 pub(crate) use iteration_matrix::IterationMatrix;
-pub(crate) use lie_group::{quaternion_product, retract, rotation_quaternion};
-use lie_group::right_jacobian_inverse;
+use crate::stage::{retract, right_jacobian_inverse};
 
 use crate::analysis::{Accelerations, OperatingPoint, State};
 use crate::data::Data;

@@ -51,7 +51,7 @@ pub(crate) fn retract(layout: &Layout, q: &[f64], d: &[f64], out: &mut [f64]) {
 /// The tangent of the exponential map in the body frame, `J_r(u)`:
 /// `exp((u + δ)~) = exp(ũ) exp((J_r(u) δ)~) + O(|δ|²)`, `J_r = I − (1 − cos θ)/θ² ũ + (θ − sin θ)/θ³ ũ²`
 /// with `θ = |u|`. A body-frame perturbation of the step increment `d` turns the body by `J_r(d) δ`.
-pub(super) fn right_jacobian(u: &Vec3) -> Mat3 {
+pub(crate) fn right_jacobian(u: &Vec3) -> Mat3 {
     let a = u.norm();
     let (c1, c2) = if a < 1e-4 {
         (0.5 - a * a / 24.0, 1.0 / 6.0 - a * a / 120.0)
@@ -64,7 +64,7 @@ pub(super) fn right_jacobian(u: &Vec3) -> Mat3 {
 
 /// `J_r(u)⁻¹ = I + ½ ũ + (1/θ² − (1 + cos θ)/(2θ sin θ)) ũ²`: the rate of the exponential coordinates `u`
 /// of `A(t) = A_n exp(ũ(t))` is `u̇ = J_r(u)⁻¹ ω̄` when the body angular velocity is `ω̄` (for `θ < π`).
-pub(super) fn right_jacobian_inverse(u: &Vec3) -> Mat3 {
+pub(crate) fn right_jacobian_inverse(u: &Vec3) -> Mat3 {
     let a = u.norm();
     let c = if a < 1e-4 { 1.0 / 12.0 + a * a / 720.0 } else { 1.0 / (a * a) - (1.0 + a.cos()) / (2.0 * a * a.sin()) };
     let ut = skew(u);
