@@ -383,10 +383,6 @@ pub(crate) fn position_jacobian(model: &Model, data: &Data, state: &State, activ
 
 /// `data` and `state` (positions, velocities, rows in force) of `model`'s sizes.
 pub(crate) fn check_state(model: &Model, data: &Data, state: &State) -> Result<(), SizeMismatch> {
-    SizeCheck::new(model)
-        .data(data)?
-        .positions(&state.q)?
-        .velocities("velocities v", &state.v)?
-        .rows("the rows in force (active)", state.active.len())?;
+    SizeCheck::new(model).data(data)?.state(state)?;
     Ok(())
 }

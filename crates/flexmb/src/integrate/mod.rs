@@ -65,11 +65,8 @@ pub(crate) fn check_start(
     accelerations: &crate::analysis::Accelerations,
 ) -> Result<(), IntegrationError> {
     crate::model::SizeCheck::new(model)
-        .positions(&state.q)
-        .and_then(|c| c.velocities("velocities v", &state.v))
-        .and_then(|c| c.rows("the rows in force (active)", state.active.len()))
-        .and_then(|c| c.velocities("accelerations v̇", &accelerations.vdot))
-        .and_then(|c| c.rows("multipliers λ", accelerations.lambda.len()))
+        .state(state)
+        .and_then(|c| c.accelerations(accelerations))
         .map(|_| ())
         .map_err(|e| IntegrationError::InitialConditions { t: state.t, reason: e.to_string() })
 }

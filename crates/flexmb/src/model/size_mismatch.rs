@@ -1,6 +1,7 @@
 //! Vectors and workspaces checked against the model they are used with: a state, a [`Data`] or a
 //! solver made for another model is an error that says which, not an index out of bounds.
 
+use crate::analysis::{Accelerations, State};
 use crate::data::Data;
 use crate::model::Model;
 
@@ -68,5 +69,15 @@ impl<'m> SizeCheck<'m> {
     /// One entry per constraint row (`active`, `λ`), `nc` long.
     pub fn rows(self, what: &'static str, len: usize) -> Result<Self, SizeMismatch> {
         self.len(what, len, self.model.layout.nc)
+    }
+
+    /// A state's positions, velocities and rows in force.
+    pub fn state(self, state: &State) -> Result<Self, SizeMismatch> {
+        self.positions(&state.q)?.velocities("velocities v", &state.v)?.rows("the rows in force (active)", state.active.len())
+    }
+
+    /// Accelerations `v̇` and multipliers `λ`.
+    pub fn accelerations(self, acc: &Accelerations) -> Result<Self, SizeMismatch> {
+        self.velocities("accelerations v̇", &acc.vdot)?.rows("multipliers λ", acc.lambda.len())
     }
 }

@@ -72,13 +72,7 @@ impl<'a> OperatingPoint<'a> {
 /// joint-angle references; its stages are left evaluated at the state. A `data`, state or `acc` not of
 /// `model`'s sizes is an error.
 pub fn linearize(model: &Model, data: &mut Data, state: &State, acc: &Accelerations) -> Result<Linearization, SizeMismatch> {
-    SizeCheck::new(model)
-        .data(data)?
-        .positions(&state.q)?
-        .velocities("velocities v", &state.v)?
-        .rows("the rows in force (active)", state.active.len())?
-        .velocities("accelerations v̇", &acc.vdot)?
-        .rows("multipliers λ", acc.lambda.len())?;
+    SizeCheck::new(model).data(data)?.state(state)?.accelerations(acc)?;
     Ok(linearize_at(model, data, state, acc))
 }
 
