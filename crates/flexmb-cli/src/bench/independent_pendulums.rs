@@ -2,9 +2,7 @@
 //! redundancy check, assembly and velocity analysis) plus a 0.01 s run, timed whole. A model of many
 //! bodies whose equations do not couple: its cost must grow linearly with the bodies.
 
-use std::time::Instant;
-
-use flexmb::analysis::{simulate, SimulationError, SimulationSettings};
+use flexmb::analysis::{SimulationError, SimulationSettings};
 use flexmb::body::{InitialState, Marker, RigidBody};
 use flexmb::joint::{Joint, JointKind};
 use flexmb::math::{EulerParameters, Mat3, Vec3};
@@ -13,7 +11,7 @@ use flexmb::Model;
 use flexmb_files::SimulationDefaults;
 
 use super::integrator::BenchIntegrator;
-use super::measurement::{measure_repeated, CaseName, Measurement};
+use super::measurement::{measure_repeated, timed_simulation, CaseName, Clocks, Elapsed, Measurement, TimedRun};
 use crate::check::check_model;
 
 /// The number of pendulums.
@@ -61,18 +59,20 @@ pub fn measure_pendulums(n: usize, integrator: BenchIntegrator, repeat: usize) -
     let settings = SimulationSettings { method: integrator.method(&defaults, &model), ..defaults.settings(&model, defaults.assembly()) };
     let name = CaseName { group: "pendulums", case: format!("pendulums-{n}"), integrator: integrator.name() };
     Ok(measure_repeated(name, &settings, repeat, &mut || {
-        let start = Instant::now();
-        let outcome = match check_model(&model, settings.assembly) {
-            Ok(_) => simulate(&model, &settings, &mut |_| {}),
-            Err(e) => Err(SimulationError { cause: e.into(), report: Box::default() }),
-        };
-        (outcome, start.elapsed().as_secs_f64())
+        let whole = Clocks::start();
+        if let Err(e) = check_model(&model, settings.assembly) {
+            return TimedRun { outcome: Err(SimulationError { cause: e.into(), report: Box::default() }), whole: whole.elapsed(), integration: Elapsed::default() };
+        }
+        let mut run = timed_simulation(&model, &settings);
+        run.whole = whole.elapsed();
+        run
     }))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use flexmb::analysis::simulate;
 
     /// n pendulums on spherical joints have 3n degrees of freedom and no redundant constraint; the
     /// benchmark's run completes, and a run at rtol = atol = 1e-10 conserves the energy (no damping:

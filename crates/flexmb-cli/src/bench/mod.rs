@@ -254,7 +254,7 @@ fn run_job(job: Job, integrators: &[BenchIntegrator], repeat: usize, out: &mut V
                     println!(
                         "  door 4N5S: the seed reports {} s of CPU (Prime 750) for the same 2 s: {:.0} times this run",
                         applications::SEED_DOOR_4N5S_CPU,
-                        applications::SEED_DOOR_4N5S_CPU / m.whole_wall
+                        applications::SEED_DOOR_4N5S_CPU / m.whole.best()
                     );
                 }
                 record(m);
@@ -287,8 +287,10 @@ pub fn run_benchmarks(options: &BenchOptions) -> Result<(), String> {
     let load_after = load_average();
     println!(
         "(fastest of {repeat} runs each; rej.N, rej.E: steps rejected for Newton failures and by the error test; \
-         us/step, us/Newton, s/sim.s: the integration's wall time per accepted step, per Newton iteration and per \
-         simulated second; setup s: the initial-condition analyses before it, for the pendulums also the check)"
+         us/step, us/Newton, s/sim.s: the integration's time per accepted step, per Newton iteration and per \
+         simulated second; setup s: the initial-condition analyses before it, for the pendulums also the check; \
+         times are {})",
+        if measurement::thread_cpu_time().is_some() { "the thread's CPU time (wall times in the JSON file)" } else { "wall times" }
     );
     if let (Some(a), Some(b)) = (&load_before, &load_after) {
         println!("load average (1, 5, 15 min): {a:?} before, {b:?} after");
