@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
-use flexmb_cli::bench::{run_benchmarks, BenchCase};
+use flexmb_cli::bench::{run_benchmarks, BenchCase, BenchIntegrator, BenchOptions};
 use flexmb_cli::check::{check_model, describe, describe_flexible_bodies};
 use flexmb_cli::compare::{compare_model, CompareOptions};
 use flexmb_cli::modes::{run_modes, ModesOptions};
@@ -147,14 +147,23 @@ enum Command {
         #[arg(long, default_value_t = 0.9)]
         spectral_radius: f64,
     },
-    /// Run the performance benchmarks and report cost per step and per simulated second.
+    /// Run the performance benchmarks and report cost per step, per Newton iteration and per simulated
+    /// second, steps, rejections by cause, Jacobians and factorizations.
     Bench {
-        /// Which case to run (default: all).
-        #[arg(long, value_enum)]
-        case: Option<BenchCase>,
+        /// Cases or groups to run, comma-separated (default: all): peer, chain, pendulums, flexible,
+        /// applications, or one case by name.
+        #[arg(long, value_enum, value_delimiter = ',')]
+        case: Vec<BenchCase>,
+        /// Integrators, comma-separated (default: all three for the peer cases and the chains, bdf for
+        /// the rest).
+        #[arg(long, value_enum, value_delimiter = ',')]
+        integrator: Vec<BenchIntegrator>,
         /// Repetitions per case; the fastest is reported.
         #[arg(long, default_value_t = 5)]
         repeat: usize,
+        /// Also write every measurement to this JSON file, to compare runs.
+        #[arg(long)]
+        json: Option<PathBuf>,
     },
     /// Plot result columns against time (or another column); several result files are overlaid.
     Plot {
@@ -332,7 +341,10 @@ fn main() -> ExitCode {
             let options = CompareOptions { integrators, t_end, rtol, atol, spectral_radius };
             compare_model(&model, &options).map(|table| print!("{table}"))
         }
-        Command::Bench { case, repeat } => run_benchmarks(case, repeat.max(1)).map_err(flexmb_cli::run::CliError),
+        Command::Bench { case, integrator, repeat, json } => {
+            let options = BenchOptions { cases: case, integrators: integrator, repeat: repeat.max(1), json };
+            run_benchmarks(&options).map_err(flexmb_cli::run::CliError)
+        }
         Command::Plot { results, y, x, out, title, width, height } => {
             let options = PlotOptions { files: results, y, x, out, title, size: (width, height) };
             run_plot(&options).map(|image| println!("plot: {}", image.display()))

@@ -3,29 +3,25 @@
 //! assembly). The seed reports 7281 s of CPU for the 4N5S door (Prime 750); it gives no time for the
 //! wiper.
 
-use std::path::{Path, PathBuf};
-
 use flexmb::analysis::SimulationSettings;
 use flexmb::integrate::Method;
 use flexmb::Model;
 
-use flexmb_files::model_file::{load_model_with, LoadOptions, ModelOverrides};
+use flexmb_files::model_file::{LoadOptions, ModelOverrides};
 use flexmb_files::SimulationDefaults;
+
+use super::shipped_models::load_shipped;
 
 /// The seed's CPU time for the 4N5S door over 2 s (s).
 pub const SEED_DOOR_4N5S_CPU: f64 = 7281.0;
 
-fn shipped(path: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../models").join(path)
-}
-
 /// A shipped model with the BDF and its file's settings for `t_end`.
 fn load(path: &str, overrides: &ModelOverrides, t_end: f64) -> Result<(Model, SimulationSettings), String> {
     let options = LoadOptions { overrides: overrides.clone(), ..crate::limits::load_options() };
-    let loaded = load_model_with(&shipped(path), &options).map_err(|e| e.to_string())?;
-    let d = SimulationDefaults { t_end, method: Method::default(), ..loaded.simulation };
-    let settings = d.settings(&loaded.model, d.assembly());
-    Ok((std::sync::Arc::unwrap_or_clone(loaded.model), settings))
+    let (model, simulation) = load_shipped(path, &options)?;
+    let d = SimulationDefaults { t_end, method: Method::default(), ..simulation };
+    let settings = d.settings(&model, d.assembly());
+    Ok((model, settings))
 }
 
 /// models/door/door.toml with mode set 4N5S, 2 s.
