@@ -1,5 +1,5 @@
 //! Limits a user can set for the machine a command runs on, through environment variables:
-//! `FLEXMB_MEMORY_LIMIT`, the memory the dense initial-condition analyses and the FE mode analysis
+//! `FLEXMB_MEMORY_LIMIT`, the memory the initial-condition analyses and the FE mode analysis
 //! may use (default: what the machine has available). (`FLEXMB_MAX_FILE_SIZE`, the largest input
 //! file, is read where files are read: `flexmb_fem::input`.) The program reads the variable; the
 //! libraries take the value.
@@ -11,7 +11,7 @@ use crate::run::CliError;
 use flexmb_files::model_file::LoadOptions;
 use flexmb_files::SimulationDefaults;
 
-/// The environment variable that caps the memory of the dense analyses.
+/// The environment variable that caps the memory of the initial-condition analyses.
 pub const MEMORY_LIMIT_VARIABLE: &str = "FLEXMB_MEMORY_LIMIT";
 
 /// The memory limit `FLEXMB_MEMORY_LIMIT` sets (bytes, or with a suffix k, M, G: times 1024, 1024²,

@@ -111,12 +111,12 @@ impl SimulationDefaults {
     }
 
     /// The assembly settings these defaults ask for (with the memory available on this machine as
-    /// the limit of the dense analyses; see [`with_memory_limit`](Self::with_memory_limit)).
+    /// the limit of the initial-condition analyses; see [`with_memory_limit`](Self::with_memory_limit)).
     pub fn assembly(&self) -> flexmb::analysis::AssemblySettings {
         flexmb::analysis::AssemblySettings { modal: self.modal_assembly, ..Default::default() }
     }
 
-    /// The assembly settings these defaults ask for, with `memory_limit` for the dense analyses.
+    /// The assembly settings these defaults ask for, with `memory_limit` for the initial-condition analyses.
     pub fn with_memory_limit(&self, memory_limit: flexmb::analysis::MemoryLimit) -> flexmb::analysis::AssemblySettings {
         flexmb::analysis::AssemblySettings { memory_limit, ..self.assembly() }
     }

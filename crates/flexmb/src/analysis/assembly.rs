@@ -6,11 +6,12 @@
 
 use faer::prelude::*;
 
-use super::memory::{dense_analysis_bytes, format_bytes, MemoryLimit};
+use super::memory::{analysis_bytes, format_bytes, MemoryLimit};
 use super::redundancy::{dependency_of, find_redundant_rows, violated_rows, RedundantConstraint, ViolatedEquation};
 use super::static_deformation::static_deformation_step;
 use super::State;
 use crate::data::Data;
+use crate::linalg::{solve_normal_equations, SparseRows};
 use crate::math::euler_parameters::g_matrix;
 use crate::math::Vec4;
 use crate::model::{Model, SizeCheck, SizeMismatch};
@@ -25,7 +26,8 @@ pub struct AssemblySettings {
     pub max_iterations: usize,
     /// What the assembly may change in flexible bodies.
     pub modal: ModalAssembly,
-    /// Memory the dense analyses may use; a larger model is refused before anything is allocated.
+    /// Memory the initial-condition analyses may use; a larger model is refused before anything is
+    /// allocated.
     pub memory_limit: MemoryLimit,
 }
 
@@ -123,9 +125,9 @@ pub enum AssemblyError {
     /// The workspace or the state is not of the model's sizes (made for another model).
     #[error(transparent)]
     SizeMismatch(#[from] SizeMismatch),
-    /// The dense analyses would need more memory than the machine has.
+    /// The initial-condition analyses would need more memory than the machine has.
     #[error(
-        "the model is too large for the dense initial-condition analyses: they need about {} for {nc} \
+        "the model is too large for the initial-condition analyses: they need about {} for {nc} \
          constraint equations and {nv} velocity coordinates, and {} {}; use a smaller model (fewer bodies \
          or modes)",
         format_bytes(*needed),
@@ -234,10 +236,10 @@ pub(crate) fn check_finite(model: &Model, data: &Data, t: f64) -> Result<(), Ass
     Ok(())
 }
 
-/// Refuses a model whose dense analyses would need more memory than `limit` allows.
+/// Refuses a model whose initial-condition analyses would need more memory than `limit` allows.
 fn check_memory(model: &Model, limit: MemoryLimit) -> Result<(), AssemblyError> {
     let l = &model.layout;
-    let needed = dense_analysis_bytes(l.nc, model.bodies.len(), l.nq, l.nv);
+    let needed = analysis_bytes(model);
     match limit.bytes() {
         Some(available) if needed > available => {
             let machine = limit == MemoryLimit::Available;
@@ -280,7 +282,6 @@ fn residual_norm(model: &Model, data: &mut Data, state: &State) -> f64 {
 fn newton(model: &Model, data: &mut Data, state: &mut State, settings: AssemblySettings) -> Result<usize, AssemblyError> {
     let l = &model.layout;
     let active_rows: Vec<usize> = (0..l.nc).filter(|r| state.active[*r]).collect();
-    let m = active_rows.len() + model.bodies.len();
     let mut phi = Vec::new();
     for it in 0..=settings.max_iterations {
         constraint_values(model, data, state, &mut phi);
@@ -291,36 +292,33 @@ fn newton(model: &Model, data: &mut Data, state: &mut State, settings: AssemblyS
         if it == settings.max_iterations {
             break;
         }
-        let dq = match settings.modal {
-            ModalAssembly::Static => {
-                let gq = position_jacobian(model, data, state, &active_rows, true);
-                match static_deformation_step(model, &state.q, &gq, &phi) {
-                    Some(dq) => dq,
-                    None => {
-                        let dependent = dependent_note(model, data, state);
-                        return Err(AssemblyError::Singular { what: "static deformation", dependent });
-                    }
-                }
-            }
-            modal => {
-                let gq = position_jacobian(model, data, state, &active_rows, modal == ModalAssembly::Free);
-                let a = &gq * gq.transpose();
-                let lu = a.partial_piv_lu();
-                let mut z = Mat::from_fn(m, 1, |i, _| phi[i]);
-                lu.solve_in_place(z.as_mut());
-                -(gq.transpose() * &z)
+        let modal = settings.modal != ModalAssembly::Held;
+        let gq = position_jacobian(model, data, state, &active_rows, modal);
+        let mut dq = vec![0.0; l.nq];
+        let solved = match settings.modal {
+            ModalAssembly::Static => static_deformation_step(model, &state.q, &dense(&gq), &phi).map(|step| {
+                dq.iter_mut().enumerate().for_each(|(k, x)| *x = step[(k, 0)]);
+            }),
+            _ => {
+                // Δq = −Φ̂_qᵀ z with (Φ̂_q Φ̂_qᵀ) z = Φ̂.
+                let mut z = phi.clone();
+                solve_normal_equations(&gq, None, &mut z).ok().map(|()| {
+                    gq.multiply_transposed(&z, &mut dq);
+                    dq.iter_mut().for_each(|x| *x = -*x);
+                })
             }
         };
-        if !dq.col(0).iter().all(|x| x.is_finite()) {
+        if solved.is_none() || !dq.iter().all(|x| x.is_finite()) {
             let dependent = dependent_note(model, data, state);
-            return Err(AssemblyError::Singular { what: "assembly", dependent });
+            let what = if settings.modal == ModalAssembly::Static { "static deformation" } else { "assembly" };
+            return Err(AssemblyError::Singular { what, dependent });
         }
         // Backtracking on the largest residual.
         let q0 = state.q.clone();
         let mut alpha = 1.0;
         loop {
             for k in 0..l.nq {
-                state.q[k] = q0[k] + alpha * dq[(k, 0)];
+                state.q[k] = q0[k] + alpha * dq[k];
             }
             if residual_norm(model, data, state) < norm || alpha < 1e-3 {
                 break;
@@ -339,46 +337,55 @@ fn newton(model: &Model, data: &mut Data, state: &mut State, settings: AssemblyS
     Err(AssemblyError::NotConverged { iterations: settings.max_iterations, residual, worst })
 }
 
-/// Dense `Φ̂_q` in positions: `Φ_R = B_Ṙ`, `Φ_p = B_ω̄ 2G(p)`, `(pᵀp)_p = 2pᵀ`, and `Φ_a = B_ȧ` when
-/// the modal coordinates may move (else zero columns, which hold them) (after `constraint_values`).
-pub(crate) fn position_jacobian(model: &Model, data: &Data, state: &State, active_rows: &[usize], modal: bool) -> Mat<f64> {
+/// Sparse `Φ̂_q` in positions: `Φ_R = B_Ṙ`, `Φ_p = B_ω̄ 2G(p)`, `(pᵀp)_p = 2pᵀ`, and `Φ_a = B_ȧ` when
+/// the modal coordinates may move (else no entries, which holds them) (after `constraint_values`). Rows:
+/// the rows in force, then one normalization row per body.
+pub(crate) fn position_jacobian(model: &Model, data: &Data, state: &State, active_rows: &[usize], modal: bool) -> SparseRows {
     let l = &model.layout;
-    let m = active_rows.len() + model.bodies.len();
+    let nb = model.bodies.len();
+    let m = active_rows.len() + nb;
     let mut row_of = vec![usize::MAX; l.nc];
     for (k, r) in active_rows.iter().enumerate() {
         row_of[*r] = k;
     }
-    let mut b_dense = Mat::<f64>::zeros(active_rows.len(), l.nv);
+    let mut body_of_v = vec![0; l.nv];
+    let mut g2 = Vec::with_capacity(nb);
+    for b in 0..nb {
+        body_of_v[l.v_span(b)].fill(b);
+        let qo = l.q_offset[b];
+        let p = Vec4::new(state.q[qo + 3], state.q[qo + 4], state.q[qo + 5], state.q[qo + 6]);
+        g2.push(2.0 * g_matrix(&p));
+    }
+    let mut entries = Vec::new();
     jacobian_entries(model, data, |r, c, x| {
-        if row_of[r] != usize::MAX {
-            b_dense[(row_of[r], c)] += x;
+        let r = row_of[r];
+        if r == usize::MAX {
+            return;
+        }
+        let b = body_of_v[c];
+        let (qo, k) = (l.q_offset[b], c - l.v_offset[b]);
+        match k {
+            0..=2 => entries.push((r, qo + k, x)),
+            3..=5 => entries.extend((0..4).map(|c| (r, qo + 3 + c, x * g2[b][(k - 3, c)]))),
+            _ if modal => entries.push((r, qo + 7 + (k - 6), x)),
+            _ => {}
         }
     });
-    let mut gq = Mat::<f64>::zeros(m, l.nq);
-    for b in 0..model.bodies.len() {
-        let (qo, vo) = (l.q_offset[b], l.v_offset[b]);
-        let p = Vec4::new(state.q[qo + 3], state.q[qo + 4], state.q[qo + 5], state.q[qo + 6]);
-        let g2 = 2.0 * g_matrix(&p);
-        for r in 0..active_rows.len() {
-            for k in 0..3 {
-                gq[(r, qo + k)] = b_dense[(r, vo + k)];
-            }
-            for c in 0..4 {
-                gq[(r, qo + 3 + c)] = (0..3).map(|k| b_dense[(r, vo + 3 + k)] * g2[(k, c)]).sum();
-            }
-        }
-        for c in 0..4 {
-            gq[(active_rows.len() + b, qo + 3 + c)] = 2.0 * p[c];
-        }
-        if modal {
-            for r in 0..active_rows.len() {
-                for k in 0..l.modes[b] {
-                    gq[(r, qo + 7 + k)] = b_dense[(r, vo + 6 + k)];
-                }
-            }
-        }
+    for b in 0..nb {
+        let qo = l.q_offset[b];
+        entries.extend((0..4).map(|c| (active_rows.len() + b, qo + 3 + c, 2.0 * state.q[qo + 3 + c])));
     }
-    gq
+    SparseRows::from_entries(m, l.nq, entries)
+}
+
+/// The dense matrix of `a` (for the static deformation, whose flexible bodies have few rows).
+fn dense(a: &SparseRows) -> Mat<f64> {
+    let mut d = Mat::<f64>::zeros(a.nrows(), a.ncols());
+    for r in 0..a.nrows() {
+        let (cols, values) = a.row(r);
+        cols.iter().zip(values).for_each(|(c, x)| d[(r, *c)] = *x);
+    }
+    d
 }
 
 /// `data` and `state` (positions, velocities, rows in force) of `model`'s sizes.

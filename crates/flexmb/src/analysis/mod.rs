@@ -7,6 +7,7 @@ mod linearization;
 mod memory;
 mod outputs;
 mod redundancy;
+mod redundancy_reference;
 mod simulation;
 mod static_deformation;
 mod state;
@@ -22,9 +23,13 @@ pub use assembly::{assemble, AssemblyError, AssemblyReport, AssemblySettings, Mo
 pub use linearization::{displaced_positions, linearize, Linearization, OperatingPoint, SparseLinearization};
 pub(crate) use linearization::linearize_at;
 pub use outputs::{output_columns, OutputColumn};
-pub use memory::{dense_analysis_bytes, format_bytes, MemoryLimit};
+pub use memory::{analysis_bytes, format_bytes, MemoryLimit};
 pub(crate) use redundancy::{dependency_of, newly_dependent_rows, violated_rows};
 pub use redundancy::{RedundantConstraint, ViolatedEquation};
+#[doc(hidden)]
+pub use redundancy::redundant_rows;
+#[doc(hidden)]
+pub use redundancy_reference::gram_schmidt_redundant_rows;
 pub use simulation::{
     simulate, simulate_interruptible, Interruption, OutputFrame, OutputSink, OutputTable, Simulation, SimulationCheckpoint,
     SimulationError, SimulationFailure, SimulationReport, SimulationSettings, WorkAtStep, CHECKPOINT_VERSION,

@@ -1,5 +1,8 @@
-//! Redundant constraints: rows of `B` that are linear combinations of rows kept before them, found by
-//! modified Gram–Schmidt with reorthogonalization.
+//! Redundant constraints: rows of `B` that are linear combinations of rows kept before them, found by a
+//! rank-revealing sparse QR that takes the rows one at a time (Givens rotations, George and Heath; see
+//! `linalg/givens_qr.rs`): a row whose part left after the rotations is at most
+//! [`REDUNDANCY_TOLERANCE`] of its length depends on the rows before it. Its work and memory grow with
+//! the entries of `B` and the fill of `R`, i.e. with the bodies for chains and trees.
 //!
 //! Which of a dependent set is removed matters: the removed row is no longer enforced, so it must be one
 //! that holds anyway. Rows are therefore taken in the order in which they are kept
@@ -9,16 +12,13 @@
 //! assembly and the velocity analysis every removed row is checked ([`violated_rows`]): when one does not
 //! hold, the declared equations cannot all hold there and the mechanism is at a singular position.
 
-use faer::linalg::matmul::matmul;
-use faer::prelude::*;
-use faer::{Accum, Par};
-
 use crate::data::Data;
+use crate::linalg::{dependent_rows, solve_normal_equations, SparseRows};
 use crate::model::Model;
 use crate::stage::{jacobian_entries, run_kinematic_stages};
 
 /// Relative size below which a row's component orthogonal to the earlier rows counts as zero.
-const REDUNDANCY_TOLERANCE: f64 = 1e-8;
+pub(crate) const REDUNDANCY_TOLERANCE: f64 = 1e-8;
 
 /// A constraint row that repeats what earlier rows already impose.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -39,72 +39,56 @@ pub(crate) fn find_redundant_rows(
     q: &[f64],
     satisfied_tolerance: f64,
 ) -> (Vec<RedundantConstraint>, usize) {
-    let nv = model.layout.nv;
     let nc = model.layout.nc;
-    let zero_v = vec![0.0; nv];
-    run_kinematic_stages(model, data, t, q, &zero_v);
-    let order = keep_order(model, data, satisfied_tolerance);
-    let mut position = vec![0; nc];
-    order.iter().enumerate().for_each(|(k, &r)| position[r] = k);
-    // Bᵀ with its columns in keep order.
-    let mut rows = Mat::<f64>::zeros(nv, nc);
-    jacobian_entries(model, data, |r, c, x| rows[(c, position[r])] += x);
-    let dependent = dependent_columns(&mut rows);
+    let b = jacobian_in_keep_order(model, data, t, q, satisfied_tolerance);
+    let dependent = dependent_rows(&b.rows, REDUNDANCY_TOLERANCE);
     let mut redundant: Vec<RedundantConstraint> = (0..nc)
         .filter(|&k| dependent[k])
-        .map(|k| RedundantConstraint { row: order[k], description: model.describe_constraint_row(order[k]) })
+        .map(|k| RedundantConstraint { row: b.order[k], description: model.describe_constraint_row(b.order[k]) })
         .collect();
     redundant.sort_by_key(|r| r.row);
     let rank = nc - redundant.len();
     (redundant, rank)
 }
 
-/// Columns of `a` that depend on the columns before them: Gram–Schmidt with reorthogonalization,
-/// blocked so that the projections on the basis found so far are matrix products (classical
-/// Gram–Schmidt, twice, against the earlier blocks; modified Gram–Schmidt, twice, within a block). A
-/// column whose remainder is at most [`REDUNDANCY_TOLERANCE`] of its length is dependent. `a` is
-/// overwritten.
-fn dependent_columns(a: &mut Mat<f64>) -> Vec<bool> {
-    const BLOCK: usize = 128;
-    let (n, m) = (a.nrows(), a.ncols());
-    let lengths: Vec<f64> = (0..m).map(|j| a.col(j).norm_l2()).collect();
-    let mut basis = Mat::<f64>::zeros(n, m.min(n));
-    let mut rank = 0;
-    let mut dependent = vec![false; m];
-    for start in (0..m).step_by(BLOCK) {
-        let width = BLOCK.min(m - start);
-        for _ in 0..2 {
-            if rank > 0 {
-                let q = basis.as_ref().subcols(0, rank);
-                let c = q.transpose() * a.as_ref().subcols(start, width);
-                matmul(a.as_mut().subcols_mut(start, width), Accum::Add, q, &c, -1.0, Par::Seq);
-            }
-        }
-        let block_rank = rank;
-        for j in start..start + width {
-            for _ in 0..2 {
-                for e in block_rank..rank {
-                    let projection = basis.col(e).transpose() * a.col(j);
-                    let (q, x) = (basis.col(e), a.col_mut(j));
-                    x.iter_mut().zip(q.iter()).for_each(|(x, q)| *x -= projection * q);
-                }
-            }
-            let remainder = a.col(j).norm_l2();
-            if lengths[j] == 0.0 || remainder <= REDUNDANCY_TOLERANCE * lengths[j] || rank == n {
-                dependent[j] = true;
-            } else {
-                let (x, q) = (a.col(j), basis.col_mut(rank));
-                q.iter_mut().zip(x.iter()).for_each(|(q, x)| *q = x / remainder);
-                rank += 1;
-            }
-        }
-    }
-    dependent
+/// The rows of `B` at `(q, t)` that depend on rows kept before them, as the assembly finds them (in row
+/// order); for the tests that hold it against [`gram_schmidt_redundant_rows`](super::gram_schmidt_redundant_rows).
+#[doc(hidden)]
+pub fn redundant_rows(model: &Model, data: &mut Data, t: f64, q: &[f64], satisfied_tolerance: f64) -> Vec<usize> {
+    find_redundant_rows(model, data, t, q, satisfied_tolerance).0.iter().map(|r| r.row).collect()
+}
+
+/// The velocity Jacobian `B` with its rows in keep order, and that order.
+pub(crate) struct KeepOrderJacobian {
+    /// `B`'s rows, the `k`-th being row `order[k]` of `B`.
+    pub(crate) rows: SparseRows,
+    /// The rows of `B` in the order they are kept.
+    pub(crate) order: Vec<usize>,
+}
+
+/// `B` at `(q, t)` (after the kinematic stages there, with zero velocities) with its rows in
+/// [`keep_order`].
+pub(crate) fn jacobian_in_keep_order(
+    model: &Model,
+    data: &mut Data,
+    t: f64,
+    q: &[f64],
+    satisfied_tolerance: f64,
+) -> KeepOrderJacobian {
+    let (nv, nc) = (model.layout.nv, model.layout.nc);
+    let zero_v = vec![0.0; nv];
+    run_kinematic_stages(model, data, t, q, &zero_v);
+    let order = keep_order(model, data, satisfied_tolerance);
+    let mut position = vec![0; nc];
+    order.iter().enumerate().for_each(|(k, &r)| position[r] = k);
+    let mut entries = Vec::new();
+    jacobian_entries(model, data, |r, c, x| entries.push((position[r], c, x)));
+    KeepOrderJacobian { rows: SparseRows::from_entries(nc, nv, entries), order }
 }
 
 /// The order in which rows are kept when some are dependent (after `constraint_equations`): rows that
 /// do not hold (`|Φ| > satisfied_tolerance`), then drivers, then the other rows, each group in row order.
-fn keep_order(model: &Model, data: &Data, satisfied_tolerance: f64) -> Vec<usize> {
+pub(crate) fn keep_order(model: &Model, data: &Data, satisfied_tolerance: f64) -> Vec<usize> {
     let rank = |r: usize| {
         let (joint, _) = model.layout.equations[r];
         if data.equations[r].phi.abs() > satisfied_tolerance {
@@ -160,20 +144,24 @@ pub(crate) fn dependency_of(model: &Model, data: &Data, active: &[bool], violate
     let rows: Vec<usize> = (0..l.nc).filter(|&r| active[r]).collect();
     let mut row_of = vec![usize::MAX; l.nc];
     rows.iter().enumerate().for_each(|(k, &r)| row_of[r] = k);
-    let mut b = Mat::<f64>::zeros(rows.len(), l.nv);
-    let mut target = Mat::<f64>::zeros(l.nv, 1);
+    let mut entries = Vec::new();
+    let mut target = vec![0.0; l.nv];
     jacobian_entries(model, data, |r, c, x| {
         if row_of[r] != usize::MAX {
-            b[(row_of[r], c)] += x;
+            entries.push((row_of[r], c, x));
         } else if r == violated.row {
-            target[(c, 0)] += x;
+            target[c] += x;
         }
     });
+    let b = SparseRows::from_entries(rows.len(), l.nv, entries);
     // B Bᵀ c = B b_r: the coefficients of b_r on the rows in force.
-    let mut c = &b * &target;
-    (&b * b.transpose()).partial_piv_lu().solve_in_place(c.as_mut());
-    let largest = (0..rows.len()).map(|k| c[(k, 0)].abs()).fold(0.0, f64::max);
-    let involved: Vec<usize> = (0..rows.len()).filter(|&k| c[(k, 0)].abs() > 1e-6 * largest).map(|k| rows[k]).collect();
+    let mut c = vec![0.0; rows.len()];
+    b.multiply(&target, &mut c);
+    if solve_normal_equations(&b, None, &mut c).is_err() {
+        return Vec::new();
+    }
+    let largest = c.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    let involved: Vec<usize> = (0..rows.len()).filter(|&k| c[k].abs() > 1e-6 * largest).map(|k| rows[k]).collect();
     group_by_joint(model, &involved)
 }
 

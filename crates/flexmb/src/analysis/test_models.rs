@@ -114,3 +114,61 @@ pub fn pendulum_with_stiff_slider_of(stiffness: f64) -> Model {
     b.add_output("bob", OutputKind::MarkerPosition(bob_centre)).unwrap();
     b.build().unwrap()
 }
+
+/// `n` rods of 1 kg and 0.5 m along x on spherical joints, the first to ground: the chain of the
+/// scaling measurements.
+pub fn spherical_chain(n: usize) -> Model {
+    rods_on_spherical_joints(n, true, None)
+}
+
+/// `n` independent spherical pendulums, rods of 1 kg and 0.5 m each on a spherical joint to ground, 1 m
+/// apart.
+pub fn spherical_pendulums(n: usize) -> Model {
+    rods_on_spherical_joints(n, false, None)
+}
+
+/// [`spherical_pendulums`] where every `every`-th pendulum (from the first) is hung a second time, by an
+/// identical spherical joint `s{i}_again` after all the others, whose 3 rows repeat the first's.
+pub fn spherical_pendulums_hung_twice(n: usize, every: usize) -> Model {
+    rods_on_spherical_joints(n, false, Some(every))
+}
+
+fn rods_on_spherical_joints(n: usize, chained: bool, repeated_every: Option<usize>) -> Model {
+    let mut b = ModelBuilder::new(if chained { "chain" } else { "pendulums" }).gravity(Vec3::new(0.0, 0.0, -9.81));
+    let length = 0.5;
+    let mut previous_end = None;
+    let mut joints = Vec::with_capacity(n);
+    for i in 0..n {
+        let (x, y) = if chained { ((i as f64 + 0.5) * length, 0.0) } else { (0.5 * length, i as f64) };
+        let rod = b
+            .add_body(RigidBody {
+                name: format!("rod{i}"),
+                mass: 1.0,
+                center_of_mass: Vec3::zeros(),
+                inertia: Mat3::from_diagonal(&Vec3::new(1e-4, length * length / 12.0, length * length / 12.0)),
+                initial: InitialState {
+                    position: Vec3::new(x, y, 0.0),
+                    orientation: EulerParameters::identity(),
+                    velocity: None,
+                    angular_velocity: None,
+                },
+            })
+            .unwrap();
+        let marker = |b: &mut ModelBuilder, name: String, body, origin| {
+            b.add_marker(Marker { name, body, origin, axes: Mat3::identity() }).unwrap()
+        };
+        let pivot = match previous_end {
+            Some(end) if chained => end,
+            _ => marker(&mut b, format!("pivot{i}"), BodyRef::Ground, Vec3::new(0.0, y, 0.0)),
+        };
+        let start = marker(&mut b, format!("rod{i}_start"), BodyRef::Body(rod), Vec3::new(-0.5 * length, 0.0, 0.0));
+        previous_end = Some(marker(&mut b, format!("rod{i}_end"), BodyRef::Body(rod), Vec3::new(0.5 * length, 0.0, 0.0)));
+        b.add_joint(Joint { name: format!("s{i}"), kind: JointKind::Spherical, marker_i: pivot, marker_j: start }).unwrap();
+        joints.push((pivot, start));
+    }
+    for i in repeated_every.map(|every| (0..n).step_by(every)).into_iter().flatten() {
+        let (marker_i, marker_j) = joints[i];
+        b.add_joint(Joint { name: format!("s{i}_again"), kind: JointKind::Spherical, marker_i, marker_j }).unwrap();
+    }
+    b.build().unwrap()
+}

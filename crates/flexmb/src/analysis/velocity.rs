@@ -2,10 +2,9 @@
 //! Minimizes `½ (v − v₀)ᵀ W (v − v₀)` with weight 10⁶ on the components the user gave and 1 on the rest,
 //! so given velocities are kept where the constraints allow and the others follow.
 
-use faer::prelude::*;
-
 use super::{dependency_of, newly_dependent_rows, violated_rows, AssemblyError, State};
 use crate::data::Data;
+use crate::linalg::{solve_normal_equations, SparseRows};
 use crate::model::Model;
 use crate::stage::{jacobian_entries, run_kinematic_stages};
 
@@ -49,24 +48,31 @@ pub fn velocity_analysis(model: &Model, data: &mut Data, state: &mut State) -> R
     rows.iter().enumerate().for_each(|(k, r)| row_of[*r] = k);
     run_kinematic_stages(model, data, state.t, &state.q, &state.v);
     super::assembly::check_finite(model, data, state.t)?;
-    let mut b = Mat::<f64>::zeros(rows.len(), l.nv);
+    let mut entries = Vec::new();
     jacobian_entries(model, data, |r, c, x| {
         if row_of[r] != usize::MAX {
-            b[(row_of[r], c)] += x;
+            entries.push((row_of[r], c, x));
         }
     });
-    // r = ν − B v₀ = −(B v₀ + Φ_t)
-    let mut z = Mat::from_fn(rows.len(), 1, |k, _| {
-        let (j, _) = l.equations[rows[k]];
-        let joint = &model.joints[j.0];
-        -data.equations[rows[k]].rate(&data.markers[joint.marker_i.0], &data.markers[joint.marker_j.0])
-    });
-    let bw = Mat::from_fn(rows.len(), l.nv, |r, c| b[(r, c)] / weight[c]);
-    let a = &bw * b.transpose();
-    a.partial_piv_lu().solve_in_place(z.as_mut());
-    let dv = bw.transpose() * &z;
+    let b = SparseRows::from_entries(rows.len(), l.nv, entries);
+    // r = ν − B v₀ = −(B v₀ + Φ_t); Δv = W⁻¹ Bᵀ z with (B W⁻¹ Bᵀ) z = r.
+    let mut z: Vec<f64> = rows
+        .iter()
+        .map(|&r| {
+            let (j, _) = l.equations[r];
+            let joint = &model.joints[j.0];
+            -data.equations[r].rate(&data.markers[joint.marker_i.0], &data.markers[joint.marker_j.0])
+        })
+        .collect();
+    let mut dv = vec![0.0; l.nv];
+    if solve_normal_equations(&b, Some(&weight), &mut z).is_ok() {
+        b.multiply_transposed(&z, &mut dv);
+        dv.iter_mut().zip(&weight).for_each(|(x, w)| *x /= w);
+    } else {
+        dv.fill(f64::NAN);
+    }
     for k in 0..l.nv {
-        state.v[k] += dv[(k, 0)];
+        state.v[k] += dv[k];
     }
     if !state.v.iter().all(|x| x.is_finite()) {
         state.v = v0;

@@ -1,10 +1,14 @@
-//! Global (sparse) linear algebra on top of `faer`, and the colouring and steps of finite-difference
+//! Global (sparse) linear algebra on top of `faer` (LU of the iteration matrices, a rank-revealing QR by
+//! Givens rotations, the normal equations of minimum-norm corrections), and the colouring and steps of finite-difference
 //! Jacobians.
 
 mod colouring;
 mod dense_lu;
 mod finite_difference;
+mod givens_qr;
+mod normal_equations;
 mod sparse_lu;
+mod sparse_rows;
 
 pub use colouring::greedy_colouring;
 pub use finite_difference::{perturbation, RELATIVE_STEP};
@@ -12,3 +16,7 @@ pub use sparse_lu::SingularMatrix;
 // The integrators' workspace: its callers build the pattern from a model's layout, so its checks are
 // the engine's invariants, not a user's input.
 pub(crate) use sparse_lu::SparseLu;
+// The initial-condition analyses' sparse Jacobians, their rank and their minimum-norm corrections.
+pub(crate) use givens_qr::dependent_rows;
+pub(crate) use normal_equations::solve_normal_equations;
+pub(crate) use sparse_rows::SparseRows;

@@ -12,7 +12,10 @@ use faer::{Conj, MatMut, Par};
 
 use super::dense_lu::DenseLu;
 
-/// Largest dimension factored as a dense matrix.
+/// Largest dimension factored as a dense matrix: about where the two cost the same. Generalized-α on
+/// the chain of spherical rods, instructions per step (valgrind, the steps between t = 0.05 and 0.1 s at
+/// rtol 1e-8): at 96 unknowns (8 rods) dense 1.30 M, sparse 2.11 M; at 192 (16 rods) dense 4.22 M,
+/// sparse 4.42 M. Below the limit the dense factorization's cost grows with the cube of the dimension.
 pub const DENSE_LIMIT: usize = 200;
 
 /// The factorization produced a zero or non-finite pivot.
