@@ -16,7 +16,8 @@ Usage: work_precision.py [--flexmb PATH] [--integrators bdf,adams,gen-alpha] [--
 """
 import argparse, csv, json, math, os, subprocess, sys
 
-COLOURS = {'bdf': '#1f77b4', 'adams': '#2ca02c', 'gen-alpha': '#d62728'}
+COLOURS = {'bdf': '#1f77b4', 'adams': '#2ca02c', 'gen-alpha': '#d62728',
+           'bdf per step': '#9ecae1', 'adams per step': '#a1d99b', 'gen-alpha per step': '#fc9272'}
 
 
 def run(flexmb, model, integrator, tol, out, extra=()):
