@@ -45,6 +45,12 @@ enum Command {
         /// Absolute error tolerance of the integrator.
         #[arg(long)]
         atol: Option<f64>,
+        /// The span of simulated time (s) whose steps together may make an error of the tolerance: each
+        /// step's local error is held to h / span of it (error per unit step), so that the global error
+        /// falls in proportion to the tolerance (docs/accuracy.md). Default the model's [simulation]
+        /// tolerance_span, else infinite (the classical error per step)
+        #[arg(long)]
+        tolerance_span: Option<f64>,
         /// Integrator: bdf (default; stiff, variable order). Overrides the model's [simulation] integrator.
         #[arg(long)]
         integrator: Option<String>,
@@ -269,12 +275,13 @@ enum SolverArg {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Run { model, t_end, output_step, rtol, atol, integrator, spectral_radius, out, quiet, vtk, vtk_step, plot, max_output_rows, max_vtk_frames, save_state, resume, pause_at } => {
+        Command::Run { model, t_end, output_step, rtol, atol, tolerance_span, integrator, spectral_radius, out, quiet, vtk, vtk_step, plot, max_output_rows, max_vtk_frames, save_state, resume, pause_at } => {
             let options = RunOptions {
                 t_end,
                 output_step,
                 rtol,
                 atol,
+                tolerance_span,
                 integrator,
                 spectral_radius,
                 out_dir: out,

@@ -20,6 +20,9 @@ pub struct RunOptions {
     pub output_step: Option<f64>,
     pub rtol: Option<f64>,
     pub atol: Option<f64>,
+    /// The span of simulated time whose steps together may make an error of the tolerance
+    /// (`--tolerance-span`), overriding the model file's `tolerance_span`.
+    pub tolerance_span: Option<f64>,
     /// Integrator by name (`bdf`, …), overriding the model file's.
     pub integrator: Option<String>,
     /// Spectral radius ρ∞ of the generalized-α method.
@@ -82,6 +85,9 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
     d.output_step = positive("--output-step", options.output_step.unwrap_or(d.output_step))?;
     d.rtol = positive("--rtol", options.rtol.unwrap_or(d.rtol))?;
     d.atol = positive("--atol", options.atol.unwrap_or(d.atol))?;
+    if let Some(span) = options.tolerance_span {
+        d.tolerance_span = positive("--tolerance-span", span)?;
+    }
     let (t_end, output_step) = (d.t_end, d.output_step);
     let max_rows = options.max_output_rows.unwrap_or(d.max_output_rows);
     check_output_rows(t_end, output_step, max_rows, true).map_err(|e| CliError(format!("{}: {e}", path.display())))?;

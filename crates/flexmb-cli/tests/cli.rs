@@ -71,6 +71,22 @@ fn command_line_overrides_the_model_settings() {
     assert_eq!(summary["settings"]["rtol"].as_f64().unwrap(), 1e-8);
 }
 
+/// A tolerance below what double precision delivers is raised to 1e-12, and the run says so: in the
+/// summary it prints and in the JSON's warnings. `--tolerance-span` is taken.
+#[test]
+fn a_tolerance_below_double_precision_is_raised_with_a_warning() {
+    let out = scratch("finest-tolerance");
+    let o = flexmb(&["run", "models/pendulum.toml", "--t-end", "0.2", "--rtol", "1e-15", "--atol", "1e-6", "--tolerance-span", "1", "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let printed = text(&o.stdout);
+    assert!(printed.contains("warning at t = 0.0000 s: tolerance finer than double precision can deliver: rtol 1e-15 raised to 1e-12"), "{printed}");
+    let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("pendulum.json")).unwrap()).unwrap();
+    assert_eq!(summary["warnings"][0]["kind"], "tolerance", "{}", summary["warnings"]);
+    assert_eq!(summary["status"], "completed");
+    let o = flexmb(&["run", "models/pendulum.toml", "--tolerance-span", "0", "--out", out.to_str().unwrap()]);
+    assert!(!o.status.success() && text(&o.stderr).contains("--tolerance-span must be a positive number"), "{}", text(&o.stderr));
+}
+
 #[test]
 fn check_reports_degrees_of_freedom_and_redundant_constraints() {
     let o = flexmb(&["check", "models/slider_crank.toml"]);

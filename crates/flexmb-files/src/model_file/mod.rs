@@ -50,6 +50,10 @@ pub struct SimulationDefaults {
     pub rtol: f64,
     /// Absolute error tolerance of the integrator. Default 1e-6.
     pub atol: f64,
+    /// The span of simulated time (s) whose steps together may make an error of the tolerance
+    /// (`tolerance_span`, [`Tolerances::span`](flexmb::integrate::Tolerances::span): error per unit step).
+    /// Default infinite: the classical error per step.
+    pub tolerance_span: f64,
     /// What the assembly may change in flexible bodies (`modal_assembly`). Default held: the modal
     /// coordinates stay at their initial values and only the reference frames move.
     pub modal_assembly: flexmb::analysis::ModalAssembly,
@@ -79,6 +83,7 @@ impl Default for SimulationDefaults {
             output_step: 0.01,
             rtol: 1e-6,
             atol: 1e-6,
+            tolerance_span: f64::INFINITY,
             modal_assembly: flexmb::analysis::ModalAssembly::Held,
             method: flexmb::integrate::Method::default(),
             max_order: None,
@@ -93,7 +98,7 @@ impl Default for SimulationDefaults {
 impl SimulationDefaults {
     /// The error tolerances and step limits these defaults ask for.
     pub fn tolerances(&self) -> flexmb::integrate::Tolerances {
-        flexmb::integrate::Tolerances::new(self.rtol, self.atol)
+        flexmb::integrate::Tolerances { span: self.tolerance_span, ..flexmb::integrate::Tolerances::new(self.rtol, self.atol) }
     }
 
     /// The integration method for `model`: [`method`](Self::method), the BDF with the settings for the

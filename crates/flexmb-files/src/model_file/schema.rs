@@ -59,6 +59,7 @@ pub(crate) struct SimulationSection {
     pub output_step: Option<Number>,
     pub rtol: Option<Number>,
     pub atol: Option<Number>,
+    pub tolerance_span: Option<Number>,
     pub modal_assembly: Option<Name>,
     pub integrator: Option<Name>,
     pub spectral_radius: Option<Number>,

@@ -76,6 +76,9 @@ pub enum WarningKind {
     ElasticDeflection,
     /// The energy balance.
     EnergyBalance,
+    /// A tolerance finer than the arithmetic allows, raised to the finest attainable
+    /// ([`Tolerances::attainable`](crate::integrate::Tolerances::attainable)).
+    Tolerance,
 }
 
 impl WarningKind {
@@ -84,6 +87,7 @@ impl WarningKind {
         match self {
             WarningKind::ElasticDeflection => "elastic_deflection",
             WarningKind::EnergyBalance => "energy_balance",
+            WarningKind::Tolerance => "tolerance",
         }
     }
 }

@@ -24,6 +24,7 @@ use crate::integrate::diagnosis::{self, EquationRow};
 use crate::integrate::error_norm::{error_weight, weighted_rms_norm};
 use crate::integrate::iteration_matrix::IterationMatrix;
 use crate::integrate::newton::{self, ConvergenceTest, NewtonSystem};
+use crate::integrate::share_floor::ShareFloor;
 use crate::integrate::{
     check_len, AttemptFailure, BdfCheckpoint, BdfConfig, CheckpointError, IntegrationError, Integrator, IntegratorCheckpoint, Stats,
     Tolerances,
@@ -37,6 +38,8 @@ const MAX_ORDER: usize = 5;
 const NEWTON_MAXITER: usize = 4;
 const MIN_FACTOR: f64 = 0.2;
 const MAX_FACTOR: f64 = 10.0;
+/// Error-test failures of one step after which it is retried at order 1.
+const ORDER_ONE_AFTER: usize = 3;
 /// Range of `c/c_f` in which the factors made for `c_f` are reused.
 const REUSE_MIN: f64 = 0.6;
 const REUSE_MAX: f64 = 1.0 / 0.6;
@@ -94,6 +97,11 @@ pub struct Bdf {
     filtered: Vec<f64>,
     stability: StabilityLimits,
     newton_tol: f64,
+    /// The attempt's share of the tolerance ([`step_share`](Self::step_share)); the Newton increments are
+    /// measured against it, as the local error is.
+    share: f64,
+    /// The floor under a step's share of the tolerance.
+    share_floor: ShareFloor,
     y_pred: Vec<f64>,
     psi: Vec<f64>,
     y_new: Vec<f64>,
@@ -151,6 +159,7 @@ impl Bdf {
                 reason: "initial positions, velocities or accelerations are not finite".into(),
             });
         }
+        let tolerances = tolerances.attainable().0;
         let max_order = config.max_order.clamp(1, MAX_ORDER);
         let config = BdfConfig { max_order, ..config };
         let h0 = tolerances
@@ -187,6 +196,8 @@ impl Bdf {
             filtered: vec![0.0; n],
             stability: StabilityLimits::new(),
             newton_tol,
+            share: 1.0,
+            share_floor: ShareFloor::default(),
             y_pred: vec![0.0; n],
             psi: vec![0.0; n],
             y_new: vec![0.0; n],
@@ -254,6 +265,7 @@ impl Bdf {
             step_limits: self.stability.h_limit.to_vec(),
             last_h: self.stability.last_h,
             last_error: self.stability.last_error,
+            share_floor: self.share_floor.stored(),
             active: self.active.clone(),
             angle_reference: self.data.angle_reference.clone(),
             stats: self.stats,
@@ -292,6 +304,7 @@ impl Bdf {
         self.stability.h_limit.copy_from_slice(&c.step_limits);
         self.stability.last_h = c.last_h;
         self.stability.last_error = c.last_error;
+        self.share_floor = ShareFloor::restored(c.share_floor);
         self.active.copy_from_slice(&c.active);
         self.data.angle_reference.copy_from_slice(&c.angle_reference);
         self.stats = c.stats;
@@ -371,6 +384,7 @@ impl Bdf {
         }
         // Why the last attempt failed; described (which allocates) only if the step size underflows.
         let mut failure = AttemptFailure::None;
+        let mut error_test_failures = 0;
         let (t_new, safety) = loop {
             let mut h = self.h;
             if h < min_step {
@@ -433,18 +447,34 @@ impl Bdf {
                 self.reuse.first_reuse_failures = 0;
             }
             let safety = 0.9 * (2 * NEWTON_MAXITER + 1) as f64 / (2 * NEWTON_MAXITER + iterations) as f64;
-            let error_norm = self.local_error();
+            let mut error_norm = self.local_error();
+            if error_norm > 1.0 && self.share_floor.is_noise(h, error_norm * self.share, self.tolerances.rtol) {
+                // Noise, not error: the floor is now twice it.
+                self.share = self.step_share();
+                error_norm = self.local_error();
+            }
             if error_norm > 1.0 {
                 if self.config.stability_limits {
                     self.stability.error_test_failed(order, h, error_norm);
                 }
                 self.stats.error_test_failures += 1;
-                let factor = MIN_FACTOR.max(safety * error_norm.powf(-1.0 / (order + 1) as f64));
+                error_test_failures += 1;
+                let power = self.tolerances.error_power(h, order + 1);
+                let factor = MIN_FACTOR.max(safety * error_norm.powf(-1.0 / power));
                 failure = AttemptFailure::ErrorTest { error_norm };
                 self.reduce_step(factor);
+                // From the third failure of one step on, order 1 (as DASSL and IDA): the polynomial of
+                // the history does not describe a fast transient, and its extrapolation then errs by
+                // O(h) however short the step, which error per unit step never accepts; order 1
+                // extrapolates the last derivative only, whose error falls as h².
+                if error_test_failures >= ORDER_ONE_AFTER && self.order > 1 {
+                    self.order = 1;
+                    self.n_equal_steps = 0;
+                }
                 continue;
             }
             self.stability.accepted(h, error_norm);
+            self.share_floor.accepted(h, self.share);
             break (t_new, safety);
         };
         self.accept(t_new);
@@ -469,19 +499,31 @@ impl Bdf {
         let n = self.n;
         let order = self.order;
         // The estimates at orders k − 1, k, k + 1 from ∇ᵏy, ∇ᵏ⁺¹y, ∇ᵏ⁺²y, filtered like the error test's.
+        // Each as a fraction of the step's share of the tolerance (error per unit step).
+        let share = self.step_share();
         let estimate = |bdf: &mut Self, row: usize, k: usize| {
             let x = if row == order + 1 { &bdf.corr[..] } else { &bdf.d[row * n..(row + 1) * n] };
-            if filtering {
+            let norm = if filtering {
                 bdf.rhs.copy_from_slice(x);
                 bdf.filtered_norm(error_const(k))
             } else {
                 bdf.rms_norm(x, error_const(k))
-            }
+            };
+            norm / share
         };
         let error_m = if order > 1 { estimate(self, order, order - 1) } else { f64::INFINITY };
         let error_p = if order < self.config.max_order { estimate(self, order + 2, order + 1) } else { f64::INFINITY };
         let error = estimate(self, order + 1, order);
-        let factor_of = |e: f64, k: usize| if e.is_finite() { e.max(1e-300).powf(-1.0 / k as f64) } else { 0.0 };
+        // An estimate of order h^power allows the step factor e^(−1/p), p the power of h in e / share.
+        let tolerances = self.tolerances;
+        let h = self.h;
+        let factor_of = |e: f64, power: usize| {
+            if e.is_finite() {
+                e.max(1e-300).powf(-1.0 / tolerances.error_power(h, power))
+            } else {
+                0.0
+            }
+        };
         let mut factors = [factor_of(error_m, order), factor_of(error, order + 1), factor_of(error_p, order + 2)];
         // Each order's step is also bounded by its stability limit (infinite for orders 1 and 2).
         for (i, f) in factors.iter_mut().enumerate() {
@@ -538,14 +580,17 @@ impl Bdf {
     /// The weighted norm of the local error estimate `d/(k + 1)` of the converged corrector, with the
     /// error weights of the positions and velocities moved to the new values; filtered through the
     /// iteration matrix while stiff components inflate it (see [`filtered_norm`](Self::filtered_norm)).
+    /// Returned as a fraction of the step's share of the tolerance ([`Tolerances::step_share`]: error per
+    /// unit step), so that the step passes at 1 or less.
     fn local_error(&mut self) -> f64 {
         let Tolerances { atol, rtol, .. } = self.tolerances;
         for k in 0..self.n_diff {
             self.scale[k] = error_weight(atol, rtol, self.y_new[k]);
         }
         let order = self.order;
+        let share = self.step_share();
         let mut error_norm = self.rms_norm(&self.corr, error_const(order));
-        if self.filter_steps > 0 || error_norm > 1.0 {
+        if self.filter_steps > 0 || error_norm > share {
             self.rhs.copy_from_slice(&self.corr);
             let filtered = self.filtered_norm(error_const(order));
             if filtered < FILTER_RATIO * error_norm {
@@ -555,7 +600,13 @@ impl Bdf {
                 error_norm = filtered;
             }
         }
-        error_norm
+        error_norm / share
+    }
+
+    /// The share of the tolerance the current step size may spend: its share of the span
+    /// ([`Tolerances::step_share`]), bounded below by [`ShareFloor`].
+    fn step_share(&self) -> f64 {
+        self.share_floor.share(&self.tolerances, self.h)
     }
 
     fn reduce_step(&mut self, factor: f64) {
@@ -582,7 +633,9 @@ impl Bdf {
     fn newton(&mut self, t_new: f64, c: f64, c_f: f64) -> (bool, usize) {
         self.corr.fill(0.0);
         self.y_new.copy_from_slice(&self.y_pred);
-        let mut test = ConvergenceTest::new(self.newton_tol, NEWTON_MAXITER);
+        self.share = self.step_share();
+        let newton_tol = self.newton_tol.max(self.tolerances.newton_tolerance_at(self.share));
+        let mut test = ConvergenceTest::new(newton_tol, NEWTON_MAXITER);
         let increment_scale = 2.0 / (1.0 + c_f / c);
         let mut corrector = Corrector { bdf: self, t_new, c, c_f, increment_scale };
         let outcome = newton::iterate(&mut corrector, &mut test, NEWTON_MAXITER);
@@ -596,11 +649,16 @@ impl Bdf {
     /// be tested too. The multipliers of this index-2 form enter the solution through `c = h/α`
     /// (their impulse over the step), so their increments are weighted by `c` (Hairer and Wanner's
     /// scaling of index-2 components).
+    ///
+    /// Measured against the attempt's share of the tolerance, as the local error is: the corrector's
+    /// unresolved part is then small against the local error the step is held to, however small the
+    /// share (with the whole tolerance as the measure, it was the estimate's floor, and error per unit
+    /// step drove the step size to zero).
     fn newton_norm(&self, x: &[f64], c: f64) -> f64 {
         weighted_rms_norm((0..self.n).map(|k| {
             let weight = if k < self.n_diff { 1.0 } else { c };
             (weight * x[k], self.scale[k])
-        }))
+        })) / self.share
     }
 
     /// The error estimate `rhs` filtered through the iteration matrix, `x = J⁻¹ [F_ẏ e; F_y e]` with

@@ -82,6 +82,10 @@ pub struct BdfCheckpoint {
     /// See [`last_h`](Self::last_h).
     #[serde(with = "extended_float")]
     pub last_error: f64,
+    /// The floor under a step's share of the tolerance: the last accepted step's share and the share
+    /// learnt from noise (zero in checkpoints written before error per unit step).
+    #[serde(default)]
+    pub share_floor: [f64; 2],
     /// The constraint rows in force.
     pub active: Vec<bool>,
     /// Last accepted relative angle of each joint (for continuing angles past ±π).
@@ -147,6 +151,9 @@ pub struct GeneralizedAlphaCheckpoint {
     pub derivatives_current: bool,
     /// Re-evaluate them at the next step's predictor.
     pub refresh_next: bool,
+    /// The floor under a step's share of the tolerance (see [`BdfCheckpoint::share_floor`]).
+    #[serde(default)]
+    pub share_floor: [f64; 2],
     /// Stiffness and damping parts of the iteration matrix, in the order of its sparse pattern.
     pub stiffness: Vec<f64>,
     /// See [`stiffness`](Self::stiffness).

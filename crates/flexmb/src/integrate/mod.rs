@@ -33,6 +33,7 @@ pub mod generalized_alpha;
 mod integrator;
 mod iteration_matrix;
 mod newton;
+mod share_floor;
 mod stats;
 mod tolerances;
 

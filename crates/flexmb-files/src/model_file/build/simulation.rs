@@ -116,6 +116,7 @@ pub(crate) fn simulation_defaults(
         output_step: positive(&s.output_step, "output_step", defaults.output_step, Some(Quantity::Time))?,
         rtol: positive(&s.rtol, "rtol", defaults.rtol, None)?,
         atol: positive(&s.atol, "atol", defaults.atol, None)?,
+        tolerance_span: positive(&s.tolerance_span, "tolerance_span", defaults.tolerance_span, Some(Quantity::Time))?,
         vtk_step: s.vtk_step.as_ref().map(|_| positive(&s.vtk_step, "vtk_step", 0.0, Some(Quantity::Time))).transpose()?,
         max_output_rows: limit(&s.max_output_rows, "max_output_rows", defaults.max_output_rows)?,
         max_vtk_frames: limit(&s.max_vtk_frames, "max_vtk_frames", defaults.max_vtk_frames)?,

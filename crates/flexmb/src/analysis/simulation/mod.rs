@@ -20,7 +20,7 @@ pub use report::{Interruption, SimulationError, SimulationFailure, SimulationRep
 pub use settings::SimulationSettings;
 
 use super::outputs::{constraint_residuals, evaluate_outputs, output_columns};
-use super::watchdog::Watchdog;
+use super::watchdog::{SimulationWarning, WarningKind, Watchdog};
 use super::{assemble, linearize_at, velocity_analysis, AccelerationSolver, Accelerations, Linearization, State};
 use crate::data::Data;
 use crate::integrate::Adams;
@@ -117,6 +117,7 @@ impl Simulation {
 
     fn start(model: Arc<Model>, settings: SimulationSettings, report: &mut SimulationReport) -> Result<Self, SimulationFailure> {
         settings.validate().map_err(SimulationFailure::Invalid)?;
+        let settings = attainable_tolerances(settings, &mut report.warnings);
         let mut data = Data::new(&model);
         let mut state = State::initial(&model);
         report.assembly = Some(assemble(&model, &mut data, &mut state, settings.assembly)?);
@@ -168,6 +169,8 @@ impl Simulation {
     pub fn resume(model: Arc<Model>, settings: SimulationSettings, checkpoint: &SimulationCheckpoint) -> Result<Self, SimulationError> {
         let fail = |cause| SimulationError { cause, report: Box::new(checkpoint.report.clone()) };
         settings.validate().map_err(|e| fail(SimulationFailure::Invalid(e)))?;
+        // The checkpointed run warned already, if it had to.
+        let settings = attainable_tolerances(settings, &mut Vec::new());
         if checkpoint.version != CHECKPOINT_VERSION {
             return Err(fail(SimulationFailure::Invalid(format!(
                 "the checkpoint has layout version {}, this flexmb reads version {CHECKPOINT_VERSION}",
@@ -546,6 +549,16 @@ fn add_work(report: &mut SimulationReport, watchdog: &mut Watchdog, t: f64, powe
         report.work_at_step = WorkAtStep { t, power, work };
         watchdog.add_power(t, power);
     }
+}
+
+/// `settings` with tolerances finer than the arithmetic allows raised to the finest attainable, and a
+/// warning at the start saying so.
+fn attainable_tolerances(settings: SimulationSettings, warnings: &mut Vec<SimulationWarning>) -> SimulationSettings {
+    let (tolerances, raised) = settings.tolerances.attainable();
+    if let Some(message) = raised {
+        warnings.push(SimulationWarning { t: 0.0, kind: WarningKind::Tolerance, message });
+    }
+    SimulationSettings { tolerances, ..settings }
 }
 
 /// The integrator of `settings.method`, started at a consistent state and its accelerations.

@@ -125,9 +125,11 @@ impl Adams {
                 ),
             });
         }
+        let tolerances = tolerances.attainable().0;
         let control = StepControl {
             rtol: tolerances.rtol,
             atol: tolerances.atol,
+            span: tolerances.span,
             max_order: config.max_order,
             h_max: tolerances.h_max,
             h_init: tolerances.h_init,

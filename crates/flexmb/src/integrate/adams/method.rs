@@ -47,8 +47,6 @@ use crate::integrate::error_norm::error_weight;
 /// Highest order of the method (the order of its Adams–Bashforth predictor).
 pub const MAX_ORDER: usize = 12;
 
-/// `2^i`, index `i` (STEP's `two`).
-const TWO: [f64; 14] = [1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0, 128.0, 256.0, 512.0, 1024.0, 2048.0, 4096.0, 8192.0];
 /// STEP's `gstr`: `|γ*_i|`, error constants of the constant-step Adams–Moulton formulas, index `i ≥ 1`.
 const GSTR: [f64; 14] =
     [0.0, 0.5, 0.0833, 0.0417, 0.0264, 0.0188, 0.0143, 0.0114, 0.00936, 0.00789, 0.00679, 0.00592, 0.00524, 0.00468];
@@ -77,10 +75,15 @@ pub trait OdeSystem {
 /// Tolerances and step limits of [`AdamsStepper`].
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct StepControl {
-    /// Relative tolerance of the local error (per unit step, in STEP's generalized sense).
+    /// Relative tolerance of the local error.
     pub rtol: f64,
     /// Absolute tolerance.
     pub atol: f64,
+    /// The span of time whose steps together may make an error of the tolerance
+    /// ([`Tolerances::span`](crate::integrate::Tolerances::span)): a step of size `h` is held to `h / span`
+    /// of it. Infinite (the default here) is STEP's own test, the whole tolerance per step.
+    #[serde(with = "crate::integrate::extended_float", default = "per_step")]
+    pub span: f64,
     /// Highest order, 1 to [`MAX_ORDER`].
     pub max_order: usize,
     /// Largest step.
@@ -92,7 +95,19 @@ pub struct StepControl {
 
 impl Default for StepControl {
     fn default() -> Self {
-        Self { rtol: 1e-6, atol: 1e-6, max_order: MAX_ORDER, h_max: f64::INFINITY, h_init: None }
+        Self { rtol: 1e-6, atol: 1e-6, span: per_step(), max_order: MAX_ORDER, h_max: f64::INFINITY, h_init: None }
+    }
+}
+
+/// The span of STEP's own error test: the whole tolerance for every step.
+fn per_step() -> f64 {
+    f64::INFINITY
+}
+
+impl StepControl {
+    /// The tolerances these are, for the share of the tolerance a step may spend.
+    fn tolerances(&self) -> crate::integrate::Tolerances {
+        crate::integrate::Tolerances { rtol: self.rtol, atol: self.atol, span: self.span, ..Default::default() }
     }
 }
 
@@ -360,6 +375,7 @@ impl AdamsStepper {
         }
         // Error weights from the solution at the start of the step (DE), scaled for an RMS norm.
         let root_n = (n.max(1) as f64).sqrt();
+        let tolerances = self.control.tolerances();
         if !self.fixed {
             for l in 0..n {
                 self.wt[l] = error_weight(self.control.atol, self.control.rtol, self.y[l]) * root_n;
@@ -387,7 +403,15 @@ impl AdamsStepper {
         self.g[2] = 0.5;
         self.sig[1] = 1.0;
         let mut ifail = 0;
+        let mut share = 1.0;
         loop {
+            // The weights of this attempt's share of the tolerance (error per unit step).
+            if !self.fixed {
+                let new_share = tolerances.step_share(self.h);
+                let rescale = new_share / share;
+                self.wt.iter_mut().for_each(|w| *w *= rescale);
+                share = new_share;
+            }
             self.coefficients();
             // Block 2: φ → φ*, predict, evaluate.
             let (k, kp1, kp2) = (self.k, self.k + 1, self.k + 2);
@@ -718,15 +742,17 @@ impl AdamsStepper {
             }
             _ => {}
         }
-        // Step for the next step at the new order.
+        // Step for the next step at the new order: the estimate is of order h^(k+1), its ratio to the
+        // step's share of the tolerance of order h^power.
         let p5eps = 0.5;
         let knext = self.k;
-        let hnew = if self.phase1 || p5eps >= erk * TWO[knext + 1] {
+        let power = self.control.tolerances().error_power(h, knext + 1);
+        let hnew = if self.phase1 || p5eps >= erk * 2f64.powf(power) {
             h + h
         } else if p5eps >= erk {
             h
         } else {
-            let r = (p5eps / erk).powf(1.0 / (knext + 1) as f64);
+            let r = (p5eps / erk).powf(1.0 / power);
             (absh * r.clamp(0.5, 0.9)).max(FOURU * self.x.abs())
         };
         self.h = hnew;

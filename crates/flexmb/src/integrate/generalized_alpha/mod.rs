@@ -90,6 +90,7 @@ use crate::data::Data;
 use crate::integrate::diagnosis::{self, EquationRow};
 use crate::integrate::error_norm::{error_weight, position_sum_of_squares, root_mean_square};
 use crate::integrate::newton::{self, ConvergenceTest, NewtonSystem};
+use crate::integrate::share_floor::ShareFloor;
 use std::sync::Arc;
 
 use crate::integrate::{
@@ -151,6 +152,8 @@ pub struct GeneralizedAlpha {
     nv: usize,
     nc: usize,
     newton_tol: f64,
+    /// The floor under a step's share of the tolerance (error per unit step).
+    share_floor: ShareFloor,
     matrix: IterationMatrix,
     /// The finite-difference parts were evaluated during the current step.
     derivatives_current: bool,
@@ -220,6 +223,7 @@ impl GeneralizedAlpha {
                 reason: "initial positions, velocities, accelerations or multipliers are not finite".into(),
             });
         }
+        let tolerances = tolerances.attainable().0;
         let l = &model.layout;
         let (nq, nv, nc) = (l.nq, l.nv, l.nc);
         let h0 = alpha
@@ -239,6 +243,7 @@ impl GeneralizedAlpha {
             nv,
             nc,
             newton_tol: tolerances.newton_tolerance(),
+            share_floor: ShareFloor::default(),
             matrix: IterationMatrix::new(&model),
             data,
             derivatives_current: false,
@@ -322,6 +327,7 @@ impl GeneralizedAlpha {
             vdot_old: self.vdot_old.clone(),
             d_last: self.d_last.clone(),
             derivatives_current: self.derivatives_current,
+            share_floor: self.share_floor.stored(),
             refresh_next: self.refresh_next,
             stiffness: stiffness.to_vec(),
             damping: damping.to_vec(),
@@ -368,6 +374,7 @@ impl GeneralizedAlpha {
         self.vdot_old.copy_from_slice(&c.vdot_old);
         self.d_last.copy_from_slice(&c.d_last);
         self.derivatives_current = c.derivatives_current;
+        self.share_floor = ShareFloor::restored(c.share_floor);
         self.refresh_next = c.refresh_next;
         self.matrix.set_stored_parts(&c.stiffness, &c.damping, &c.start_jacobian);
         self.active.copy_from_slice(&c.active);
@@ -432,20 +439,26 @@ impl GeneralizedAlpha {
                 rejected = true;
                 continue;
             }
-            let error_norm = self.error_norm(h_step);
+            let mut error_norm = self.error_norm(h_step);
+            let share = self.share_floor.share(&self.tolerances, h_step);
+            if self.fixed_step.is_none() && error_norm > 1.0 && self.share_floor.is_noise(h_step, error_norm * share, self.tolerances.rtol) {
+                // Noise, not error: the floor is now twice it.
+                error_norm = self.error_norm(h_step);
+            }
             if self.fixed_step.is_none() && error_norm > 1.0 {
                 self.stats.error_test_failures += 1;
                 failure = AttemptFailure::ErrorTest { error_norm };
-                h = h_step * (SAFETY * error_norm.powf(-1.0 / 3.0)).max(MIN_FACTOR);
+                h = h_step * (SAFETY * error_norm.powf(-1.0 / self.tolerances.error_power(h_step, 3))).max(MIN_FACTOR);
                 rejected = true;
                 continue;
             }
             self.accept(t_new, h_step);
+            self.share_floor.accepted(h_step, self.share_floor.share(&self.tolerances, h_step));
             self.h = match self.fixed_step {
                 Some(fixed) => fixed,
                 None => {
                     let factor = if error_norm > 0.0 {
-                        (SAFETY * error_norm.powf(-1.0 / 3.0)).clamp(MIN_FACTOR, MAX_FACTOR)
+                        (SAFETY * error_norm.powf(-1.0 / self.tolerances.error_power(h_step, 3))).clamp(MIN_FACTOR, MAX_FACTOR)
                     } else {
                         MAX_FACTOR
                     };
@@ -538,7 +551,9 @@ impl GeneralizedAlpha {
     /// factored. Returns whether it converged; the state of the converged unknowns is then in `q_new`,
     /// `v_new`, `a_new`, `d_step`.
     fn newton(&mut self, t_new: f64, h: f64) -> bool {
-        let mut test = ConvergenceTest::new(self.newton_tol, NEWTON_MAXITER);
+        // Measured against the step's share of the tolerance, as the local error is (see `increment_norm`).
+        let newton_tol = self.newton_tol.max(self.tolerances.newton_tolerance_at(self.share_floor.share(&self.tolerances, h)));
+        let mut test = ConvergenceTest::new(newton_tol, NEWTON_MAXITER);
         let outcome = newton::iterate(&mut StepEquations { integrator: self, t_new, h }, &mut test, NEWTON_MAXITER);
         self.stats.newton_iterations += outcome.solves;
         if outcome.converged {
@@ -551,7 +566,8 @@ impl GeneralizedAlpha {
     /// Weighted RMS norm of a Newton increment: the position increment `β'h² Δv̇ + Δ(Bᵀμ)` and the
     /// velocity increment `γ'h Δv̇` in the weights of the error test, and the multipliers' increments as
     /// impulses `γ'h Δλ` over `atol + rtol |λ|` (as the BDF weighs its multipliers), so that they converge
-    /// too.
+    /// too. As a fraction of the step's share of the tolerance ([`Tolerances::step_share`], with its floor), as the local
+    /// error is: the unresolved part of the step then stays small against the error the step is held to.
     fn increment_norm(&mut self, h: f64) -> f64 {
         let (nv, nc) = (self.nv, self.nc);
         let (cb, cg) = (self.coefficients.beta_prime() * h * h, self.coefficients.gamma_prime() * h);
@@ -566,11 +582,12 @@ impl GeneralizedAlpha {
         for r in 0..nc {
             sum += (cg * self.dx[nv + r] / error_weight(atol, rtol, self.x[nv + r])).powi(2);
         }
-        root_mean_square(sum, self.model.layout.nq + nv + nc)
+        root_mean_square(sum, self.model.layout.nq + nv + nc) / self.share_floor.share(&self.tolerances, h)
     }
 
     /// Weighted RMS norm of the local error estimates of the positions and the velocities (see the
-    /// module documentation), over `nq + nv` components.
+    /// module documentation), over `nq + nv` components, as a fraction of the step's share of the
+    /// tolerance ([`Tolerances::step_share`]: error per unit step).
     fn error_norm(&mut self, h: f64) -> f64 {
         let (atol, rtol) = (self.tolerances.atol, self.tolerances.rtol);
         let c = h * h * (self.coefficients.beta - 1.0 / 6.0);
@@ -586,7 +603,7 @@ impl GeneralizedAlpha {
             let v3 = self.v[k] + 0.5 * h * (a0 + a1) - h * h * h / 6.0 * curvature;
             sum += ((self.v_new[k] - v3) / error_weight(atol, rtol, self.v_new[k])).powi(2);
         }
-        root_mean_square(sum, self.model.layout.nq + self.nv)
+        root_mean_square(sum, self.model.layout.nq + self.nv) / self.share_floor.share(&self.tolerances, h)
     }
 
     /// Accepts the converged step to `t_new`.

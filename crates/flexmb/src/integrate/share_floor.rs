@@ -1,0 +1,130 @@
+//! The floor under the share of the tolerance a step may spend.
+//!
+//! With error per unit step ([`Tolerances::step_share`]) a step of size `h` is held to `h / span` of the
+//! tolerance, so its error estimate must fall faster than `h` when the step is shortened. Two parts of an
+//! estimate do not, and would drive the step size to zero:
+//!
+//! - **the rest of the last step's Newton iteration.** An accepted state holds the constraints only to
+//!   the Newton tolerance of its own share; the next corrector removes that rest whatever its step size.
+//!   A step far shorter than the last sees it as an error that does not fall with the step (3-D
+//!   slider-crank at rtol 1e-4, t = 0.46 s, where the rod's spin is nearly undetermined: the step size
+//!   fell to 1e-14 s with the estimate at 135 shares). Hence a share of at least
+//!   [`LAST_SHARE_FRACTION`] of the last accepted step's.
+//! - **rounding amplified by ill-conditioning.** Near a singular position the corrector's solution is
+//!   only resolved to many units of rounding (the same slider-crank at rtol 1e-10, t = 0.287 s: an
+//!   estimate of ±1.7e-12 rad/s alternating in sign, 8,000 units of rounding, at every step size from
+//!   1e-7 s to 1e-11 s; each step failed once, was shortened and passed). When an estimate does not fall
+//!   below half its value at the first failure after the steps were shortened [`NOISE_STEP_RATIO`] times
+//!   since, it is noise: the share is held at twice it (the step is
+//!   accepted), a floor that then decays by [`NOISE_DECAY`] per accepted step.
+//!
+//! What these floors let through is bounded: the first by a geometric series, `0.1/(1 − 0.1)` of the
+//! last step's share; the second by the resolution of the equations themselves.
+
+use crate::integrate::Tolerances;
+
+/// A step's share of the tolerance is at least this fraction of the last accepted step's.
+const LAST_SHARE_FRACTION: f64 = 0.1;
+/// A step shortened this many times within one step without its estimate falling by half is noise.
+const NOISE_STEP_RATIO: f64 = 8.0;
+/// Only an estimate below this fraction of the solution can be noise: the rounding seen is thousands of
+/// units (1.7e-12 on the slider-crank), an estimate that does not fall with the step above it is a stiff
+/// component's (the BDF's pendulum on a 1e7 N/m spring) and must not pass.
+const NOISE_LEVEL: f64 = 1e-10;
+/// Factor of the noise floor per accepted step.
+const NOISE_DECAY: f64 = 0.95;
+
+/// The floor under a step's share of the tolerance (see the module documentation).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct ShareFloor {
+    /// The share of the last accepted step.
+    pub accepted: f64,
+    /// The share learnt from an estimate that was noise.
+    pub noise: f64,
+    /// The step size and estimate (in tolerances, not shares) of the first failed attempt since the steps
+    /// were last as long.
+    probe: Option<(f64, f64)>,
+}
+
+impl ShareFloor {
+    /// The share of the tolerance a step of size `h` may spend.
+    pub fn share(&self, tolerances: &Tolerances, h: f64) -> f64 {
+        tolerances.step_share(h).max(LAST_SHARE_FRACTION * self.accepted).max(self.noise)
+    }
+
+    /// An attempt at step size `h` failed the error test with the estimate `error` (in tolerances). True
+    /// when the estimate is noise (it has not fallen by half since the first failure, in this step or the
+    /// shorter steps after it, while the step was shortened [`NOISE_STEP_RATIO`] times): the floor is then
+    /// raised to twice it, and the attempt passes.
+    pub fn is_noise(&mut self, h: f64, error: f64, rtol: f64) -> bool {
+        if error * rtol > NOISE_LEVEL {
+            return false;
+        }
+        match self.probe {
+            None => {
+                self.probe = Some((h, error));
+                false
+            }
+            Some((h_first, error_first)) if h_first >= NOISE_STEP_RATIO * h => {
+                if error >= 0.5 * error_first {
+                    self.noise = self.noise.max(2.0 * error);
+                    true
+                } else {
+                    // It fell: an error, resolved by shorter steps; the next comparison starts here.
+                    self.probe = Some((h, error));
+                    false
+                }
+            }
+            Some(_) => false,
+        }
+    }
+
+    /// A step of size `h` was accepted with the share `share`. The first failure is forgotten once the
+    /// steps are as long again.
+    pub fn accepted(&mut self, h: f64, share: f64) {
+        self.accepted = share;
+        self.noise *= NOISE_DECAY;
+        if self.probe.is_some_and(|(h_first, _)| h >= h_first) {
+            self.probe = None;
+        }
+    }
+
+    /// The floors `[accepted, noise]`, for a checkpoint.
+    pub fn stored(&self) -> [f64; 2] {
+        [self.accepted, self.noise]
+    }
+
+    /// The floors of a checkpoint.
+    pub fn restored(stored: [f64; 2]) -> Self {
+        Self { accepted: stored[0], noise: stored[1], probe: None }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An estimate that falls with the step is never noise; one that stays while the step is cut eight
+    /// times is, and then passes at the floor it sets; a short step after a long one may spend a tenth
+    /// of the long one's share.
+    #[test]
+    fn an_estimate_that_does_not_fall_with_the_step_is_noise() {
+        let tolerances = Tolerances { span: 1.0, ..Tolerances::new(1e-6, 1e-6) };
+        let mut floor = ShareFloor::default();
+        let mut h = 1e-3;
+        for _ in 0..6 {
+            assert!(!floor.is_noise(h, 1e-3 * (h / 1e-3).powi(3), 1e-8));
+            h *= 0.25;
+        }
+        let mut floor = ShareFloor::default();
+        let steps = [1e-3, 5e-4, 2e-4, 1.3e-4];
+        assert!(steps.iter().all(|&h| !floor.is_noise(h, 3e-6, 1e-8)));
+        assert!(floor.is_noise(1e-4, 3e-6, 1e-8));
+        assert!(!ShareFloor::default().is_noise(1e-4, 3e-2, 1e-8), "an estimate of 3e-10 of the solution is not noise");
+        assert_eq!(floor.share(&tolerances, 1e-9), 6e-6);
+        assert!(3e-6 / floor.share(&tolerances, 1e-9) <= 1.0);
+        floor.accepted(2e-3, 2e-3);
+        assert_eq!(floor.share(&tolerances, 1e-9), 2e-4);
+        assert_eq!(floor.share(&tolerances, 1e-2), 1e-2);
+    }
+}
