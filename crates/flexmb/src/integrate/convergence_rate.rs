@@ -16,7 +16,11 @@
 /// The margin on the extrapolated rate: rates spread about it (the 90th percentile is 1.5 to 2 times
 /// the median at the same age), and a re-evaluation a step early costs less than a failure, which costs
 /// the same re-evaluation plus the iterations wasted.
-const RATE_MARGIN: f64 = 1.5;
+/// 2 rather than 1.5: on the chain of 64 rods at rtol 3e-10, 630 Newton failures in 13067 steps against
+/// 771 in 13141, for 9 % more residual evaluations (still 8 % fewer than before the monitoring).
+const RATE_MARGIN: f64 = 2.0;
+/// Most re-evaluations without a measurement of their own that a measurement outlives after failures.
+const MOST_PATIENCE: u32 = 63;
 
 /// What the last converged iteration measured away from its matrix's state said of the convergence.
 ///
@@ -25,7 +29,10 @@ const RATE_MARGIN: f64 = 1.5;
 /// measured with the matrix before (on a fast top, 0.07 to 0.13 one step after the Jacobian at
 /// `rtol = 3e-8`). It is forgotten at the second re-evaluation without a measurement of its own, so that
 /// a measurement from a transient long past (or at a tiny step) does not re-evaluate every step ever after:
-/// the matrix after that is reused, and measured, whatever it predicts.
+/// the matrix after that is reused, and measured, whatever it predicts. An iteration that fails with a
+/// reused matrix is a measurement too, and doubles (plus one) the re-evaluations its measurement outlives,
+/// so that where reuse keeps failing (a driven mechanism whose matrix is stale after one step) it is tried
+/// ever more rarely; a converged reuse resets that to none.
 /// It travels with a checkpoint, so that a resumed run re-evaluates where the uninterrupted one does.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RateMonitor {
@@ -41,16 +48,45 @@ pub struct RateMonitor {
     /// The weighted norm of the first increment of that iteration (the predictor's distance from the
     /// solution).
     pub first_increment: f64,
+    /// Re-evaluations without a measurement of their own that the measurement outlives (0 until a
+    /// reuse fails).
+    #[serde(default)]
+    pub patience: u32,
+    /// Re-evaluations without a measurement of their own since the measurement.
+    #[serde(default)]
+    pub unmeasured: u32,
 }
 
 impl RateMonitor {
     /// The matrix's derivative parts were evaluated at the state of time `t`.
     pub(crate) fn evaluated(&mut self, t: f64) {
         if self.measured_with != self.evaluated_at {
-            self.rate = 0.0;
-            self.elapsed = 0.0;
+            self.unmeasured += 1;
+            if self.unmeasured > self.patience {
+                self.rate = 0.0;
+                self.elapsed = 0.0;
+            }
         }
         self.evaluated_at = Some(t);
+    }
+
+    /// An iteration with the matrix at the step to `t` failed, its slowest rate `rate` (at least 1 when it
+    /// diverged) from a first increment of weighted norm `first_increment`.
+    pub(crate) fn failed(&mut self, t: f64, rate: f64, first_increment: f64) {
+        let Some(t0) = self.evaluated_at else { return };
+        let elapsed = (t - t0).abs();
+        if elapsed > 0.0 {
+            self.record(t0, rate, elapsed, first_increment);
+            self.patience = (2 * self.patience + 1).min(MOST_PATIENCE);
+        }
+    }
+
+    fn record(&mut self, t0: f64, rate: f64, elapsed: f64, first_increment: f64) {
+        self.rate = rate;
+        self.elapsed = elapsed;
+        self.first_increment = first_increment;
+        self.measured_with = Some(t0);
+        self.unmeasured = 0;
     }
 
     /// An iteration at the step to `t` converged with slowest rate `rate` from a first increment of
@@ -59,10 +95,8 @@ impl RateMonitor {
         let Some(t0) = self.evaluated_at else { return };
         let elapsed = (t - t0).abs();
         if elapsed > 0.0 {
-            self.rate = rate;
-            self.elapsed = elapsed;
-            self.first_increment = first_increment;
-            self.measured_with = Some(t0);
+            self.record(t0, rate, elapsed, first_increment);
+            self.patience = 0;
         }
     }
 
@@ -135,5 +169,17 @@ mod tests {
         // A second evaluation without a measurement in between forgets it.
         monitor.evaluated(2.3);
         assert_eq!(monitor.expected_rate(2.35), 0.0);
+        // A failed reuse is a measurement, which then outlives one re-evaluation more; a converged one
+        // resets that.
+        monitor.evaluated(2.4);
+        monitor.failed(2.5, 1.0, 1.0);
+        assert_eq!(monitor.patience, 1);
+        monitor.evaluated(2.5);
+        monitor.evaluated(2.6);
+        assert!(monitor.expects_failure(2.65, 1e-3, 4));
+        monitor.evaluated(2.7);
+        assert_eq!(monitor.expected_rate(2.9), 0.0);
+        monitor.converged(2.95, 0.01, 1.0);
+        assert_eq!(monitor.patience, 0);
     }
 }
