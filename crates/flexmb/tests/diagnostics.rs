@@ -89,8 +89,11 @@ fn all_revolute_four_bar_is_redundant_names_the_rows_and_still_runs() {
     }
 
     // The run goes on, and the switched-off rows are still satisfied (they are implied by the others).
-    let redundant = run(&model, &settings(2.0, 0.01, 1e-8));
-    let reference = run(&four_bar(false), &settings(2.0, 0.01, 1e-8));
+    // At 1e-10: at 1e-8 each run is about 1e-4 rad from its own run at 1e-11 (the BDF's global error,
+    // issue 16), so a difference below 1e-5 there measured how alike the two runs' step sequences were,
+    // not the redundancy handling (1.9e-5 once the Newton iteration changed); the two at 1e-11 agree to 4e-9.
+    let redundant = run(&model, &settings(2.0, 0.01, 1e-10));
+    let reference = run(&four_bar(false), &settings(2.0, 0.01, 1e-10));
     let reference_assembly = reference.report.assembly.as_ref().unwrap();
     assert!(reference_assembly.redundant.is_empty(), "spherical + universal four-bar: no redundancy");
     assert_eq!(reference_assembly.degrees_of_freedom, 1);

@@ -9,7 +9,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::adams::{AdamsStepper, PartitionCheckpoint, ProjectionDrift};
-use super::Stats;
+use super::{RateMonitor, Stats};
 
 /// The state of one integrator between two steps, by method.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -72,6 +72,9 @@ pub struct BdfCheckpoint {
     pub first_reuse_failures: usize,
     /// Steps left that evaluate the Jacobian at their predictor before iterating.
     pub refresh_ahead: usize,
+    /// The convergence rate of the Newton iterations, from which the next step's is predicted.
+    #[serde(default)]
+    pub newton_rate: RateMonitor,
     /// Accepted steps left during which the error estimates are filtered.
     pub filter_steps: usize,
     /// Stability limit of the step size for each order (s; infinite where none was found).
@@ -154,6 +157,16 @@ pub struct GeneralizedAlphaCheckpoint {
     /// The floor under a step's share of the tolerance (see [`BdfCheckpoint::share_floor`]).
     #[serde(default)]
     pub share_floor: [f64; 2],
+    /// The step size the factors in use were made for (`None`: none in use), and the matrix they were
+    /// made of, in the order of its sparse pattern (empty when none).
+    #[serde(default)]
+    pub factored_h: Option<f64>,
+    /// See [`factored_h`](Self::factored_h).
+    #[serde(default)]
+    pub factored_matrix: Vec<f64>,
+    /// The convergence rate of the Newton iterations, from which the next step's is predicted.
+    #[serde(default)]
+    pub newton_rate: RateMonitor,
     /// Stiffness and damping parts of the iteration matrix, in the order of its sparse pattern.
     pub stiffness: Vec<f64>,
     /// See [`stiffness`](Self::stiffness).

@@ -25,11 +25,15 @@ pub(crate) struct ConvergenceTest {
     last: Option<f64>,
     /// The slowest contraction rate `‖Δₖ‖ / ‖Δₖ₋₁‖` seen so far.
     pub slowest: f64,
+    /// The weighted norm of the first increment (the predictor's distance from the solution).
+    pub first_increment: f64,
+    /// The last contraction rate measured, also of an iteration that diverged.
+    pub last_rate: f64,
 }
 
 impl ConvergenceTest {
     pub fn new(tolerance: f64, max_iterations: usize) -> Self {
-        Self { tolerance, max_iterations, last: None, slowest: 0.0 }
+        Self { tolerance, max_iterations, last: None, slowest: 0.0, first_increment: 0.0, last_rate: 0.0 }
     }
 
     /// The verdict on the weighted norm of the increment of iteration `k` (from 0). With the rate
@@ -39,6 +43,9 @@ impl ConvergenceTest {
     /// are round-off that does not shrink, and their ratio, about 1, says nothing (a body at rest on a
     /// fixed joint failed every step, down to h = 1e-307, with increments of 4e-8 of the tolerance).
     pub fn assess(&mut self, k: usize, norm: f64) -> Verdict {
+        if k == 0 {
+            self.first_increment = norm;
+        }
         if norm == 0.0 || (k > 0 && norm <= NEGLIGIBLE * self.tolerance) {
             return Verdict::Converged;
         }
@@ -47,6 +54,7 @@ impl ConvergenceTest {
         let Some(rate) = rate else {
             return Verdict::Continue;
         };
+        self.last_rate = rate;
         let left = self.max_iterations.saturating_sub(k) as i32;
         if rate >= 1.0 || rate.powi(left) / (1.0 - rate) * norm > self.tolerance {
             return Verdict::Diverging;

@@ -14,6 +14,7 @@ mod kinematics;
 mod lie_group;
 mod measures;
 mod modal;
+mod multiplier_jacobian;
 mod residual;
 
 pub(crate) use constraints::{add_jacobian_transpose, constraint_equations, jacobian_entries};
@@ -31,4 +32,5 @@ pub(crate) use lie_group::{quaternion_product, retract, right_jacobian, right_ja
 pub(crate) use measures::{measure_value, measures, update_angle_references};
 pub use modal::ModalState;
 pub(crate) use modal::modal_row;
+pub(crate) use multiplier_jacobian::multiplier_jacobian_entries;
 pub(crate) use residual::{residual, YLayout};

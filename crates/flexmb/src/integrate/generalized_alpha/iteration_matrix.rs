@@ -295,6 +295,17 @@ impl IterationMatrix {
         self.b_start.copy_from_slice(b_start);
     }
 
+    /// The matrix the current factors were made of, in the order of its sparse pattern (for a checkpoint).
+    pub fn factored_values(&self) -> &[f64] {
+        &self.lu.values
+    }
+
+    /// Factors `values`, the matrix of a checkpoint (its length checked by the caller).
+    pub fn factor_values(&mut self, values: &[f64]) -> Result<(), SingularMatrix> {
+        self.lu.values.copy_from_slice(values);
+        self.lu.factor()
+    }
+
     /// Solves with the current factors in place.
     pub fn solve_in_place(&mut self, rhs: &mut [f64]) -> Result<(), SingularMatrix> {
         self.lu.solve_in_place(rhs)
