@@ -71,7 +71,7 @@ impl Measurement {
     pub fn row(&self) -> String {
         let s = &self.stats;
         let mut line = format!(
-            "{:<22} {:<9} {:>7.0e} {:>5} {:>7} {:>6} {:>6} {:>8} {:>6} {:>7} {:>9.1} {:>9.1} {:>9.4} {:>8.3}",
+            "{:<22} {:<9} {:>7.0e} {:>5} {:>7} {:>6} {:>6} {:>8} {:>6} {:>7} {:>9.1} {:>9} {:>9.4} {:>8.3}",
             self.name.case,
             self.name.integrator,
             self.rtol,
@@ -83,7 +83,9 @@ impl Measurement {
             s.jacobian_evaluations,
             s.factorizations,
             self.us_per_step(),
-            self.us_per_newton_iteration(),
+            // None for a method that makes no Newton iterations (the Adams method on a model its
+            // projections need no iteration for).
+            Some(self.us_per_newton_iteration()).filter(|x| x.is_finite()).map_or("–".to_string(), |x| format!("{x:.1}")),
             self.time_per_simulated_second(),
             self.setup_time(),
         );
