@@ -170,6 +170,9 @@ enum Command {
         /// Also write every measurement to this JSON file, to compare runs.
         #[arg(long)]
         json: Option<PathBuf>,
+        /// The longest chain the `chain` group runs (rods; default: all, 4 to 1024 doubling).
+        #[arg(long)]
+        max_links: Option<usize>,
     },
     /// Plot result columns against time (or another column); several result files are overlaid.
     Plot {
@@ -348,8 +351,8 @@ fn main() -> ExitCode {
             let options = CompareOptions { integrators, t_end, rtol, atol, spectral_radius };
             compare_model(&model, &options).map(|table| print!("{table}"))
         }
-        Command::Bench { case, integrator, repeat, json } => {
-            let options = BenchOptions { cases: case, integrators: integrator, repeat: repeat.max(1), json };
+        Command::Bench { case, integrator, repeat, json, max_links } => {
+            let options = BenchOptions { cases: case, integrators: integrator, repeat: repeat.max(1), json, max_links };
             run_benchmarks(&options).map_err(flexmb_cli::run::CliError)
         }
         Command::Plot { results, y, x, out, title, width, height } => {

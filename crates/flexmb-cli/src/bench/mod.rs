@@ -139,6 +139,8 @@ pub struct BenchOptions {
     pub repeat: usize,
     /// Where to write every measurement as JSON.
     pub json: Option<PathBuf>,
+    /// The longest chain of the `chain` group (rods); `None`: all of them, up to 1024.
+    pub max_links: Option<usize>,
 }
 
 const SLIDER_CRANK: &str = include_str!("../../../../models/slider_crank.toml");
@@ -274,7 +276,8 @@ pub fn run_benchmarks(options: &BenchOptions) -> Result<(), String> {
     let asked: &[BenchCase] = if options.cases.is_empty() { &BenchCase::EVERYTHING } else { &options.cases };
     let mut jobs: Vec<Job> = Vec::new();
     for job in asked.iter().flat_map(|c| c.members()) {
-        if !jobs.contains(&job) {
+        let too_long = matches!(job, Job::Chain(n) if options.max_links.is_some_and(|max| n > max));
+        if !jobs.contains(&job) && !too_long {
             jobs.push(job);
         }
     }
