@@ -57,12 +57,6 @@ const REUSE_MAX: f64 = 1.0 / 0.6;
 /// the classical one; it is then used for [`FILTER_HOLD`] accepted steps (renewed while the evidence lasts).
 const FILTER_RATIO: f64 = 0.5;
 const FILTER_HOLD: usize = 20;
-/// Once the Jacobians of `REFRESH_AFTER` consecutive steps have failed at their first reuse (and after each
-/// such failure from then on, until a reused Jacobian converges), one is evaluated at the predictor of each
-/// of the next `REFRESH_AHEAD` steps before their Newton iteration. Four, not two: on the 20-link chain
-/// two consecutive failures are common enough that evaluating ahead cost 8 % of its run time.
-const REFRESH_AFTER: usize = 4;
-const REFRESH_AHEAD: usize = 10;
 /// Stability limits of orders 3–5 ([`BdfConfig::stability_limits`]): an error-test failure at the step size of
 /// the step before whose estimate grew by more than `STABILITY_GROWTH` marks that step size as unstable for
 /// the order; the order's steps are then kept below `STABILITY_MARGIN` times it, a bound that relaxes by
@@ -106,7 +100,6 @@ pub struct Bdf {
     filter_steps: usize,
     filtered: Vec<f64>,
     stability: StabilityLimits,
-    newton_tol: f64,
     /// The attempt's share of the tolerance ([`step_share`](Self::step_share)); the Newton increments are
     /// measured against it, as the local error is.
     share: f64,
@@ -126,20 +119,15 @@ pub struct Bdf {
 }
 
 /// The reuse of the iteration matrix across steps (DASSL's policy): the factors of a nearby `c = h/α`
-/// serve, the finite-difference part is re-evaluated only when a Newton iteration fails with one
-/// evaluated elsewhere, and ahead of time when such re-evaluations keep being needed.
+/// serve, the finite-difference part is re-evaluated when a Newton iteration fails with one evaluated
+/// elsewhere, and ahead of the iteration when the convergence rate monitored across steps
+/// ([`RateMonitor`]) predicts that it would fail.
 #[derive(Clone, Copy, Debug, Default)]
 struct MatrixReuse {
     /// The `c` of the current factors; `None` when they must be made again.
     factored_c: Option<f64>,
     /// The Jacobian was evaluated at the predictor of the current attempt.
     at_attempt: bool,
-    /// Accepted steps since the Jacobian was evaluated.
-    age: usize,
-    /// Consecutive steps whose Jacobian, evaluated during the step before, failed at its first reuse.
-    first_reuse_failures: usize,
-    /// Steps left that evaluate the Jacobian at their predictor before iterating.
-    refresh_ahead: usize,
     /// The convergence rate of the iterations with the current Jacobian, which predicts the next one's.
     rate: RateMonitor,
 }
@@ -187,7 +175,6 @@ impl Bdf {
         let references = state_angle_references(&model, &mut data, state);
         data.angle_reference.copy_from_slice(&references);
         let jac = IterationMatrix::new(&model, &yl);
-        let newton_tol = tolerances.newton_tolerance();
         let mut bdf = Self {
             model,
             yl,
@@ -207,7 +194,6 @@ impl Bdf {
             filter_steps: 0,
             filtered: vec![0.0; n],
             stability: StabilityLimits::new(),
-            newton_tol,
             share: 1.0,
             share_floor: ShareFloor::default(),
             y_pred: vec![0.0; n],
@@ -270,9 +256,6 @@ impl Bdf {
             jacobian_derivative: f_yp.to_vec(),
             factored_c: self.reuse.factored_c,
             jacobian_at_attempt: self.reuse.at_attempt,
-            jacobian_age: self.reuse.age,
-            first_reuse_failures: self.reuse.first_reuse_failures,
-            refresh_ahead: self.reuse.refresh_ahead,
             newton_rate: self.reuse.rate,
             filter_steps: self.filter_steps,
             step_limits: self.stability.h_limit.to_vec(),
@@ -310,9 +293,6 @@ impl Bdf {
         self.jac.set_stored_parts(&c.jacobian, &c.jacobian_derivative);
         self.reuse.factored_c = c.factored_c.filter(|&cf| self.jac.factor(cf).is_ok());
         self.reuse.at_attempt = c.jacobian_at_attempt;
-        self.reuse.age = c.jacobian_age;
-        self.reuse.first_reuse_failures = c.first_reuse_failures;
-        self.reuse.refresh_ahead = c.refresh_ahead;
         self.reuse.rate = c.newton_rate;
         self.filter_steps = c.filter_steps;
         self.stability.h_limit.copy_from_slice(&c.step_limits);
@@ -350,7 +330,6 @@ impl Bdf {
         self.stats.jacobian_evaluations += 1;
         self.stats.residual_evaluations += evals;
         self.reuse.factored_c = None;
-        self.reuse.age = 0;
         self.reuse.rate.evaluated(t);
     }
 
@@ -416,11 +395,9 @@ impl Bdf {
             }
             let order = self.order;
             self.predict();
+            self.share = self.step_share();
             let c = h / GAMMA[order];
-            if self.reuse.refresh_ahead > 0 && self.reuse.age > 0 {
-                self.reuse.refresh_ahead -= 1;
-                self.refresh_jacobian(t_new, c);
-            } else if !self.reuse.at_attempt && self.reuse.rate.expects_failure(t_new, self.newton_tol, NEWTON_MAXITER) {
+            if !self.reuse.at_attempt && self.reuse.rate.expects_failure(t_new, self.newton_tolerance(), NEWTON_MAXITER) {
                 // The rate of the last iterations, grown with the time since the Jacobian, says this
                 // iteration would fail: the Jacobian is re-evaluated here rather than after the failure.
                 self.refresh_jacobian(t_new, c);
@@ -449,21 +426,12 @@ impl Bdf {
                 // step size) is re-evaluated here before the step is reduced: F_y of a stiff spring or of
                 // the constraints turns with the bodies, and a chord iteration with a turned one diverges.
                 if !self.reuse.at_attempt {
-                    if self.reuse.age == 1 {
-                        self.reuse.first_reuse_failures += 1;
-                        if self.reuse.first_reuse_failures >= REFRESH_AFTER {
-                            self.reuse.refresh_ahead = REFRESH_AHEAD;
-                        }
-                    }
                     self.refresh_jacobian(t_new, c);
                     continue;
                 }
                 failure = AttemptFailure::Newton { t_new, step: c };
                 self.reduce_step(0.5);
                 continue;
-            }
-            if self.reuse.age > 0 {
-                self.reuse.first_reuse_failures = 0;
             }
             self.reuse.rate.converged(t_new, test.slowest, test.first_increment);
             let safety = 0.9 * (2 * SAFETY_ITERATIONS + 1) as f64 / (2 * SAFETY_ITERATIONS + iterations) as f64;
@@ -629,6 +597,12 @@ impl Bdf {
         self.share_floor.share(&self.tolerances, self.h)
     }
 
+    /// The Newton tolerance of the attempt at the current step's share, the one its iteration is tested
+    /// against and the rate monitor predicts for.
+    fn newton_tolerance(&self) -> f64 {
+        self.tolerances.newton_tolerance_at(self.share)
+    }
+
     fn reduce_step(&mut self, factor: f64) {
         self.reuse.at_attempt = false;
         self.h *= factor;
@@ -654,9 +628,7 @@ impl Bdf {
     fn newton(&mut self, t_new: f64, c: f64, c_f: f64) -> (bool, usize, ConvergenceTest) {
         self.corr.fill(0.0);
         self.y_new.copy_from_slice(&self.y_pred);
-        self.share = self.step_share();
-        let newton_tol = self.newton_tol.max(self.tolerances.newton_tolerance_at(self.share));
-        let mut test = ConvergenceTest::new(newton_tol, NEWTON_MAXITER);
+        let mut test = ConvergenceTest::new(self.newton_tolerance(), NEWTON_MAXITER);
         let increment_scale = 2.0 / (1.0 + c_f / c);
         let mut corrector = Corrector { bdf: self, t_new, c, c_f, increment_scale };
         let outcome = newton::iterate(&mut corrector, &mut test, NEWTON_MAXITER);
@@ -718,7 +690,6 @@ impl Bdf {
         self.stats.sum_h_squared += h * h;
         self.stats.order_counts[self.order] += 1;
         self.reuse.at_attempt = false;
-        self.reuse.age += 1;
         self.n_equal_steps += 1;
         let order = self.order;
         for k in 0..n {

@@ -66,12 +66,6 @@ pub struct BdfCheckpoint {
     pub factored_c: Option<f64>,
     /// The Jacobian was evaluated at the predictor of the attempt in progress.
     pub jacobian_at_attempt: bool,
-    /// Accepted steps since the Jacobian was evaluated.
-    pub jacobian_age: usize,
-    /// Consecutive steps whose Jacobian failed at its first reuse.
-    pub first_reuse_failures: usize,
-    /// Steps left that evaluate the Jacobian at their predictor before iterating.
-    pub refresh_ahead: usize,
     /// The convergence rate of the Newton iterations, from which the next step's is predicted.
     #[serde(default)]
     pub newton_rate: RateMonitor,

@@ -166,7 +166,6 @@ pub struct GeneralizedAlpha {
     coefficients: Coefficients,
     nv: usize,
     nc: usize,
-    newton_tol: f64,
     /// The floor under a step's share of the tolerance (error per unit step).
     share_floor: ShareFloor,
     matrix: IterationMatrix,
@@ -261,7 +260,6 @@ impl GeneralizedAlpha {
             coefficients: Coefficients::from_spectral_radius(alpha.spectral_radius),
             nv,
             nc,
-            newton_tol: tolerances.newton_tolerance(),
             share_floor: ShareFloor::default(),
             matrix: IterationMatrix::new(&model),
             data,
@@ -451,7 +449,7 @@ impl GeneralizedAlpha {
             // The factors of a nearby step size are reused while the convergence rate, grown with the time
             // since they were made, predicts convergence.
             let reused = self.factored_h.is_some_and(|h_f| (REUSE_MIN..=REUSE_MAX).contains(&(h_step / h_f)))
-                && !self.rate.expects_failure(t_new, self.newton_tol, NEWTON_MAXITER);
+                && !self.rate.expects_failure(t_new, self.newton_tolerance(h_step), NEWTON_MAXITER);
             let factored = reused || self.factor_at(t_new, h_step);
             let converged = factored && self.newton(t_new, h_step, reused);
             if !converged {
@@ -596,13 +594,19 @@ impl GeneralizedAlpha {
         self.factored_h = None;
     }
 
+    /// The Newton tolerance of a step of size `h`, measured against the step's share of the tolerance as
+    /// the local error is (see `increment_norm`): the one its iteration is tested against and the rate
+    /// monitor predicts for.
+    fn newton_tolerance(&self, h: f64) -> f64 {
+        self.tolerances.newton_tolerance_at(self.share_floor.share(&self.tolerances, h))
+    }
+
     /// Modified Newton iteration from the predictor, whose residual is in `res` and whose matrix is
     /// factored (at this attempt's predictor, or `reused` from an earlier one). Returns whether it
     /// converged; the state of the converged unknowns is then in `q_new`, `v_new`, `a_new`, `d_step`.
     fn newton(&mut self, t_new: f64, h: f64, reused: bool) -> bool {
         // Measured against the step's share of the tolerance, as the local error is (see `increment_norm`).
-        let newton_tol = self.newton_tol.max(self.tolerances.newton_tolerance_at(self.share_floor.share(&self.tolerances, h)));
-        let mut test = ConvergenceTest::new(newton_tol, NEWTON_MAXITER);
+        let mut test = ConvergenceTest::new(self.newton_tolerance(h), NEWTON_MAXITER);
         let outcome = newton::iterate(&mut StepEquations { integrator: self, t_new, h }, &mut test, NEWTON_MAXITER);
         self.stats.newton_iterations += outcome.solves;
         if outcome.converged {
