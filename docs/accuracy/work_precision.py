@@ -12,9 +12,12 @@ output). Prints one row per run (tolerance, E, E/tol, steps, rejected steps, New
 evaluations, factorizations, status) and writes an SVG diagram (E against steps, log-log) per model.
 
 Usage: work_precision.py [--flexmb PATH] [--integrators bdf,adams,gen-alpha] [--tolerances 1e-3,...]
-                         [--reference adams:1e-12] [--tolerance-span S] [--tag T] [--out DIR] MODEL.toml...
+                         [--reference adams:1e-12] [--tolerance-span S] [--tag T] [--out DIR]
+                         [--benchmarks] MODEL.toml...
+
+--benchmarks adds the published benchmarks, every model of models/benchmarks/.
 """
-import argparse, csv, json, math, os, subprocess, sys
+import argparse, csv, glob, json, math, os, subprocess, sys
 
 COLOURS = {'bdf': '#1f77b4', 'adams': '#2ca02c', 'gen-alpha': '#d62728',
            'bdf per step': '#9ecae1', 'adams per step': '#a1d99b', 'gen-alpha per step': '#fc9272'}
@@ -87,7 +90,8 @@ def svg(path, title, series):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
-    ap.add_argument('models', nargs='+')
+    ap.add_argument('models', nargs='*')
+    ap.add_argument('--benchmarks', action='store_true', help='add every model of models/benchmarks/')
     ap.add_argument('--flexmb', default='target/release/flexmb')
     ap.add_argument('--integrators', default='bdf,adams,gen-alpha')
     ap.add_argument('--tolerances', default='1e-3,1e-4,1e-5,1e-6,1e-7,1e-8,1e-9,1e-10')
@@ -96,6 +100,10 @@ def main():
     ap.add_argument('--tolerance-span', help='pass --tolerance-span to the runs (error per unit step); the reference runs without it')
     ap.add_argument('--tag', default='', help='suffix of the run directories and the diagram')
     a = ap.parse_args()
+    if a.benchmarks:
+        a.models += sorted(glob.glob(os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', '..', 'models', 'benchmarks', '*.toml')))
+    if not a.models:
+        ap.error('no models: give MODEL.toml files or --benchmarks')
     ref_integrator, ref_tol = a.reference.split(':')
     tols = [float(t) for t in a.tolerances.split(',')]
     print('%-22s %-9s %7s %10s %8s %8s %6s %7s %8s %6s %s' % ('model', 'method', 'tol', 'E', 'E/tol', 'steps', 'rej', 'newtonF', 'f-evals', 'LU', 'status'))
