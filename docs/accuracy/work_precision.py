@@ -13,9 +13,11 @@ evaluations, factorizations, status) and writes an SVG diagram (E against steps,
 
 Usage: work_precision.py [--flexmb PATH] [--integrators bdf,adams,gen-alpha] [--tolerances 1e-3,...]
                          [--reference adams:1e-12] [--tolerance-span S] [--tag T] [--out DIR]
-                         [--benchmarks] MODEL.toml...
+                         [--benchmarks] [--finest gen-alpha:1e-6] [--reuse] MODEL.toml...
 
---benchmarks adds the published benchmarks, every model of models/benchmarks/.
+--benchmarks adds the published benchmarks, every model of models/benchmarks/; --finest I:TOL runs
+integrator I at no tolerance finer than TOL; --reuse reads the runs already in --out instead of
+running them again.
 """
 import argparse, csv, glob, json, math, os, subprocess, sys
 
@@ -23,13 +25,15 @@ COLOURS = {'bdf': '#1f77b4', 'adams': '#2ca02c', 'gen-alpha': '#d62728',
            'bdf per step': '#9ecae1', 'adams per step': '#a1d99b', 'gen-alpha per step': '#fc9272'}
 
 
-def run(flexmb, model, integrator, tol, out, extra=()):
+def run(flexmb, model, integrator, tol, out, extra=(), reuse=False):
     name = os.path.splitext(os.path.basename(model))[0]
     cmd = [flexmb, 'run', model, '--integrator', integrator, '--rtol', repr(tol), '--atol', repr(tol), '--out', out, '-q', *extra]
-    p = subprocess.run(cmd, capture_output=True, text=True)
+    stderr = ''
+    if not (reuse and os.path.exists(os.path.join(out, name + '.json'))):
+        stderr = subprocess.run(cmd, capture_output=True, text=True).stderr
     summary = json.load(open(os.path.join(out, name + '.json')))
     rows = list(csv.DictReader(open(os.path.join(out, name + '.csv'))))
-    return summary, rows, p.stderr.strip()
+    return summary, rows, stderr.strip()
 
 
 def position_groups(columns):
@@ -99,6 +103,8 @@ def main():
     ap.add_argument('--out', default='out/work_precision')
     ap.add_argument('--tolerance-span', help='pass --tolerance-span to the runs (error per unit step); the reference runs without it')
     ap.add_argument('--tag', default='', help='suffix of the run directories and the diagram')
+    ap.add_argument('--finest', action='append', default=[], help='INTEGRATOR:TOL, the finest tolerance to run INTEGRATOR at')
+    ap.add_argument('--reuse', action='store_true', help='read the runs already in --out instead of running them again')
     a = ap.parse_args()
     if a.benchmarks:
         a.models += sorted(glob.glob(os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', '..', 'models', 'benchmarks', '*.toml')))
@@ -106,18 +112,21 @@ def main():
         ap.error('no models: give MODEL.toml files or --benchmarks')
     ref_integrator, ref_tol = a.reference.split(':')
     tols = [float(t) for t in a.tolerances.split(',')]
+    finest = {i: float(t) for i, t in (f.split(':') for f in a.finest)}
     print('%-22s %-9s %7s %10s %8s %8s %6s %7s %8s %6s %s' % ('model', 'method', 'tol', 'E', 'E/tol', 'steps', 'rej', 'newtonF', 'f-evals', 'LU', 'status'))
     for model in a.models:
         name = os.path.splitext(os.path.basename(model))[0]
         base = os.path.join(a.out, name)
-        _, reference, err = run(a.flexmb, model, ref_integrator, float(ref_tol), os.path.join(base, 'reference'))
+        _, reference, err = run(a.flexmb, model, ref_integrator, float(ref_tol), os.path.join(base, 'reference'), reuse=a.reuse)
         if err:
             print('%s: reference: %s' % (name, err), file=sys.stderr)
         series = {}
         for integrator in a.integrators.split(','):
             for tol in tols:
+                if tol < finest.get(integrator, 0.0):
+                    continue
                 extra = ['--tolerance-span', a.tolerance_span] if a.tolerance_span else []
-                summary, rows, err = run(a.flexmb, model, integrator, tol, os.path.join(base, '%s_%g%s' % (integrator, tol, a.tag)), extra)
+                summary, rows, err = run(a.flexmb, model, integrator, tol, os.path.join(base, '%s_%g%s' % (integrator, tol, a.tag)), extra, a.reuse)
                 s = summary['statistics']
                 e, n = global_error(rows, reference)
                 status = summary['status'] + ('' if n == len(reference) else ' (%d of %d rows)' % (n, len(reference)))
