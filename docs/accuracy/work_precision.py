@@ -12,21 +12,28 @@ output). Prints one row per run (tolerance, E, E/tol, steps, rejected steps, New
 evaluations, factorizations, status) and writes an SVG diagram (E against steps, log-log) per model.
 
 Usage: work_precision.py [--flexmb PATH] [--integrators bdf,adams,gen-alpha] [--tolerances 1e-3,...]
-                         [--reference adams:1e-12] [--tolerance-span S] [--tag T] [--out DIR] MODEL.toml...
+                         [--reference adams:1e-12] [--tolerance-span S] [--tag T] [--out DIR]
+                         [--benchmarks] [--finest gen-alpha:1e-6] [--reuse] MODEL.toml...
+
+--benchmarks adds the published benchmarks, every model of models/benchmarks/; --finest I:TOL runs
+integrator I at no tolerance finer than TOL; --reuse reads the runs already in --out instead of
+running them again.
 """
-import argparse, csv, json, math, os, subprocess, sys
+import argparse, csv, glob, json, math, os, subprocess, sys
 
 COLOURS = {'bdf': '#1f77b4', 'adams': '#2ca02c', 'gen-alpha': '#d62728',
            'bdf per step': '#9ecae1', 'adams per step': '#a1d99b', 'gen-alpha per step': '#fc9272'}
 
 
-def run(flexmb, model, integrator, tol, out, extra=()):
+def run(flexmb, model, integrator, tol, out, extra=(), reuse=False):
     name = os.path.splitext(os.path.basename(model))[0]
     cmd = [flexmb, 'run', model, '--integrator', integrator, '--rtol', repr(tol), '--atol', repr(tol), '--out', out, '-q', *extra]
-    p = subprocess.run(cmd, capture_output=True, text=True)
+    stderr = ''
+    if not (reuse and os.path.exists(os.path.join(out, name + '.json'))):
+        stderr = subprocess.run(cmd, capture_output=True, text=True).stderr
     summary = json.load(open(os.path.join(out, name + '.json')))
     rows = list(csv.DictReader(open(os.path.join(out, name + '.csv'))))
-    return summary, rows, p.stderr.strip()
+    return summary, rows, stderr.strip()
 
 
 def position_groups(columns):
@@ -87,7 +94,8 @@ def svg(path, title, series):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
-    ap.add_argument('models', nargs='+')
+    ap.add_argument('models', nargs='*')
+    ap.add_argument('--benchmarks', action='store_true', help='add every model of models/benchmarks/')
     ap.add_argument('--flexmb', default='target/release/flexmb')
     ap.add_argument('--integrators', default='bdf,adams,gen-alpha')
     ap.add_argument('--tolerances', default='1e-3,1e-4,1e-5,1e-6,1e-7,1e-8,1e-9,1e-10')
@@ -95,21 +103,30 @@ def main():
     ap.add_argument('--out', default='out/work_precision')
     ap.add_argument('--tolerance-span', help='pass --tolerance-span to the runs (error per unit step); the reference runs without it')
     ap.add_argument('--tag', default='', help='suffix of the run directories and the diagram')
+    ap.add_argument('--finest', action='append', default=[], help='INTEGRATOR:TOL, the finest tolerance to run INTEGRATOR at')
+    ap.add_argument('--reuse', action='store_true', help='read the runs already in --out instead of running them again')
     a = ap.parse_args()
+    if a.benchmarks:
+        a.models += sorted(glob.glob(os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', '..', 'models', 'benchmarks', '*.toml')))
+    if not a.models:
+        ap.error('no models: give MODEL.toml files or --benchmarks')
     ref_integrator, ref_tol = a.reference.split(':')
     tols = [float(t) for t in a.tolerances.split(',')]
+    finest = {i: float(t) for i, t in (f.split(':') for f in a.finest)}
     print('%-22s %-9s %7s %10s %8s %8s %6s %7s %8s %6s %s' % ('model', 'method', 'tol', 'E', 'E/tol', 'steps', 'rej', 'newtonF', 'f-evals', 'LU', 'status'))
     for model in a.models:
         name = os.path.splitext(os.path.basename(model))[0]
         base = os.path.join(a.out, name)
-        _, reference, err = run(a.flexmb, model, ref_integrator, float(ref_tol), os.path.join(base, 'reference'))
+        _, reference, err = run(a.flexmb, model, ref_integrator, float(ref_tol), os.path.join(base, 'reference'), reuse=a.reuse)
         if err:
             print('%s: reference: %s' % (name, err), file=sys.stderr)
         series = {}
         for integrator in a.integrators.split(','):
             for tol in tols:
+                if tol < finest.get(integrator, 0.0):
+                    continue
                 extra = ['--tolerance-span', a.tolerance_span] if a.tolerance_span else []
-                summary, rows, err = run(a.flexmb, model, integrator, tol, os.path.join(base, '%s_%g%s' % (integrator, tol, a.tag)), extra)
+                summary, rows, err = run(a.flexmb, model, integrator, tol, os.path.join(base, '%s_%g%s' % (integrator, tol, a.tag)), extra, a.reuse)
                 s = summary['statistics']
                 e, n = global_error(rows, reference)
                 status = summary['status'] + ('' if n == len(reference) else ' (%d of %d rows)' % (n, len(reference)))
