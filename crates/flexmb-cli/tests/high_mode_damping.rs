@@ -51,6 +51,12 @@ fn damped_high_modes_bring_the_peer_beam_to_its_accuracy_in_few_steps() {
     let undamped_text: String = text.lines().filter(|l| !l.starts_with("high_mode_damping")).map(|l| format!("{l}\n")).collect();
     assert_ne!(text.len(), undamped_text.len(), "the peer model damps its high modes");
     let undamped = parse_model_in(&undamped_text, "flexible_pendulum.toml", &peer_dir()).unwrap();
+    let described = flexmb_cli::check::describe_flexible_bodies(&damped);
+    assert!(
+        described.contains("flexible body 'beam': damping ratio 0.5 on the 4 natural mode(s) above 200 Hz (292.8 Hz to 573.2 Hz)"),
+        "{described}"
+    );
+    assert!(!flexmb_cli::check::describe_flexible_bodies(&undamped).contains("damping ratio"));
 
     let (reference, _) = tip(&undamped.model, &undamped.simulation, Some(1e-8));
     let (path, report) = tip(&damped.model, &damped.simulation, None);

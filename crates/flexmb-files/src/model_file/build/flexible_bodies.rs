@@ -69,6 +69,8 @@ pub struct FlexibleBodyInfo {
     pub mode_labels: Vec<String>,
     /// Natural frequencies of the reduced body (Hz), ascending.
     pub frequencies_hz: Vec<f64>,
+    /// The damping of its natural modes above a cutoff (`high_mode_damping`), if the table gives one.
+    pub high_mode_damping: Option<HighModeDamping>,
     /// Number of nodes.
     pub nodes: usize,
     /// Where the reduced body came from.
@@ -142,6 +144,7 @@ pub(crate) fn add_flexible_bodies(
             basis: body.basis,
             mode_labels: body.modes.iter().map(|m| m.label.clone()).collect(),
             frequencies_hz: body.reduced_frequencies_hz.clone(),
+            high_mode_damping: table.high_mode_damping_of_table()?,
             nodes: body.nodes.len(),
             origin: obtained.origin,
             warnings: obtained.warnings,
@@ -327,9 +330,8 @@ impl Table<'_> {
             Some(d) => self.ctx.invalid(&d.span(), &self.key("damping"), message),
             None => self.ctx.invalid(&self.span, self.element, message),
         })?;
-        if let Some(section) = &self.f.high_mode_damping {
+        if let (Some(section), Some(high)) = (&self.f.high_mode_damping, self.high_mode_damping_of_table()?) {
             let key = self.key("high_mode_damping");
-            let high = self.high_mode_damping(section.get_ref(), &key)?;
             let matrix = modal
                 .high_mode_damping_matrix(&high)
                 .map_err(|e| self.ctx.invalid(&section.span(), &key, e.to_string()))?;
@@ -346,6 +348,15 @@ impl Table<'_> {
         modal.initial_coordinates = self.modal_vector(&self.f.modal_coordinates, "modal_coordinates", &labels)?;
         modal.initial_rates = self.modal_vector(&self.f.modal_rates, "modal_rates", &labels)?;
         Ok(modal)
+    }
+
+    /// The table's `high_mode_damping`, checked; `None` without one.
+    fn high_mode_damping_of_table(&self) -> Result<Option<HighModeDamping>, ModelFileError> {
+        self.f
+            .high_mode_damping
+            .as_ref()
+            .map(|section| self.high_mode_damping(section.get_ref(), &self.key("high_mode_damping")))
+            .transpose()
     }
 
     /// `high_mode_damping = { above = f, ratio = ζ }`: a positive cutoff in Hz and a non-negative ratio
