@@ -59,9 +59,11 @@ impl HighModeDamping {
 impl ModalBody {
     /// The damping matrix of `damping` for this body's modal mass and stiffness,
     /// `M X diag(2 ζⱼ ωⱼ) Xᵀ M` with `ζⱼ` the ratio on the natural modes above the cutoff and 0 below;
-    /// zero when no mode lies above it. An error if the modal mass is not positive definite or the
-    /// stiffness not `m × m`.
+    /// zero when no mode lies above it. An error if `damping` is not valid
+    /// ([`HighModeDamping::validate`]), the modal mass is not positive definite or the stiffness not
+    /// `m × m`.
     pub fn high_mode_damping_matrix(&self, damping: &HighModeDamping) -> Result<DMatrix<f64>, ModalError> {
+        damping.validate().map_err(ModalError::HighModeDamping)?;
         let m = self.modes();
         if m == 0 {
             return Ok(DMatrix::zeros(0, 0));

@@ -555,4 +555,6 @@ fn high_mode_damping_damps_only_the_modes_above_its_cutoff() {
     assert!(HighModeDamping { above_hz: 100.0, ratio: -0.1 }.validate().unwrap_err().contains("negative"));
     assert!(HighModeDamping { above_hz: f64::NAN, ratio: 0.5 }.validate().is_err());
     assert!(HighModeDamping::above(100.0).validate().is_ok());
+    let negative = HighModeDamping { above_hz: 100.0, ratio: -0.5 };
+    assert!(matches!(body.high_mode_damping_matrix(&negative), Err(crate::body::ModalError::HighModeDamping(m)) if m.contains("negative")));
 }
