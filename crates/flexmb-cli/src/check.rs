@@ -119,7 +119,8 @@ fn hz(f: f64) -> String {
 }
 
 /// Where each flexible body of a loaded model came from (reduced now, from the cache, from a
-/// flexible-body file), and the FE model's and reduction's warnings.
+/// flexible-body file), the natural modes its `high_mode_damping` damps, and the FE model's, the
+/// reduction's and the table's warnings.
 pub fn describe_flexible_bodies(loaded: &LoadedModel) -> String {
     let mut s = String::new();
     for info in &loaded.flexible_bodies {
@@ -140,6 +141,20 @@ pub fn describe_flexible_bodies(loaded: &LoadedModel) -> String {
         };
         s.push_str(&line);
         s.push('\n');
+        if let Some(high) = &info.high_mode_damping {
+            let damped: Vec<f64> = info.frequencies_hz.iter().copied().filter(|&f| f > high.above_hz).collect();
+            if let (Some(first), Some(last)) = (damped.first(), damped.last()) {
+                s.push_str(&format!(
+                    "flexible body '{}': damping ratio {} on the {} natural mode(s) above {} Hz ({} to {})\n",
+                    info.name,
+                    high.ratio,
+                    damped.len(),
+                    high.above_hz,
+                    hz(*first),
+                    hz(*last)
+                ));
+            }
+        }
         for warning in &info.warnings {
             s.push_str(&format!("warning: {}: {warning}\n", info.name));
         }

@@ -20,7 +20,8 @@ pub enum PeerCase {
     /// models/peer/slider_crank_3d.toml: the IFToMM spatial slider-crank (consistent initial
     /// velocities), 5 s.
     SliderCrank3d,
-    /// models/peer/flexible_pendulum.toml: a steel beam pendulum with eight clamped-free modes, 1 s.
+    /// models/peer/flexible_pendulum.toml: a steel beam pendulum with eight clamped-free modes (those above
+    /// 200 Hz damped, `high_mode_damping`), 1 s.
     FlexiblePendulum,
 }
 
@@ -96,9 +97,12 @@ pub const PEER_ACCURACY: [PeerAccuracy; 15] = {
         accuracy(SliderCrank3d, Bdf, 3e-10),
         accuracy(SliderCrank3d, Adams, 1e-8),
         accuracy(SliderCrank3d, GenAlpha, 3e-11),
-        accuracy(FlexiblePendulum, Bdf, 1e-4),
-        accuracy(FlexiblePendulum, Adams, 1e-4),
-        accuracy(FlexiblePendulum, GenAlpha, 1e-4),
+        // The beam's modes above 200 Hz damped (the model file's `high_mode_damping`), against the undamped
+        // reference: BDF 1e-6 (3011 steps, 3.5e-6; 3e-6 gives 7.4e-6, too close to 8e-6 to hold),
+        // Adams 1e-3 (5128 steps, 6.1e-6), generalized-α 1e-7 (8245 steps, 6.8e-6).
+        accuracy(FlexiblePendulum, Bdf, 1e-6),
+        accuracy(FlexiblePendulum, Adams, 1e-3),
+        accuracy(FlexiblePendulum, GenAlpha, 1e-7),
     ]
 };
 

@@ -124,6 +124,7 @@ pub(crate) struct FlexibleBodySection {
     pub modes: Option<Name>,
     pub basis: Option<Name>,
     pub damping: Option<Spanned<DampingSection>>,
+    pub high_mode_damping: Option<Spanned<HighModeDampingSection>>,
     pub position: Option<Vector>,
     pub orientation: Option<Spanned<OrientationSection>>,
     pub velocity: Option<Vector>,
@@ -139,6 +140,14 @@ pub(crate) struct DampingSection {
     pub ratio: Option<Number>,
     pub ratios: Option<Vector>,
     pub rayleigh: Option<Vector>,
+}
+
+/// `high_mode_damping = { above = f, ratio = ζ }`: damping ratio ζ on the natural modes above f Hz.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct HighModeDampingSection {
+    pub above: Number,
+    pub ratio: Option<Number>,
 }
 
 /// An orientation: axis and angle, a rotation matrix, or Euler parameters.

@@ -70,6 +70,10 @@ pub enum ModalError {
     /// The modal mass's Cholesky factor cannot be inverted.
     #[error("the modal mass is singular")]
     MassSingular,
+    /// A high-mode damping whose cutoff is not positive or whose ratio is negative
+    /// ([`HighModeDamping::validate`](super::HighModeDamping::validate)).
+    #[error("{0}")]
+    HighModeDamping(String),
     /// Damping ratios neither one for all modes nor one per mode.
     #[error("{given} damping ratios for {modes} modes; give one for all or one per mode")]
     RatioCount {

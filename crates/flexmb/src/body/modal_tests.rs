@@ -514,3 +514,47 @@ fn springs_at_nodes_conserve_energy() {
     assert!(kinetic_range > 0.1, "it moves: {kinetic_range}");
     assert!(drift < 1e-6 * kinetic_range.max(1.0), "energy drift {drift:.2e}");
 }
+
+/// High-mode damping damps the natural modes above its cutoff with its ratio and leaves those below
+/// undamped: `Xᵀ D X = diag(0, …, 2 ζ ωⱼ, …)`, and `D x = 0` for a mode `x` below the cutoff, so
+/// `(−ω² M + i ω D + K) x = 0` still holds at that mode's undamped frequency (its frequency is unchanged).
+#[test]
+fn high_mode_damping_damps_only_the_modes_above_its_cutoff() {
+    use crate::body::HighModeDamping;
+    let mut rng = Lcg(0xf1e5_0007);
+    let m = 4;
+    let nodes = random_nodes(&mut rng, 7, m, true);
+    let body = modal_body(&nodes, m, &mut rng);
+    let (omega_squared, x) = body.natural_modes().unwrap();
+    let omega: Vec<f64> = omega_squared.iter().map(|w2| w2.sqrt()).collect();
+    assert!(omega.windows(2).all(|w| w[1] > 1.01 * w[0]), "distinct frequencies {omega:?}");
+    // The cutoff between the second and the third mode.
+    let above_hz = 0.5 * (omega[1] + omega[2]) / (2.0 * std::f64::consts::PI);
+    let damping = HighModeDamping { above_hz, ratio: 0.3 };
+    assert_eq!(body.modes_above_cutoff(&damping), 2);
+    let d = body.high_mode_damping_matrix(&damping).unwrap();
+    let modal = x.transpose() * &d * &x;
+    let scale = omega[m - 1];
+    for j in 0..m {
+        for k in 0..m {
+            let expected = if j == k && j >= 2 { 2.0 * 0.3 * omega[j] } else { 0.0 };
+            assert!((modal[(j, k)] - expected).abs() < 1e-9 * scale, "({j}, {k}): {} against {expected}", modal[(j, k)]);
+        }
+    }
+    let mass = body.invariants.modal_mass();
+    for j in 0..2 {
+        let xj = x.column(j);
+        assert!((&d * xj).norm() < 1e-9 * scale * (&mass * xj).norm(), "mode {j} is damped");
+        let undamped = (&body.stiffness - omega_squared[j] * &mass) * xj;
+        assert!(undamped.norm() < 1e-9 * omega_squared[j] * (&mass * xj).norm(), "mode {j}: {}", undamped.norm());
+    }
+    // No mode above the cutoff: no damping; a bad cutoff or ratio is refused.
+    let none = HighModeDamping::above(2.0 * omega[m - 1] / (2.0 * std::f64::consts::PI));
+    assert_eq!(body.high_mode_damping_matrix(&none).unwrap(), nalgebra::DMatrix::zeros(m, m));
+    assert!(HighModeDamping { above_hz: 0.0, ratio: 0.5 }.validate().unwrap_err().contains("positive"));
+    assert!(HighModeDamping { above_hz: 100.0, ratio: -0.1 }.validate().unwrap_err().contains("negative"));
+    assert!(HighModeDamping { above_hz: f64::NAN, ratio: 0.5 }.validate().is_err());
+    assert!(HighModeDamping::above(100.0).validate().is_ok());
+    let negative = HighModeDamping { above_hz: 100.0, ratio: -0.5 };
+    assert!(matches!(body.high_mode_damping_matrix(&negative), Err(crate::body::ModalError::HighModeDamping(m)) if m.contains("negative")));
+}

@@ -8,7 +8,7 @@ use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
 
-use flexmb::body::{InitialState, ModalBody, ModalDamping};
+use flexmb::body::{HighModeDamping, InitialState, ModalBody, ModalDamping};
 use flexmb::model::{BodyId, ModelError};
 use flexmb::ModelBuilder;
 use flexmb_fem::reduction::{Basis, BodyElement, FlexibleBody, ModeSet};
@@ -25,7 +25,7 @@ use crate::fe_model_file::{load_fe_model, LoadedFeModel};
 use crate::flexible_body::modal_body;
 use crate::model_file::error::{ErrorKind, ModelFileError};
 use crate::model_file::key_path::KeyPath;
-use crate::model_file::schema::{DampingSection, FlexibleBodySection, Name, Vector};
+use crate::model_file::schema::{DampingSection, FlexibleBodySection, HighModeDampingSection, Name, Vector};
 
 /// Where a flexible body of a model file came from.
 #[derive(Clone, Debug, PartialEq)]
@@ -69,11 +69,14 @@ pub struct FlexibleBodyInfo {
     pub mode_labels: Vec<String>,
     /// Natural frequencies of the reduced body (Hz), ascending.
     pub frequencies_hz: Vec<f64>,
+    /// The damping of its natural modes above a cutoff (`high_mode_damping`), if the table gives one.
+    pub high_mode_damping: Option<HighModeDamping>,
     /// Number of nodes.
     pub nodes: usize,
     /// Where the reduced body came from.
     pub origin: FlexibleBodyOrigin,
-    /// The FE model file's warnings, and the reduction's if it was reduced now.
+    /// The FE model file's warnings, the reduction's if it was reduced now, and the table's (a
+    /// `high_mode_damping` that damps no mode).
     pub warnings: Vec<String>,
     /// The FE mesh's elements (node indices in the order of the engine's modal nodes), for drawing.
     pub elements: Vec<BodyElement>,
@@ -108,8 +111,8 @@ pub(crate) fn add_flexible_bodies(
             ));
         }
         let table = Table { ctx, f, element: &element, span: section.span(), memory_limit: tables.memory_limit };
-        let obtained = table.obtain(tables.base_dir)?;
-        let modal = table.modal(&obtained.body)?;
+        let mut obtained = table.obtain(tables.base_dir)?;
+        let modal = table.modal(&obtained.body, &mut obtained.warnings)?;
         let keys = InitialKeys {
             position: &f.position,
             orientation: &f.orientation,
@@ -141,6 +144,7 @@ pub(crate) fn add_flexible_bodies(
             basis: body.basis,
             mode_labels: body.modes.iter().map(|m| m.label.clone()).collect(),
             frequencies_hz: body.reduced_frequencies_hz.clone(),
+            high_mode_damping: table.high_mode_damping_of_table()?,
             nodes: body.nodes.len(),
             origin: obtained.origin,
             warnings: obtained.warnings,
@@ -317,17 +321,61 @@ impl Table<'_> {
         Ok(Obtained { body, origin: FlexibleBodyOrigin::BodyFile { path }, sets: None, warnings: Vec::new() })
     }
 
-    /// The engine's modal body with the table's damping and initial modal coordinates and rates.
-    fn modal(&self, body: &FlexibleBody) -> Result<ModalBody, ModelFileError> {
+    /// The engine's modal body with the table's damping (and high-mode damping) and initial modal
+    /// coordinates and rates; a warning when the high-mode damping's cutoff lies above every mode.
+    fn modal(&self, body: &FlexibleBody, warnings: &mut Vec<String>) -> Result<ModalBody, ModelFileError> {
         let labels: Vec<&str> = body.modes.iter().map(|m| m.label.as_str()).collect();
         let damping = self.damping(&labels)?;
         let mut modal = modal_body(body, &damping).map_err(|message| match &self.f.damping {
             Some(d) => self.ctx.invalid(&d.span(), &self.key("damping"), message),
             None => self.ctx.invalid(&self.span, self.element, message),
         })?;
+        if let (Some(section), Some(high)) = (&self.f.high_mode_damping, self.high_mode_damping_of_table()?) {
+            let key = self.key("high_mode_damping");
+            let matrix = modal
+                .high_mode_damping_matrix(&high)
+                .map_err(|e| self.ctx.invalid(&section.span(), &key, e.to_string()))?;
+            if modal.modes_above_cutoff(&high) == 0 {
+                let highest = body.reduced_frequencies_hz.last().copied().unwrap_or(0.0);
+                warnings.push(format!(
+                    "high_mode_damping damps nothing: no natural mode lies above {} Hz (the highest \
+                     is {highest:.4} Hz)",
+                    high.above_hz
+                ));
+            }
+            modal.damping += matrix;
+        }
         modal.initial_coordinates = self.modal_vector(&self.f.modal_coordinates, "modal_coordinates", &labels)?;
         modal.initial_rates = self.modal_vector(&self.f.modal_rates, "modal_rates", &labels)?;
         Ok(modal)
+    }
+
+    /// The table's `high_mode_damping`, checked; `None` without one.
+    fn high_mode_damping_of_table(&self) -> Result<Option<HighModeDamping>, ModelFileError> {
+        self.f
+            .high_mode_damping
+            .as_ref()
+            .map(|section| self.high_mode_damping(section.get_ref(), &self.key("high_mode_damping")))
+            .transpose()
+    }
+
+    /// `high_mode_damping = { above = f, ratio = ζ }`: a positive cutoff in Hz and a non-negative ratio
+    /// (default [`HighModeDamping::DEFAULT_RATIO`]).
+    fn high_mode_damping(&self, d: &HighModeDampingSection, key: &KeyPath) -> Result<HighModeDamping, ModelFileError> {
+        let above_key = key.key("above");
+        let above_hz = self.ctx.number(&d.above, &above_key)?;
+        if above_hz <= 0.0 {
+            return Err(self.ctx.invalid(
+                &d.above.span(),
+                &above_key,
+                format!("the cutoff frequency must be positive (Hz: modes above it are damped), got {above_hz}"),
+            ));
+        }
+        let ratio = match &d.ratio {
+            Some(r) => self.non_negative(r, &key.key("ratio"), "a damping ratio")?,
+            None => HighModeDamping::DEFAULT_RATIO,
+        };
+        Ok(HighModeDamping { above_hz, ratio })
     }
 
     /// `damping = { ratio = ζ }`, `{ ratios = [ζ₁, …] }` or `{ rayleigh = [α, β] }`; none by default.
