@@ -45,12 +45,13 @@ enum Command {
         /// Absolute error tolerance of the integrator.
         #[arg(long)]
         atol: Option<f64>,
-        /// The span of simulated time (s) whose steps together may make an error of the tolerance: each
-        /// step's local error is held to h / span of it (error per unit step), so that the global error
-        /// falls in proportion to the tolerance (docs/accuracy.md). Default the model's [simulation]
-        /// tolerance_span, else infinite (the classical error per step)
+        /// The span of simulated time whose steps together may make an error of the tolerance: seconds,
+        /// `run` (the run's length) or `step` (each step the whole tolerance, the classical error per
+        /// step). Each step's local error is held to h / span of it (error per unit step), so that the
+        /// global error falls in proportion to the tolerance; `run` keeps the global error within about
+        /// 10 tolerances (docs/accuracy.md). Default the model's [simulation] tolerance_span, else `step`
         #[arg(long)]
-        tolerance_span: Option<f64>,
+        tolerance_span: Option<String>,
         /// Integrator: bdf (default; stiff, variable order). Overrides the model's [simulation] integrator.
         #[arg(long)]
         integrator: Option<String>,

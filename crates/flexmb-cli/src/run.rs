@@ -2,6 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
+use flexmb::integrate::ToleranceSpan;
 use flexmb_files::integrator_choice::parse_method;
 use flexmb_files::model_file::load_model_with;
 use flexmb_files::output_limits::check_output_rows;
@@ -21,8 +22,8 @@ pub struct RunOptions {
     pub rtol: Option<f64>,
     pub atol: Option<f64>,
     /// The span of simulated time whose steps together may make an error of the tolerance
-    /// (`--tolerance-span`), overriding the model file's `tolerance_span`.
-    pub tolerance_span: Option<f64>,
+    /// (`--tolerance-span`: seconds, `run` or `step`), overriding the model file's `tolerance_span`.
+    pub tolerance_span: Option<String>,
     /// Integrator by name (`bdf`, …), overriding the model file's.
     pub integrator: Option<String>,
     /// Spectral radius ρ∞ of the generalized-α method.
@@ -74,6 +75,18 @@ fn positive(name: &str, x: f64) -> Result<f64, CliError> {
     }
 }
 
+/// The span of `--tolerance-span`: `run`, `step` or a positive number of seconds.
+fn tolerance_span(text: &str) -> Result<ToleranceSpan, CliError> {
+    match text.trim() {
+        "run" => Ok(ToleranceSpan::Run),
+        "step" => Ok(ToleranceSpan::Step),
+        seconds => match seconds.parse::<f64>() {
+            Ok(span) => Ok(ToleranceSpan::Seconds(positive("--tolerance-span", span)?)),
+            Err(_) => Err(CliError(format!("--tolerance-span must be `run`, `step` or a positive number of seconds, got `{text}`"))),
+        },
+    }
+}
+
 /// Runs the model at `path`; prints the check and the end-of-run summary unless quiet. The library
 /// calls, in order: [`load_model_with`], [`SimulationDefaults::settings`](flexmb_files::SimulationDefaults::settings),
 /// [`check_model`] (the engine's assembly and velocity analysis), [`record_model_run`].
@@ -85,8 +98,8 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
     d.output_step = positive("--output-step", options.output_step.unwrap_or(d.output_step))?;
     d.rtol = positive("--rtol", options.rtol.unwrap_or(d.rtol))?;
     d.atol = positive("--atol", options.atol.unwrap_or(d.atol))?;
-    if let Some(span) = options.tolerance_span {
-        d.tolerance_span = positive("--tolerance-span", span)?;
+    if let Some(span) = &options.tolerance_span {
+        d.tolerance_span = tolerance_span(span)?;
     }
     let (t_end, output_step) = (d.t_end, d.output_step);
     let max_rows = options.max_output_rows.unwrap_or(d.max_output_rows);

@@ -628,7 +628,8 @@ impl Bdf {
     fn newton(&mut self, t_new: f64, c: f64, c_f: f64) -> (bool, usize, ConvergenceTest) {
         self.corr.fill(0.0);
         self.y_new.copy_from_slice(&self.y_pred);
-        let mut test = ConvergenceTest::new(self.newton_tolerance(), NEWTON_MAXITER);
+        let mut test =
+            ConvergenceTest::new(self.newton_tolerance(), NEWTON_MAXITER).with_round_off(self.tolerances.round_off_at(self.share));
         let increment_scale = 2.0 / (1.0 + c_f / c);
         let mut corrector = Corrector { bdf: self, t_new, c, c_f, increment_scale };
         let outcome = newton::iterate(&mut corrector, &mut test, NEWTON_MAXITER);

@@ -12,7 +12,7 @@ fn bob_path(model: &Model, tol: f64) -> (Vec<Vec3>, SimulationReport) {
         t_end: 2.0,
         output_step: 0.01,
         // The error per step these counts were measured with (a span of 1 s takes 716 steps at 1e-5).
-        tolerances: Tolerances { span: f64::INFINITY, ..Tolerances::new(tol, tol) },
+        tolerances: Tolerances { span: crate::integrate::ToleranceSpan::Step, ..Tolerances::new(tol, tol) },
         ..Default::default()
     };
     let mut path = Vec::new();

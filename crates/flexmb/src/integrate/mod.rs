@@ -36,6 +36,7 @@ mod iteration_matrix;
 mod newton;
 mod share_floor;
 mod stats;
+mod tolerance_span;
 mod tolerances;
 
 pub use adams::{Adams, AdamsConfig};
@@ -50,6 +51,7 @@ pub use error::IntegrationError;
 pub use generalized_alpha::GeneralizedAlpha;
 pub use integrator::Integrator;
 pub use stats::Stats;
+pub use tolerance_span::ToleranceSpan;
 pub use tolerances::Tolerances;
 
 /// The smallest step an integrator takes at `t` toward `t_stop` before it declares a failure: ten

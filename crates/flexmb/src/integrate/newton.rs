@@ -21,6 +21,9 @@ const NEGLIGIBLE: f64 = 1e-4;
 /// The test over the iterations of one Newton solve.
 pub(crate) struct ConvergenceTest {
     tolerance: f64,
+    /// The increment of a few units of rounding of the solution, in the test's norm: below it an
+    /// increment has converged whatever its rate ([`with_round_off`](Self::with_round_off)).
+    round_off: f64,
     max_iterations: usize,
     last: Option<f64>,
     /// The slowest contraction rate `‖Δₖ‖ / ‖Δₖ₋₁‖` seen so far.
@@ -33,7 +36,16 @@ pub(crate) struct ConvergenceTest {
 
 impl ConvergenceTest {
     pub fn new(tolerance: f64, max_iterations: usize) -> Self {
-        Self { tolerance, max_iterations, last: None, slowest: 0.0, first_increment: 0.0, last_rate: 0.0 }
+        Self { tolerance, max_iterations, round_off: 0.0, last: None, slowest: 0.0, first_increment: 0.0, last_rate: 0.0 }
+    }
+
+    /// This test with increments up to `round_off` (in the test's norm) converged whatever their rate,
+    /// as those below `1e-4 tol` are. Where the norm is a small share of the tolerance (error per unit
+    /// step), `1e-4 tol` is below one unit of rounding of the solution: a body at rest on a fixed joint,
+    /// whose increments were half a unit of rounding, 1.9e-6 of a share of 2e-5, failed every step.
+    pub fn with_round_off(mut self, round_off: f64) -> Self {
+        self.round_off = round_off;
+        self
     }
 
     /// The verdict on the weighted norm of the increment of iteration `k` (from 0). With the rate
@@ -46,7 +58,7 @@ impl ConvergenceTest {
         if k == 0 {
             self.first_increment = norm;
         }
-        if norm == 0.0 || (k > 0 && norm <= NEGLIGIBLE * self.tolerance) {
+        if norm == 0.0 || (k > 0 && norm <= (NEGLIGIBLE * self.tolerance).max(self.round_off)) {
             return Verdict::Converged;
         }
         let rate = self.last.map(|old| norm / old);
@@ -139,6 +151,10 @@ mod tests {
         let mut test = ConvergenceTest::new(1e-3, 4);
         assert_eq!(test.assess(0, 3.7e-11), Verdict::Continue, "one increment says nothing of the rate");
         assert_eq!(test.assess(1, 4.6e-11), Verdict::Converged);
+        // A small share of the tolerance: half a unit of rounding is round-off whatever the tolerance.
+        let mut test = ConvergenceTest::new(1.1e-3, 4).with_round_off(1.1e-5);
+        assert_eq!(test.assess(0, 1.5e-6), Verdict::Continue);
+        assert_eq!(test.assess(1, 1.9e-6), Verdict::Converged);
         // Above 1e-4 of the tolerance a growing increment still diverges.
         let mut test = ConvergenceTest::new(1e-3, 4);
         assert_eq!(test.assess(0, 1e-7), Verdict::Continue);

@@ -35,7 +35,7 @@ const NOISE_LEVEL: f64 = 1e-10;
 const NOISE_DECAY: f64 = 0.95;
 
 /// The floor under a step's share of the tolerance (see the module documentation).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub(crate) struct ShareFloor {
     /// The share of the last accepted step.
     pub accepted: f64,
@@ -109,7 +109,7 @@ mod tests {
     /// of the long one's share.
     #[test]
     fn an_estimate_that_does_not_fall_with_the_step_is_noise() {
-        let tolerances = Tolerances { span: 1.0, ..Tolerances::new(1e-6, 1e-6) };
+        let tolerances = Tolerances { span: crate::integrate::ToleranceSpan::Seconds(1.0), ..Tolerances::new(1e-6, 1e-6) };
         let mut floor = ShareFloor::default();
         let mut h = 1e-3;
         for _ in 0..6 {

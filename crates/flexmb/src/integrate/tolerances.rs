@@ -1,20 +1,24 @@
 //! The tolerance and step-control record every integration method reads, the share of the tolerance a
 //! step may spend (error per unit step), and the finest tolerance the arithmetic allows.
 
+use super::ToleranceSpan;
+
 /// Error tolerances and step limits of a time integration, common to the BDF, the Adams method and the
 /// generalized-α method; what only one method uses is in that method's own settings
 /// ([`BdfConfig`](super::BdfConfig), [`AdamsConfig`](super::AdamsConfig),
 /// [`GeneralizedAlphaConfig`](super::GeneralizedAlphaConfig)).
 ///
-/// **What is promised** with a finite [`span`](Self::span) (docs/accuracy.md): the *global* error, the
-/// largest difference over the run between the computed positions and velocities and the exact ones,
-/// measured with the weights `atol + rtol |y|`, stays within a small multiple of 1 over every span of
-/// simulated time, and falls in proportion to the tolerances. To that end each method's local error
-/// test passes when the RMS norm of the error estimate, each component weighted by `atol + rtol |y|`, is
-/// at most `h / span` (error per unit step, Shampine 1994 §1.5): the local errors of the steps of one
-/// span then add up to at most the tolerance, whatever the number of steps. The share `h / span` is
-/// never below what the arithmetic resolves in one step, `1e-12 / rtol`. With the
-/// default infinite span, the test is the classical one, at most 1 per step.
+/// **What is promised** (docs/accuracy.md): the *global* error, the largest difference over the run
+/// between the computed positions and velocities and the exact ones, measured with the weights
+/// `atol + rtol |y|`, stays within a small multiple of 1 over the run (with [`ToleranceSpan::Run`]; over
+/// every [`span`](Self::span) of simulated time with a fixed one), and falls in proportion to the
+/// tolerances.
+/// To that end each method's local error test passes when the RMS norm of the error estimate, each
+/// component weighted by `atol + rtol |y|`, is at most `h / span` (error per unit step, Shampine 1994
+/// §1.5): the local errors of the steps of one span then add up to at most the tolerance, whatever the
+/// number of steps. The share `h / span` is never below what the arithmetic resolves in one step,
+/// `1e-12 / rtol`. With [`ToleranceSpan::Step`] (the default) the test is the classical one, at most 1
+/// per step.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tolerances {
     /// Relative tolerance of the global error of positions and velocities. Default `1e-6`; at least
@@ -22,13 +26,12 @@ pub struct Tolerances {
     pub rtol: f64,
     /// Absolute tolerance (m, rad, m/s, rad/s alike). Default `1e-6`; at least [`FINEST`](Self::FINEST).
     pub atol: f64,
-    /// The span of simulated time (s) whose steps together may make an error of the tolerance: a step
-    /// of size `h` may make `h / span` of it (error per unit step), and the global error then falls in
-    /// proportion to the tolerance (docs/accuracy.md; 1 s: the 3-D slider-crank over 5 s 10–20
-    /// tolerances from 1e-3 to 1e-8). Default infinite: the classical error per step, each step's local
-    /// error up to the whole tolerance, whose global error grows with the number of steps (3.6e-3
-    /// relative on that slider-crank at 1e-6).
-    pub span: f64,
+    /// The span of simulated time whose steps together may make an error of the tolerance: a step of
+    /// size `h` may make `h / span` of it (error per unit step), and the global error then falls in
+    /// proportion to the tolerance. [`ToleranceSpan::Run`], the run's length, keeps the promise: the 3-D
+    /// slider-crank over 5 s 3.6 to 4.4 tolerances from 1e-3 to 1e-8 with the BDF (a fixed 1 s: 13 to
+    /// 20). Default [`ToleranceSpan::Step`], the classical error per step (360 to 6,500 there).
+    pub span: ToleranceSpan,
     /// Largest step (s). Default unlimited.
     pub h_max: f64,
     /// First step (s); chosen by the method from the initial derivatives when `None` (the default).
@@ -39,7 +42,7 @@ pub struct Tolerances {
 
 impl Default for Tolerances {
     fn default() -> Self {
-        Self { rtol: 1e-6, atol: 1e-6, span: f64::INFINITY, h_max: f64::INFINITY, h_init: None, max_steps: 10_000_000 }
+        Self { rtol: 1e-6, atol: 1e-6, span: ToleranceSpan::Step, h_max: f64::INFINITY, h_init: None, max_steps: 10_000_000 }
     }
 }
 
@@ -52,6 +55,9 @@ const STEP_FLOOR: f64 = 1e-12;
 /// What a Newton increment resolves, relative to the solution: 100 units of rounding (a body at rest on a
 /// fixed joint, whose increments are rounding only, did not converge at 10 units with a share of 1e-6).
 const NEWTON_FLOOR: f64 = 100.0 * f64::EPSILON;
+/// What a Newton increment of rounding is, relative to the solution: ten units, a tenth of
+/// [`NEWTON_FLOOR`] (the body at rest on a fixed joint: half a unit).
+const ROUND_OFF: f64 = 10.0 * f64::EPSILON;
 
 impl Tolerances {
     /// The finest relative and absolute tolerance accepted, 1e-12: the global error of a run is at least
@@ -93,8 +99,9 @@ impl Tolerances {
     /// weighted norm of the error estimate is at most this share.
     pub(crate) fn step_share(&self, h: f64) -> f64 {
         let floor = (STEP_FLOOR / self.rtol).min(1.0);
-        if self.span.is_finite() {
-            (h / self.span).clamp(floor, 1.0)
+        let span = self.span.seconds();
+        if span.is_finite() {
+            (h / span).clamp(floor, 1.0)
         } else {
             1.0
         }
@@ -102,8 +109,8 @@ impl Tolerances {
 
     /// Whether the share of a step of size `h` is `h / span` (not bounded by 1 or by the rounding floor).
     fn per_unit_step(&self, h: f64) -> bool {
-        let share = h / self.span;
-        self.span.is_finite() && share < 1.0 && share > STEP_FLOOR / self.rtol
+        let share = h / self.span.seconds();
+        share < 1.0 && share > STEP_FLOOR / self.rtol
     }
 
     /// The power of `h` in the ratio of a local error estimate of order `h^(k+1)` (`power = k + 1`) to the
@@ -125,6 +132,13 @@ impl Tolerances {
         self.newton_tolerance().max(NEWTON_FLOOR / (self.rtol * share))
     }
 
+    /// A Newton increment of [`ROUND_OFF`] of the solution in the norm of a step's share of the
+    /// tolerance, `ROUND_OFF / (rtol · share)`: an increment below it is rounding, converged whatever
+    /// its rate.
+    pub(crate) fn round_off_at(&self, share: f64) -> f64 {
+        ROUND_OFF / (self.rtol * share)
+    }
+
     /// The tolerance of the simplified Newton iterations of the implicit methods (the BDF and the
     /// generalized-α method) in the weighted norm of the error test: `√rtol`, at most 0.03, and at least
     /// `10 ε / rtol` (what the increments can resolve).
@@ -141,9 +155,9 @@ mod tests {
     /// 1 whatever their number; it is never above 1 nor below the rounding floor.
     #[test]
     fn the_shares_of_the_steps_of_one_span_add_up_to_one() {
-        let tolerances = Tolerances { span: 2.0, ..Tolerances::new(1e-8, 1e-8) };
+        let tolerances = Tolerances { span: ToleranceSpan::Seconds(2.0), ..Tolerances::new(1e-8, 1e-8) };
         for n in [10, 333, 10_000] {
-            let h = tolerances.span / n as f64;
+            let h = 2.0 / n as f64;
             let total: f64 = (0..n).map(|_| tolerances.step_share(h)).sum();
             assert!((total - 1.0).abs() < 1e-12, "{n} steps: {total}");
             assert_eq!(tolerances.error_power(h, 4), 3.0);
@@ -153,7 +167,7 @@ mod tests {
         let finest = Tolerances::new(Tolerances::FINEST, Tolerances::FINEST);
         assert_eq!(finest.step_share(1e-9), STEP_FLOOR / Tolerances::FINEST);
         assert_eq!(finest.error_power(1e-9, 4), 4.0);
-        let per_step = Tolerances { span: f64::INFINITY, ..Tolerances::default() };
+        let per_step = Tolerances { span: ToleranceSpan::Step, ..Tolerances::default() };
         assert_eq!((per_step.step_share(1e-3), per_step.error_power(1e-3, 4)), (1.0, 4.0));
     }
 

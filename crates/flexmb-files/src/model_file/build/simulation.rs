@@ -1,6 +1,7 @@
 //! `[model]` and `[simulation]`: the model's name and gravity, and the defaults of a simulation run.
 
 use flexmb::analysis::{ModalAssembly, PhysicsLimits};
+use flexmb::integrate::ToleranceSpan;
 use flexmb::math::Vec3;
 use flexmb_fem::input::Quantity;
 use toml::Spanned;
@@ -9,6 +10,7 @@ use super::context::Context;
 use crate::model_file::error::{ErrorKind, ModelFileError};
 use crate::model_file::key_path::KeyPath;
 use crate::model_file::schema::{ModelFile, Number, SimulationSection};
+use crate::model_file::value::NumberOrExpression;
 use crate::model_file::SimulationDefaults;
 
 /// The model's name (default `default_name`, the file stem) and gravity (default zero). `[model]` is
@@ -116,7 +118,14 @@ pub(crate) fn simulation_defaults(
         output_step: positive(&s.output_step, "output_step", defaults.output_step, Some(Quantity::Time))?,
         rtol: positive(&s.rtol, "rtol", defaults.rtol, None)?,
         atol: positive(&s.atol, "atol", defaults.atol, None)?,
-        tolerance_span: positive(&s.tolerance_span, "tolerance_span", defaults.tolerance_span, Some(Quantity::Time))?,
+        tolerance_span: match &s.tolerance_span {
+            Some(v) => match v.get_ref() {
+                NumberOrExpression::Expression(word) if word.trim() == "run" => ToleranceSpan::Run,
+                NumberOrExpression::Expression(word) if word.trim() == "step" => ToleranceSpan::Step,
+                _ => ToleranceSpan::Seconds(positive(&s.tolerance_span, "tolerance_span", 1.0, Some(Quantity::Time))?),
+            },
+            None => defaults.tolerance_span,
+        },
         vtk_step: s.vtk_step.as_ref().map(|_| positive(&s.vtk_step, "vtk_step", 0.0, Some(Quantity::Time))).transpose()?,
         max_output_rows: limit(&s.max_output_rows, "max_output_rows", defaults.max_output_rows)?,
         max_vtk_frames: limit(&s.max_vtk_frames, "max_vtk_frames", defaults.max_vtk_frames)?,

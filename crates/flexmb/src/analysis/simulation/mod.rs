@@ -539,25 +539,30 @@ fn accelerations_failure(model: &Model, data: &Data, t: f64) -> SimulationFailur
     }
 }
 
-/// Adds the work of the non-conservative forces from the last node of the trapezoidal rule (an
-/// accepted step or an output time, in the order of time) to `t`, where the power is `power`, and
-/// hands the power to the watchdog, which estimates the rule's error from the same nodes.
+/// Adds the work of the non-conservative forces from the last node of the quadrature (an accepted step
+/// or an output time, in the order of time) to `t`, where the power is `power`
+/// ([`WorkAtStep::add`]), and hands the power to the watchdog, which bounds the quadrature's error
+/// from the same nodes by the trapezoid's.
 fn add_work(report: &mut SimulationReport, watchdog: &mut Watchdog, t: f64, power: f64) {
     let last = report.work_at_step;
-    if t > last.t || report.output_frames == 0 {
-        let work = last.work + 0.5 * (last.power + power) * (t - last.t);
-        report.work_at_step = WorkAtStep { t, power, work };
+    if report.output_frames == 0 {
+        report.work_at_step = WorkAtStep { t, power, work: 0.0, previous: None };
+        watchdog.add_power(t, power);
+    } else if t > last.t {
+        report.work_at_step = last.add(t, power);
         watchdog.add_power(t, power);
     }
 }
 
 /// `settings` with tolerances finer than the arithmetic allows raised to the finest attainable, and a
-/// warning at the start saying so.
+/// warning at the start saying so, and the span of the tolerance
+/// [`ToleranceSpan::Run`](crate::integrate::ToleranceSpan::Run) made the run's length, `t_end`.
 fn attainable_tolerances(settings: SimulationSettings, warnings: &mut Vec<SimulationWarning>) -> SimulationSettings {
-    let (tolerances, raised) = settings.tolerances.attainable();
+    let (mut tolerances, raised) = settings.tolerances.attainable();
     if let Some(message) = raised {
         warnings.push(SimulationWarning { t: 0.0, kind: WarningKind::Tolerance, message });
     }
+    tolerances.span = tolerances.span.over_run(settings.t_end);
     SimulationSettings { tolerances, ..settings }
 }
 

@@ -36,7 +36,7 @@ impl Default for SimulationSettings {
 }
 
 impl SimulationSettings {
-    /// Checks the end time, the output step and the watchdog's limits.
+    /// Checks the end time, the output step, the tolerance span and the watchdog's limits.
     pub(super) fn validate(&self) -> Result<(), String> {
         if !(self.t_end > 0.0 && self.t_end.is_finite()) {
             return Err(format!("t_end must be positive, got {}", self.t_end));
@@ -44,6 +44,7 @@ impl SimulationSettings {
         if !(self.output_step > 0.0 && self.output_step.is_finite()) {
             return Err(format!("output_step must be positive, got {}", self.output_step));
         }
+        self.tolerances.span.validate()?;
         self.physics_limits.validate()
     }
 

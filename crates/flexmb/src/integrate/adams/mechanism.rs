@@ -129,7 +129,7 @@ impl Adams {
         let control = StepControl {
             rtol: tolerances.rtol,
             atol: tolerances.atol,
-            span: tolerances.span,
+            span: tolerances.span.seconds(),
             max_order: config.max_order,
             h_max: tolerances.h_max,
             h_init: tolerances.h_init,

@@ -42,6 +42,7 @@
 //!
 //! Nothing here allocates after the stepper is made.
 
+use crate::integrate::share_floor::ShareFloor;
 use crate::integrate::error_norm::error_weight;
 
 /// Highest order of the method (the order of its Adams–Bashforth predictor).
@@ -107,7 +108,12 @@ fn per_step() -> f64 {
 impl StepControl {
     /// The tolerances these are, for the share of the tolerance a step may spend.
     fn tolerances(&self) -> crate::integrate::Tolerances {
-        crate::integrate::Tolerances { rtol: self.rtol, atol: self.atol, span: self.span, ..Default::default() }
+        crate::integrate::Tolerances {
+            rtol: self.rtol,
+            atol: self.atol,
+            span: crate::integrate::ToleranceSpan::Seconds(self.span),
+            ..Default::default()
+        }
     }
 }
 
@@ -206,6 +212,10 @@ pub struct AdamsStepper {
     /// After [`restart`](AdamsStepper::restart): the largest first step (else infinite).
     #[serde(with = "crate::integrate::extended_float")]
     h_restart_cap: f64,
+    /// The floors under a step's share of the tolerance (error per unit step): a tenth of the last
+    /// accepted step's share, and rounding noise near singular positions (as the BDF's).
+    #[serde(default)]
+    share_floor: ShareFloor,
     /// Its counters.
     pub stats: StepperStats,
 }
@@ -250,6 +260,7 @@ impl AdamsStepper {
             nornd: true,
             started: false,
             h_restart_cap: f64::INFINITY,
+            share_floor: ShareFloor::default(),
             stats: StepperStats::default(),
         }
     }
@@ -407,7 +418,7 @@ impl AdamsStepper {
         loop {
             // The weights of this attempt's share of the tolerance (error per unit step).
             if !self.fixed {
-                let new_share = tolerances.step_share(self.h);
+                let new_share = self.share_floor.share(&tolerances, self.h);
                 let rescale = new_share / share;
                 self.wt.iter_mut().for_each(|w| *w *= rescale);
                 share = new_share;
@@ -488,7 +499,9 @@ impl AdamsStepper {
                     } else if k == 2 && erkm1 <= 0.5 * erk {
                         knew = k - 1;
                     }
-                    if !(err <= eps || self.fixed) {
+                    // An estimate that does not fall as the step is cut is rounding: it passes at its level.
+                    let noise = |floor: &mut ShareFloor| floor.is_noise(h, err / eps * share, self.control.rtol);
+                    if !(err <= eps || self.fixed || noise(&mut self.share_floor)) {
                         failure = Some(AttemptFailure::ErrorTest { error: err / eps });
                     } else if let Err(e) = self.correct_and_accept(system, x_new) {
                         failure = Some(AttemptFailure::Acceptance(e));
@@ -496,6 +509,7 @@ impl AdamsStepper {
                 }
             }
             let Some(failure) = failure else {
+                self.share_floor.accepted(h, share);
                 self.update_after_step(x_new, knew, erkm1, erk);
                 return Ok(());
             };

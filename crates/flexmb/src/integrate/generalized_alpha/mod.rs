@@ -606,7 +606,9 @@ impl GeneralizedAlpha {
     /// converged; the state of the converged unknowns is then in `q_new`, `v_new`, `a_new`, `d_step`.
     fn newton(&mut self, t_new: f64, h: f64, reused: bool) -> bool {
         // Measured against the step's share of the tolerance, as the local error is (see `increment_norm`).
-        let mut test = ConvergenceTest::new(self.newton_tolerance(h), NEWTON_MAXITER);
+        let share = self.share_floor.share(&self.tolerances, h);
+        let mut test =
+            ConvergenceTest::new(self.newton_tolerance(h), NEWTON_MAXITER).with_round_off(self.tolerances.round_off_at(share));
         let outcome = newton::iterate(&mut StepEquations { integrator: self, t_new, h }, &mut test, NEWTON_MAXITER);
         self.stats.newton_iterations += outcome.solves;
         if outcome.converged {
