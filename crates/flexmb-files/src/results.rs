@@ -130,6 +130,8 @@ pub fn summary_json(
             "residual_evaluations": s.residual_evaluations,
             "jacobian_evaluations": s.jacobian_evaluations,
             "matrix_factorizations": s.factorizations,
+            "rounding_floor_steps": s.rounding_floor_steps,
+            "rounding_floor": s.rounding_floor,
             "steps_per_order": orders,
             "rms_step_size": s.rms_step(),
             "wall_time_s": report.wall_time,

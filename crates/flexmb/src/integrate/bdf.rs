@@ -25,6 +25,7 @@ use crate::integrate::diagnosis::{self, EquationRow};
 use crate::integrate::error_norm::{error_weight, weighted_rms_norm};
 use crate::integrate::iteration_matrix::IterationMatrix;
 use crate::integrate::newton::{self, ConvergenceTest, NewtonSystem};
+use crate::integrate::newton_rounding::RoundingFloor;
 use crate::integrate::share_floor::ShareFloor;
 use crate::integrate::{
     check_len, AttemptFailure, BdfCheckpoint, BdfConfig, CheckpointError, IntegrationError, Integrator, IntegratorCheckpoint, Stats,
@@ -105,6 +106,8 @@ pub struct Bdf {
     share: f64,
     /// The floor under a step's share of the tolerance.
     share_floor: ShareFloor,
+    /// The level below which the Newton increments are the residual's rounding.
+    rounding: RoundingFloor,
     y_pred: Vec<f64>,
     psi: Vec<f64>,
     y_new: Vec<f64>,
@@ -196,6 +199,7 @@ impl Bdf {
             stability: StabilityLimits::new(),
             share: 1.0,
             share_floor: ShareFloor::default(),
+            rounding: RoundingFloor::default(),
             y_pred: vec![0.0; n],
             psi: vec![0.0; n],
             y_new: vec![0.0; n],
@@ -262,6 +266,7 @@ impl Bdf {
             last_h: self.stability.last_h,
             last_error: self.stability.last_error,
             share_floor: self.share_floor.stored(),
+            newton_rounding: self.rounding.stored(),
             active: self.active.clone(),
             angle_reference: self.data.angle_reference.clone(),
             stats: self.stats,
@@ -299,6 +304,7 @@ impl Bdf {
         self.stability.last_h = c.last_h;
         self.stability.last_error = c.last_error;
         self.share_floor = ShareFloor::restored(c.share_floor);
+        self.rounding = RoundingFloor::restored(c.newton_rounding);
         self.active.copy_from_slice(&c.active);
         self.data.angle_reference.copy_from_slice(&c.angle_reference);
         self.stats = c.stats;
@@ -429,6 +435,11 @@ impl Bdf {
                     self.refresh_jacobian(t_new, c);
                     continue;
                 }
+                // Increments that shrank neither with the iterations nor with the step are the residual's
+                // rounding: the attempt is repeated with them as its floor.
+                if self.rounding.failed_with_fresh_matrix(test.smallest_after_first * self.share, self.tolerances.rtol) {
+                    continue;
+                }
                 failure = AttemptFailure::Newton { t_new, step: c };
                 self.reduce_step(0.5);
                 continue;
@@ -440,6 +451,10 @@ impl Bdf {
                 // Noise, not error: the floor is now twice it.
                 self.share = self.step_share();
                 error_norm = self.local_error();
+            }
+            if error_norm > 1.0 && self.rounding.covers(error_norm * self.share) {
+                // Within the Newton increments' rounding floor: no shorter step resolves it.
+                error_norm = 1.0;
             }
             if error_norm > 1.0 {
                 if self.config.stability_limits {
@@ -463,6 +478,11 @@ impl Bdf {
             }
             self.stability.accepted(h, error_norm);
             self.share_floor.accepted(h, self.share);
+            self.rounding.accepted(test.at_floor);
+            if test.at_floor {
+                self.stats.rounding_floor_steps += 1;
+                self.stats.rounding_floor = self.stats.rounding_floor.max(self.rounding.floor * self.tolerances.rtol);
+            }
             break (t_new, safety);
         };
         self.accept(t_new);
@@ -629,7 +649,8 @@ impl Bdf {
         self.corr.fill(0.0);
         self.y_new.copy_from_slice(&self.y_pred);
         let mut test =
-            ConvergenceTest::new(self.newton_tolerance(), NEWTON_MAXITER).with_round_off(self.tolerances.round_off_at(self.share));
+            ConvergenceTest::new(self.newton_tolerance(), NEWTON_MAXITER).with_round_off(self.tolerances.round_off_at(self.share))
+                .with_rounding_floor(self.rounding.in_share(self.share));
         let increment_scale = 2.0 / (1.0 + c_f / c);
         let mut corrector = Corrector { bdf: self, t_new, c, c_f, increment_scale };
         let outcome = newton::iterate(&mut corrector, &mut test, NEWTON_MAXITER);

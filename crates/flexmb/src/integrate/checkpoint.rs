@@ -83,6 +83,10 @@ pub struct BdfCheckpoint {
     /// learnt from noise (zero in checkpoints written before error per unit step).
     #[serde(default)]
     pub share_floor: [f64; 2],
+    /// The rounding floor of the Newton increments and the level of the last stalled iteration of the
+    /// step (zero in checkpoints written before the floor).
+    #[serde(default)]
+    pub newton_rounding: [f64; 2],
     /// The constraint rows in force.
     pub active: Vec<bool>,
     /// Last accepted relative angle of each joint (for continuing angles past ±π).
@@ -151,6 +155,9 @@ pub struct GeneralizedAlphaCheckpoint {
     /// The floor under a step's share of the tolerance (see [`BdfCheckpoint::share_floor`]).
     #[serde(default)]
     pub share_floor: [f64; 2],
+    /// The rounding floor of the Newton increments (see [`BdfCheckpoint::newton_rounding`]).
+    #[serde(default)]
+    pub newton_rounding: [f64; 2],
     /// The step size the factors in use were made for (`None`: none in use), and the matrix they were
     /// made of, in the order of its sparse pattern (empty when none).
     #[serde(default)]

@@ -34,6 +34,7 @@ pub mod generalized_alpha;
 mod integrator;
 mod iteration_matrix;
 mod newton;
+mod newton_rounding;
 mod share_floor;
 mod stats;
 mod tolerance_span;

@@ -2,7 +2,9 @@
 //! [`iterate`] drives it (evaluate the residual, check it is finite, solve with the factored iteration
 //! matrix, test the increment, apply it), each method supplying its equations as a [`NewtonSystem`];
 //! the convergence test is the rate-based test of Shampine (Hairer and Wanner, *Solving Ordinary
-//! Differential Equations II*, section IV.8), with an absolute test for increments lost in round-off.
+//! Differential Equations II*, section IV.8), with an absolute test for increments lost in round-off and
+//! a floor for increments that are the rounding of the residual amplified by the iteration matrix
+//! ([`RoundingFloor`](super::newton_rounding::RoundingFloor)).
 
 /// What an iteration does with its increment.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -32,11 +34,29 @@ pub(crate) struct ConvergenceTest {
     pub first_increment: f64,
     /// The last contraction rate measured, also of an iteration that diverged.
     pub last_rate: f64,
+    /// Increments after the first at or below this have converged whatever their rate: the rounding floor
+    /// (0: none).
+    rounding_floor: f64,
+    /// The smallest weighted norm of an increment after the first (infinite before the second).
+    pub smallest_after_first: f64,
+    /// The iteration converged by the rounding floor, not by its rate.
+    pub at_floor: bool,
 }
 
 impl ConvergenceTest {
     pub fn new(tolerance: f64, max_iterations: usize) -> Self {
-        Self { tolerance, max_iterations, round_off: 0.0, last: None, slowest: 0.0, first_increment: 0.0, last_rate: 0.0 }
+        Self {
+            tolerance,
+            max_iterations,
+            round_off: 0.0,
+            last: None,
+            slowest: 0.0,
+            first_increment: 0.0,
+            last_rate: 0.0,
+            rounding_floor: 0.0,
+            smallest_after_first: f64::INFINITY,
+            at_floor: false,
+        }
     }
 
     /// This test with increments up to `round_off` (in the test's norm) converged whatever their rate,
@@ -46,6 +66,12 @@ impl ConvergenceTest {
     pub fn with_round_off(mut self, round_off: f64) -> Self {
         self.round_off = round_off;
         self
+    }
+
+    /// This test with increments after the first at or below `floor` converged whatever their rate (the
+    /// level of the residual's rounding, in the measure of the increments).
+    pub fn with_rounding_floor(self, floor: f64) -> Self {
+        Self { rounding_floor: floor, ..self }
     }
 
     /// The verdict on the weighted norm of the increment of iteration `k` (from 0). With the rate
@@ -60,6 +86,13 @@ impl ConvergenceTest {
         }
         if norm == 0.0 || (k > 0 && norm <= (NEGLIGIBLE * self.tolerance).max(self.round_off)) {
             return Verdict::Converged;
+        }
+        if k > 0 {
+            self.smallest_after_first = self.smallest_after_first.min(norm);
+            if norm <= self.rounding_floor && norm > self.tolerance {
+                self.at_floor = true;
+                return Verdict::Converged;
+            }
         }
         let rate = self.last.map(|old| norm / old);
         self.last = Some(norm);
@@ -143,6 +176,22 @@ mod tests {
         assert_eq!(test.assess(1, 2e-1), Verdict::Diverging);
         let mut test = ConvergenceTest::new(1e-3, 4);
         assert_eq!(test.assess(0, 0.0), Verdict::Converged);
+    }
+
+    /// With a rounding floor, an increment after the first at or below it converges at any rate, and says
+    /// so; the first increment never does, and without the floor the same increments diverge.
+    #[test]
+    fn increments_at_the_rounding_floor_converge_whatever_their_rate() {
+        let mut test = ConvergenceTest::new(2.2e-3, 7).with_rounding_floor(0.25);
+        assert_eq!(test.assess(0, 0.17), Verdict::Continue, "the first increment is a correction");
+        assert_eq!(test.assess(1, 0.21), Verdict::Converged, "a rate of 1.2 at the floor");
+        assert!(test.at_floor);
+        assert_eq!(test.smallest_after_first, 0.21);
+        let mut test = ConvergenceTest::new(2.2e-3, 7);
+        assert_eq!(test.assess(0, 0.17), Verdict::Continue);
+        assert_eq!(test.assess(1, 0.21), Verdict::Diverging);
+        assert!(!test.at_floor);
+        assert_eq!(test.smallest_after_first, 0.21);
     }
 
     #[test]

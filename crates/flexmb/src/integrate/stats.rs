@@ -21,6 +21,15 @@ pub struct Stats {
     pub order_counts: [usize; 13],
     /// Sum of squared accepted step sizes (for the RMS step).
     pub sum_h_squared: f64,
+    /// Accepted steps whose Newton iteration ended at the rounding floor: increments that shrank neither
+    /// with the iterations nor with the step, the residual's rounding amplified by the iteration matrix (a
+    /// near-singular constraint Jacobian, large forces), above the Newton tolerance.
+    #[serde(default)]
+    pub rounding_floor_steps: usize,
+    /// The largest rounding floor of those steps relative to the solution (`rtol` times the floor's level
+    /// in tolerances): about the finest tolerance the step equations could be resolved to there.
+    #[serde(default)]
+    pub rounding_floor: f64,
 }
 
 impl Stats {

@@ -434,7 +434,12 @@ impl Simulation {
             return Ok(());
         }
         let step = self.integrator.step(self.settings.t_end);
+        let rounding_before = self.report.stats.rounding_floor_steps;
         self.report.stats = *self.integrator.stats();
+        if rounding_before == 0 && self.report.stats.rounding_floor_steps > 0 {
+            let message = rounding_floor_warning(self.report.stats.rounding_floor, self.settings.tolerances.rtol);
+            self.report.warnings.push(SimulationWarning { t: self.integrator.t(), kind: WarningKind::Tolerance, message });
+        }
         self.report.t_reached = self.integrator.t();
         step?;
         self.copy_state();
@@ -552,6 +557,18 @@ fn add_work(report: &mut SimulationReport, watchdog: &mut Watchdog, t: f64, powe
         report.work_at_step = last.add(t, power);
         watchdog.add_power(t, power);
     }
+}
+
+/// The warning of the first step whose Newton increments were the rounding of its equations (see
+/// [`Stats::rounding_floor_steps`](crate::integrate::Stats::rounding_floor_steps)), resolved to `level` of
+/// the solution where `rtol` was asked.
+fn rounding_floor_warning(level: f64, rtol: f64) -> String {
+    format!(
+        "tolerance finer than the equations can be resolved here: the Newton increments are the rounding of the \
+         residual amplified by the iteration matrix (a near-singular constraint Jacobian, at a singular position, \
+         or large forces), and the steps are resolved to about {level:.1e} of the solution instead of rtol {rtol:e}; \
+         the statistics rounding_floor_steps and rounding_floor count such steps and give the coarsest level"
+    )
 }
 
 /// `settings` with tolerances finer than the arithmetic allows raised to the finest attainable, and a

@@ -96,6 +96,7 @@ use crate::data::Data;
 use crate::integrate::diagnosis::{self, EquationRow};
 use crate::integrate::error_norm::{error_weight, position_sum_of_squares, root_mean_square};
 use crate::integrate::newton::{self, ConvergenceTest, NewtonSystem};
+use crate::integrate::newton_rounding::RoundingFloor;
 use crate::integrate::share_floor::ShareFloor;
 use crate::integrate::RateMonitor;
 use std::sync::Arc;
@@ -168,6 +169,12 @@ pub struct GeneralizedAlpha {
     nc: usize,
     /// The floor under a step's share of the tolerance (error per unit step).
     share_floor: ShareFloor,
+    /// The level below which the Newton increments are the residual's rounding.
+    rounding: RoundingFloor,
+    /// Of the last Newton iteration: its smallest increment after the first (in the step's share), and
+    /// whether it converged by the rounding floor.
+    newton_stalled: f64,
+    newton_at_floor: bool,
     matrix: IterationMatrix,
     /// The finite-difference parts were evaluated during the current step.
     derivatives_current: bool,
@@ -261,6 +268,9 @@ impl GeneralizedAlpha {
             nv,
             nc,
             share_floor: ShareFloor::default(),
+            rounding: RoundingFloor::default(),
+            newton_stalled: f64::INFINITY,
+            newton_at_floor: false,
             matrix: IterationMatrix::new(&model),
             data,
             derivatives_current: false,
@@ -347,6 +357,7 @@ impl GeneralizedAlpha {
             d_last: self.d_last.clone(),
             derivatives_current: self.derivatives_current,
             share_floor: self.share_floor.stored(),
+            newton_rounding: self.rounding.stored(),
             refresh_next: self.refresh_next,
             factored_h: self.factored_h,
             factored_matrix: if self.factored_h.is_some() { self.matrix.factored_values().to_vec() } else { Vec::new() },
@@ -397,6 +408,7 @@ impl GeneralizedAlpha {
         self.d_last.copy_from_slice(&c.d_last);
         self.derivatives_current = c.derivatives_current;
         self.share_floor = ShareFloor::restored(c.share_floor);
+        self.rounding = RoundingFloor::restored(c.newton_rounding);
         self.refresh_next = c.refresh_next;
         self.matrix.set_stored_parts(&c.stiffness, &c.damping, &c.start_jacobian);
         self.factored_h = None;
@@ -465,6 +477,12 @@ impl GeneralizedAlpha {
                     self.refresh_derivatives(t_new, h_step);
                     continue;
                 }
+                // Increments that shrank neither with the iterations nor with the step are the residual's
+                // rounding: the attempt is repeated with them as its floor.
+                let share = self.share_floor.share(&self.tolerances, h_step);
+                if factored && self.rounding.failed_with_fresh_matrix(self.newton_stalled * share, self.tolerances.rtol) {
+                    continue;
+                }
                 failure = if factored {
                     AttemptFailure::Newton { t_new, step: h_step }
                 } else {
@@ -480,6 +498,10 @@ impl GeneralizedAlpha {
                 // Noise, not error: the floor is now twice it.
                 error_norm = self.error_norm(h_step);
             }
+            if error_norm > 1.0 && self.rounding.covers(error_norm * self.share_floor.share(&self.tolerances, h_step)) {
+                // Within the Newton increments' rounding floor: no shorter step resolves it.
+                error_norm = 1.0;
+            }
             if self.fixed_step.is_none() && error_norm > 1.0 {
                 self.stats.error_test_failures += 1;
                 failure = AttemptFailure::ErrorTest { error_norm };
@@ -488,6 +510,11 @@ impl GeneralizedAlpha {
                 continue;
             }
             self.accept(t_new, h_step);
+            self.rounding.accepted(self.newton_at_floor);
+            if self.newton_at_floor {
+                self.stats.rounding_floor_steps += 1;
+                self.stats.rounding_floor = self.stats.rounding_floor.max(self.rounding.floor * self.tolerances.rtol);
+            }
             self.share_floor.accepted(h_step, self.share_floor.share(&self.tolerances, h_step));
             self.h = match self.fixed_step {
                 Some(fixed) => fixed,
@@ -608,9 +635,12 @@ impl GeneralizedAlpha {
         // Measured against the step's share of the tolerance, as the local error is (see `increment_norm`).
         let share = self.share_floor.share(&self.tolerances, h);
         let mut test =
-            ConvergenceTest::new(self.newton_tolerance(h), NEWTON_MAXITER).with_round_off(self.tolerances.round_off_at(share));
+            ConvergenceTest::new(self.newton_tolerance(h), NEWTON_MAXITER).with_round_off(self.tolerances.round_off_at(share))
+                .with_rounding_floor(self.rounding.in_share(share));
         let outcome = newton::iterate(&mut StepEquations { integrator: self, t_new, h }, &mut test, NEWTON_MAXITER);
         self.stats.newton_iterations += outcome.solves;
+        self.newton_stalled = test.smallest_after_first;
+        self.newton_at_floor = outcome.converged && test.at_floor;
         if outcome.converged {
             self.state_from_unknowns(h);
             self.rate.converged(t_new, test.slowest, test.first_increment);
