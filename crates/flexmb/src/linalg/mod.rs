@@ -3,11 +3,11 @@
 //! Jacobians.
 
 mod colouring;
-mod dense_lu;
 mod finite_difference;
 mod givens_qr;
+mod lu_refactorization;
 mod normal_equations;
-mod sparse_lu;
+pub(crate) mod sparse_lu;
 mod sparse_rows;
 
 pub use colouring::greedy_colouring;
@@ -18,5 +18,5 @@ pub use sparse_lu::SingularMatrix;
 pub(crate) use sparse_lu::SparseLu;
 // The initial-condition analyses' sparse Jacobians, their rank and their minimum-norm corrections.
 pub(crate) use givens_qr::dependent_rows;
-pub(crate) use normal_equations::solve_normal_equations;
+pub(crate) use normal_equations::{solve_normal_equations, NormalEquations};
 pub(crate) use sparse_rows::SparseRows;
