@@ -270,89 +270,14 @@ mod tests {
         assert_eq!(jac.analytic_entries(&yl), (253, 1119));
     }
 
-    /// Random matrices of the iteration matrix's pattern (a chain of 8 rods, its matrix at a moving
-    /// state, each entry scaled by a random factor, the step-size factor `c` drawn in [1e-4, 1e-2]):
-    /// each factorization, with the kept pivots or afresh, solves as a fresh factorization does, to the
-    /// last bit. With the Jacobian kept and `c` changed by factors in [1 − 1e-9, 1 + 1e-9] (a step size
-    /// that hardly changes), 20 draws keep the first pivots; with every entry scaled by its own factor
-    /// in [0.5, 1.5], they are chosen afresh in most draws (the Jacobian's equal entries, e.g. a joint's
-    /// ±1 on its two bodies, no longer tie).
-    #[test]
-    fn refactorizations_of_the_iteration_matrix_equal_fresh_factorizations() {
-        use crate::linalg::sparse_lu::tests::{against_fresh_factorization, uniform};
-        let mut jac = chain_iteration_matrix(8);
-        let n = jac.lu.n();
-        let pattern: Vec<(usize, usize)> =
-            (0..n).flat_map(|c| jac.lu.column(c).1.iter().map(move |&r| (r, c)).collect::<Vec<_>>()).collect();
-        let mut lu = SparseLu::new(n, pattern);
-        let rhs: Vec<f64> = (0..n).map(|k| (k as f64 * 0.61).cos()).collect();
-        let (f_y, f_yp) = (jac.f_y.clone(), jac.f_yp.clone());
-        let mut seed = 11;
-        let draws = 20;
-        for kept_jacobian in [true, false] {
-            let before = lu.pivoting_factorizations();
-            for _ in 0..draws {
-                let c = if kept_jacobian { 1e-3 * (1.0 + 1e-9 * uniform(&mut seed)) } else { 10f64.powf(-3.0 + uniform(&mut seed)) };
-                let spread = if kept_jacobian { 0.0 } else { 0.5 };
-                for (k, (a, b)) in jac.f_y.iter_mut().zip(&mut jac.f_yp).enumerate() {
-                    *a = f_y[k] * (1.0 + spread * uniform(&mut seed));
-                    *b = f_yp[k] * (1.0 + spread * uniform(&mut seed));
-                }
-                jac.factor(c).unwrap();
-                lu.values.copy_from_slice(&jac.lu.values);
-                assert_eq!(against_fresh_factorization(&mut lu, &rhs), 0.0);
-            }
-            let pivoting = lu.pivoting_factorizations() - before;
-            if kept_jacobian {
-                assert!(pivoting <= 1, "{pivoting} pivoting factorizations");
-            } else {
-                assert!(pivoting >= draws / 2, "{pivoting} pivoting factorizations");
-            }
-        }
-        // The factors of the chain stay sparse: L and U hold 7,667 entries for the matrix's 4,879.
-        assert!(lu.factor_entries() <= 2 * lu.values.len(), "{} of {}", lu.factor_entries(), lu.values.len());
-    }
-
-    /// The factors of a chain's iteration matrix grow linearly with its rods: from 8 to 64 rods, the
-    /// entries of `L` and `U` and the multiply–adds of a refactorization grow by at most 2.5 per
-    /// doubling (2 for a pattern that repeats per rod, plus the fill-reducing ordering's variations).
-    #[test]
-    fn the_factors_of_a_chain_grow_linearly_with_its_rods() {
-        let mut counts = Vec::new();
-        for rods in [8, 16, 32, 64] {
-            let mut jac = chain_iteration_matrix(rods);
-            jac.factor(1e-3).unwrap();
-            counts.push((rods, jac.lu.values.len(), jac.lu.factor_entries(), jac.lu.refactor_operations()));
-        }
-        for w in counts.windows(2) {
-            let (a, b) = (w[0], w[1]);
-            assert!(b.2 as f64 <= 2.5 * a.2 as f64 && b.3 as f64 <= 2.5 * a.3 as f64, "{counts:?}");
-        }
-    }
-
-    /// The iteration matrix of a chain of `rods` spherical rods evaluated at a moving state.
-    fn chain_iteration_matrix(rods: usize) -> IterationMatrix {
-        let model = crate::analysis::test_models::spherical_chain(rods);
-        let (mut data, state, yl, y) = moving_point(&model);
-        let mut jac = IterationMatrix::new(&model, &yl);
-        jac.evaluate(&model, &mut data, &yl, &state.active, 0.1, &y, &vec![0.0; yl.len()]);
-        jac
-    }
-
-    /// A moving state of `model` and its `y = [q, v, λ, 0]`.
-    fn moving_point(model: &Model) -> (Data, crate::analysis::State, YLayout, Vec<f64>) {
-        let (data, state, acc) = test_models::moving_state(model);
-        let yl = YLayout::new(model);
-        let mut y = vec![0.0; yl.len()];
+    fn coloured_against_dense(model: Model) {
+        let (mut data, state, acc) = test_models::moving_state(&model);
+        let yl = YLayout::new(&model);
+        let n = yl.len();
+        let mut y = vec![0.0; n];
         y[yl.q.clone()].copy_from_slice(&state.q);
         y[yl.v.clone()].copy_from_slice(&state.v);
         y[yl.lambda.clone()].copy_from_slice(&acc.lambda);
-        (data, state, yl, y)
-    }
-
-    fn coloured_against_dense(model: Model) {
-        let (mut data, state, yl, mut y) = moving_point(&model);
-        let n = yl.len();
         for k in yl.mu.clone() {
             y[k] = 1e-3 * (k as f64).cos();
         }

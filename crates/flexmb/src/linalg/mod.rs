@@ -3,11 +3,11 @@
 //! Jacobians.
 
 mod colouring;
+mod dense_lu;
 mod finite_difference;
 mod givens_qr;
-mod lu_refactorization;
 mod normal_equations;
-pub(crate) mod sparse_lu;
+mod sparse_lu;
 mod sparse_rows;
 
 pub use colouring::greedy_colouring;

@@ -2,7 +2,7 @@
 //! positive weights `W = diag(w)`: the assembly's Newton step `Δq = −Gᵀ (G Gᵀ)⁻¹ Φ`, the velocity
 //! analysis's `Δv = W⁻¹ Bᵀ (B W⁻¹ Bᵀ)⁻¹ r`, and the least-squares combination of rows. `G W⁻¹ Gᵀ` couples
 //! two rows only where they share a column (a body), so it is as sparse as the mechanism's joints; it is
-//! factored by [`SparseLu`].
+//! factored by [`SparseLu`] (dense only when small).
 
 use super::sparse_lu::{SingularMatrix, SparseLu};
 use super::sparse_rows::SparseRows;

@@ -1,20 +1,22 @@
 //! A square sparse matrix with a fixed pattern and its LU factorization (`faer`, partial pivoting,
-//! COLAMD ordering). The pattern is analysed once; the first factorization chooses the pivots and the
-//! structure of the factors, and later ones only recompute the numbers with those pivots
-//! ([`LuFactors::refactor`]) until a kept pivot becomes too small, when the matrix is factored afresh
-//! with pivoting. All workspaces are allocated up front, so factor and solve do not allocate inside a
-//! time step. Matrices of every size take this path: refactoring with kept pivots is cheaper than a
-//! dense LU even at 20 unknowns (a rigid pendulum's BDF iteration matrix).
+//! COLAMD ordering). The pattern is analysed once; refactoring only recomputes the numbers, and all
+//! workspaces are allocated up front so that factor and solve do not allocate inside a time step.
+//! Small matrices (up to [`DENSE_LIMIT`]) are factored dense: the iteration matrices of small
+//! mechanisms fill in, and a blocked dense LU of them is several times faster than the sparse one.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::sparse::linalg::lu::simplicial::{
-    factorize_simplicial_numeric_lu, factorize_simplicial_numeric_lu_scratch, SimplicialLu,
-};
-use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuSymbolicParams, SymbolicLu};
+use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuSymbolicParams, NumericLu, SymbolicLu};
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
+use faer::{Conj, MatMut, Par};
 
-use super::lu_refactorization::LuFactors;
+use super::dense_lu::DenseLu;
+
+/// Largest dimension factored as a dense matrix: about where the two cost the same. Generalized-α on
+/// the chain of spherical rods, instructions per step (valgrind, the steps between t = 0.05 and 0.1 s at
+/// rtol 1e-8): at 96 unknowns (8 rods) dense 1.30 M, sparse 2.11 M; at 192 (16 rods) dense 4.22 M,
+/// sparse 4.42 M. Below the limit the dense factorization's cost grows with the cube of the dimension.
+pub const DENSE_LIMIT: usize = 200;
 
 /// The factorization produced a zero or non-finite pivot.
 #[derive(Clone, Copy, Debug, thiserror::Error, PartialEq, Eq)]
@@ -28,15 +30,11 @@ pub struct SparseLu {
     /// Values in pattern order (`col_ptr`/`row_idx`); write them, then [`factor`](Self::factor).
     pub values: Vec<f64>,
     symbolic: SymbolicLu<usize>,
-    /// The factors of the last factorization with pivoting, and its row pivots.
-    pivoting: SimplicialLu<usize, f64>,
-    row_order: Vec<usize>,
-    row_position: Vec<usize>,
+    numeric: NumericLu<usize, f64>,
     factor_buffer: MemBuffer,
-    /// The factors solved with: those of the pivoting factorization, refactored with new numbers.
-    factors: LuFactors,
-    /// Factorizations with pivoting (each followed by refactorizations with its pivots).
-    pivoting_factorizations: usize,
+    solve_buffer: MemBuffer,
+    /// The dense factorization used instead of the sparse one when `n ≤ DENSE_LIMIT`.
+    dense: Option<DenseLu>,
     factored: bool,
 }
 
@@ -82,18 +80,18 @@ impl SparseLu {
         };
         let symbolic = factorize_symbolic_lu(pattern.as_ref(), params)
             .expect("symbolic LU analysis of a valid pattern");
-        let factor_buffer = MemBuffer::new(factorize_simplicial_numeric_lu_scratch::<usize, f64>(n, n));
+        let factor_buffer =
+            MemBuffer::new(symbolic.factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default()));
+        let solve_buffer = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
         Self {
             n,
             pattern,
             values: vec![0.0; nnz],
             symbolic,
-            pivoting: SimplicialLu::new(),
-            row_order: vec![0; n],
-            row_position: vec![0; n],
+            numeric: NumericLu::new(),
             factor_buffer,
-            factors: LuFactors::default(),
-            pivoting_factorizations: 0,
+            solve_buffer,
+            dense: (n <= DENSE_LIMIT).then(|| DenseLu::new(n)),
             factored: false,
         }
     }
@@ -143,56 +141,27 @@ impl SparseLu {
         self.factored = false;
     }
 
-    /// Factorizations with pivoting so far (the first, and one each time a kept pivot became too small);
-    /// every other factorization reused their pivots.
-    #[cfg(test)]
-    pub fn pivoting_factorizations(&self) -> usize {
-        self.pivoting_factorizations
-    }
-
-    /// Entries of the sparse factors `L` and `U` (diagonals included; zero before the first
-    /// factorization).
-    #[cfg(test)]
-    pub fn factor_entries(&self) -> usize {
-        if self.factors.is_loaded() {
-            self.factors.factor_entries()
-        } else {
-            0
-        }
-    }
-
-    /// Multiply–adds of one refactorization with the kept pivots (zero before the first factorization).
-    #[cfg(test)]
-    pub fn refactor_operations(&self) -> usize {
-        if self.factors.is_loaded() {
-            self.factors.refactor_operations()
-        } else {
-            0
-        }
-    }
-
-    /// Factors the current values: with the pivots and patterns of the last factorization with
-    /// pivoting if they are held and every kept pivot is large enough, else afresh with pivoting. Does
-    /// not allocate once the factors' storage has grown to size.
+    /// Factors the current values. Does not allocate once the numeric storage has grown to size.
     pub fn factor(&mut self) -> Result<(), SingularMatrix> {
         self.factored = false;
         if !self.values.iter().all(|x| x.is_finite()) {
             return Err(SingularMatrix);
         }
-        let a = SparseColMatRef::new(self.pattern.as_ref(), &self.values);
-        if self.factors.is_loaded() && self.factors.refactor(a).is_ok() {
+        if let Some(dense) = &mut self.dense {
+            let ptr = self.pattern.col_ptr();
+            let rows = self.pattern.row_idx();
+            let columns = (0..self.n).map(|c| (&self.values[ptr[c]..ptr[c + 1]], &rows[ptr[c]..ptr[c + 1]]));
+            if !dense.factor(columns) {
+                return Err(SingularMatrix);
+            }
             self.factored = true;
             return Ok(());
         }
+        let a = SparseColMatRef::new(self.pattern.as_ref(), &self.values);
         let stack = MemStack::new(&mut self.factor_buffer);
-        let column_order = self.symbolic.col_perm();
-        factorize_simplicial_numeric_lu(&mut self.row_order, &mut self.row_position, &mut self.pivoting, a, column_order, stack)
+        self.symbolic
+            .factorize_numeric_lu(&mut self.numeric, a, Par::Seq, stack, Default::default())
             .map_err(|_| SingularMatrix)?;
-        self.pivoting_factorizations += 1;
-        self.factors.load(a, &self.pivoting, &self.row_position, column_order.arrays().0);
-        if !self.factors.pivots_are_regular() {
-            return Err(SingularMatrix);
-        }
         self.factored = true;
         Ok(())
     }
@@ -204,7 +173,14 @@ impl SparseLu {
     /// Before a successful [`factor`](Self::factor), or if `rhs` is not of length [`n`](Self::n).
     pub fn solve_in_place(&mut self, rhs: &mut [f64]) -> Result<(), SingularMatrix> {
         assert!(self.factored, "solve before factor");
-        self.factors.solve_in_place(rhs);
+        if let Some(dense) = &mut self.dense {
+            dense.solve_in_place(rhs);
+        } else {
+            let lu = lu_ref(&self.symbolic, &self.numeric);
+            let stack = MemStack::new(&mut self.solve_buffer);
+            let mat = MatMut::from_column_major_slice_mut(rhs, self.n, 1);
+            lu.solve_in_place_with_conj(Conj::No, mat, Par::Seq, stack);
+        }
         if rhs.iter().all(|x| x.is_finite()) {
             Ok(())
         } else {
@@ -225,8 +201,16 @@ impl SparseLu {
     }
 }
 
+fn lu_ref<'a>(
+    symbolic: &'a SymbolicLu<usize>,
+    numeric: &'a NumericLu<usize, f64>,
+) -> faer::sparse::linalg::lu::LuRef<'a, usize, f64> {
+    // `numeric` was produced by `symbolic.factorize_numeric_lu`, the only precondition.
+    faer::sparse::linalg::lu::LuRef::new_unchecked(symbolic, numeric)
+}
+
 #[cfg(test)]
-pub(crate) mod tests {
+mod tests {
     use super::*;
 
     /// A diagonally dominant unsymmetric band matrix with a few far entries, of dimension `n`.
@@ -243,10 +227,11 @@ pub(crate) mod tests {
     }
 
     #[test]
-    fn small_and_larger_matrices_solve_to_round_off() {
-        for n in [100, 250] {
+    fn the_dense_and_sparse_paths_solve_to_round_off() {
+        for n in [DENSE_LIMIT / 2, DENSE_LIMIT + 50] {
             let (entries, values) = band_matrix(n);
             let mut a = SparseLu::new(n, entries.iter().copied());
+            assert_eq!(a.dense.is_some(), n <= DENSE_LIMIT);
             for ((r, c), v) in entries.iter().zip(&values) {
                 a.add(*r, *c, *v);
             }
@@ -261,100 +246,19 @@ pub(crate) mod tests {
         }
     }
 
-    /// Uniform numbers in [-1, 1) from a fixed seed (a 64-bit linear congruential generator, Knuth's
-    /// MMIX constants), for reproducible random matrices.
-    pub(crate) fn uniform(seed: &mut u64) -> f64 {
-        *seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        (*seed >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-    }
-
-    /// The largest difference of two solutions relative to the largest component of the second.
-    pub(crate) fn relative_difference(x: &[f64], y: &[f64]) -> f64 {
-        let scale = y.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-        x.iter().zip(y).fold(0.0_f64, |m, (a, b)| m.max((a - b).abs())) / scale
-    }
-
-    /// Solves with `a`'s current values and with a fresh factorization (new pattern analysis, pivots
-    /// chosen afresh) of the same values; returns the relative difference of the two solutions (zero:
-    /// the kept pivots are used only where partial pivoting chooses them).
-    pub(crate) fn against_fresh_factorization(a: &mut SparseLu, rhs: &[f64]) -> f64 {
-        let n = a.n();
-        let entries: Vec<(usize, usize)> = (0..n).flat_map(|c| a.column(c).1.iter().map(move |&r| (r, c)).collect::<Vec<_>>()).collect();
-        let mut fresh = SparseLu::new(n, entries);
-        fresh.values.copy_from_slice(&a.values);
-        fresh.factor().unwrap();
-        let mut x_fresh = rhs.to_vec();
-        fresh.solve_in_place(&mut x_fresh).unwrap();
-        assert_eq!(fresh.pivoting_factorizations(), 1);
-        a.factor().unwrap();
-        let mut x = rhs.to_vec();
-        a.solve_in_place(&mut x).unwrap();
-        relative_difference(&x, &x_fresh)
-    }
-
-    /// After the first factorization, new values on the same pattern (each entry scaled by a random
-    /// factor in [0.8, 1.2]; the matrix stays diagonally dominant, so its pivots stay) are refactored
-    /// with the kept pivots: 20 value sets, one factorization with pivoting in all, each solution equal
-    /// to that of a fresh factorization to the last bit.
     #[test]
-    fn a_refactorization_with_kept_pivots_equals_a_fresh_factorization() {
-        let n = 150;
-        let (entries, values) = band_matrix(n);
-        let mut a = SparseLu::new(n, entries.iter().copied());
-        for ((r, c), v) in entries.iter().zip(&values) {
-            a.add(*r, *c, *v);
-        }
-        let start = a.values.clone();
-        let rhs: Vec<f64> = (0..n).map(|k| (k as f64 * 0.37).sin()).collect();
-        let mut seed = 7;
-        for _ in 0..20 {
-            for (v, v0) in a.values.iter_mut().zip(&start) {
-                *v = v0 * (1.0 + 0.2 * uniform(&mut seed));
-            }
-            let difference = against_fresh_factorization(&mut a, &rhs);
-            assert_eq!(difference, 0.0);
-        }
-        assert_eq!(a.pivoting_factorizations(), 1);
-    }
-
-    /// A kept pivot that is no longer the largest of its column is not used: the matrix is factored
-    /// afresh with pivoting, and every solution is right. `[[v, 1], [1, v]]` from `v = 2` pivots on a
-    /// diagonal entry (in either column order); at `v = 0.5` the off-diagonal one is larger and chosen,
-    /// kept at `v = 0.05` and 0, and given up again at `v = 2` (kept at 20).
-    #[test]
-    fn a_pivot_that_is_no_longer_the_largest_is_chosen_afresh() {
-        let entries = [(0, 0), (0, 1), (1, 0), (1, 1)];
-        let mut a = SparseLu::new(2, entries);
-        for ((r, c), v) in entries.iter().zip([2.0, 1.0, 1.0, 2.0]) {
-            a.add(*r, *c, v);
-        }
-        a.factor().unwrap();
-        let diagonal = [a.slot(0, 0).unwrap(), a.slot(1, 1).unwrap()];
-        for (v, pivoting) in [(0.5, 2), (0.05, 2), (0.0, 2), (2.0, 3), (20.0, 3)] {
-            diagonal.iter().for_each(|&s| a.values[s] = v);
-            a.factor().unwrap();
-            let mut x = [1.0, 1.0];
-            a.solve_in_place(&mut x).unwrap();
-            let exact = 1.0 / (v + 1.0);
-            assert!(x.iter().all(|x| (x - exact).abs() < 1e-15), "{v}: {x:?}");
-            assert_eq!(a.pivoting_factorizations(), pivoting, "{v}");
-        }
-    }
-
-    #[test]
-    fn a_singular_matrix_is_reported_at_every_size() {
-        for n in [10, 210] {
+    fn a_singular_matrix_is_reported_on_both_paths() {
+        for n in [10, DENSE_LIMIT + 10] {
             // The last row and column are empty but for a zero diagonal.
             let entries: Vec<(usize, usize)> = (0..n - 1).map(|i| (i, i)).collect();
             let mut a = SparseLu::new(n, entries.iter().copied());
             for (r, c) in &entries {
                 a.add(*r, *c, 2.0);
             }
-            // The zero pivot is found when the matrix is factored.
+            // The dense path finds the zero pivot when it factors, the sparse one when it solves.
             let mut x = vec![1.0; n];
             let outcome = a.factor().and_then(|()| a.solve_in_place(&mut x));
             assert_eq!(outcome, Err(SingularMatrix), "n = {n}");
-            assert_eq!(a.factor(), Err(SingularMatrix), "n = {n}");
         }
     }
 
