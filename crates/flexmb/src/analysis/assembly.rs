@@ -11,7 +11,7 @@ use super::redundancy::{dependency_of, find_redundant_rows, violated_rows, Redun
 use super::static_deformation::static_deformation_step;
 use super::State;
 use crate::data::Data;
-use crate::linalg::{solve_normal_equations, SparseRows};
+use crate::linalg::{NormalEquations, SparseRows};
 use crate::math::euler_parameters::g_matrix;
 use crate::math::Vec4;
 use crate::model::{Model, SizeCheck, SizeMismatch};
@@ -283,6 +283,8 @@ fn newton(model: &Model, data: &mut Data, state: &mut State, settings: AssemblyS
     let l = &model.layout;
     let active_rows: Vec<usize> = (0..l.nc).filter(|r| state.active[*r]).collect();
     let mut phi = Vec::new();
+    // The pattern of Φ̂_q stays over the iterations: its normal matrix is analysed once.
+    let mut normal = NormalEquations::default();
     for it in 0..=settings.max_iterations {
         constraint_values(model, data, state, &mut phi);
         let norm = phi.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
@@ -302,7 +304,7 @@ fn newton(model: &Model, data: &mut Data, state: &mut State, settings: AssemblyS
             _ => {
                 // Δq = −Φ̂_qᵀ z with (Φ̂_q Φ̂_qᵀ) z = Φ̂.
                 let mut z = phi.clone();
-                solve_normal_equations(&gq, None, &mut z).ok().map(|()| {
+                normal.solve(&gq, None, &mut z).ok().map(|()| {
                     gq.multiply_transposed(&z, &mut dq);
                     dq.iter_mut().for_each(|x| *x = -*x);
                 })

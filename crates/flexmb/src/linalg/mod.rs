@@ -18,5 +18,5 @@ pub use sparse_lu::SingularMatrix;
 pub(crate) use sparse_lu::SparseLu;
 // The initial-condition analyses' sparse Jacobians, their rank and their minimum-norm corrections.
 pub(crate) use givens_qr::dependent_rows;
-pub(crate) use normal_equations::solve_normal_equations;
+pub(crate) use normal_equations::{solve_normal_equations, NormalEquations};
 pub(crate) use sparse_rows::SparseRows;

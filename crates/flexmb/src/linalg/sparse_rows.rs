@@ -62,6 +62,11 @@ impl SparseRows {
         self.cols.len()
     }
 
+    /// Whether `other` has the same dimensions and entries (whatever their values).
+    pub(crate) fn same_pattern(&self, other: &Self) -> bool {
+        self.ncols == other.ncols && self.row_ptr == other.row_ptr && self.cols == other.cols
+    }
+
     /// The columns and values of row `r`.
     pub(crate) fn row(&self, r: usize) -> (&[usize], &[f64]) {
         let range = self.row_ptr[r]..self.row_ptr[r + 1];
