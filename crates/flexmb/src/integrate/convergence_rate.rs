@@ -232,7 +232,8 @@ mod tests {
     }
 
     /// A reuse that failed at an age teaches that matrices fail from about that age on, whatever their
-    /// measured rate: the limit is 0.8 of it, and grows by 5 % with each re-evaluation it causes.
+    /// measured rate: the limit is `AGE_MARGIN` of it, and grows by `AGE_GROWTH` with each re-evaluation
+    /// it causes.
     #[test]
     fn a_failed_reuse_limits_the_age_of_the_next_matrices() {
         let mut monitor = RateMonitor::default();
