@@ -67,9 +67,8 @@ pub struct RateMonitor {
     #[serde(default)]
     pub unmeasured: u32,
     /// The age (time since the evaluation) beyond which a matrix is expected to fail whatever its rate
-    /// says: [`AGE_MARGIN`] of the age at which a reused matrix last failed, grown by [`AGE_GROWTH`] with
-    /// each re-evaluation at it (0: none learnt; set by the BDF only, see
-    /// [`reuse_failed`](Self::reuse_failed)).
+    /// says: 0.7 of the age at which a reused matrix last failed 5 to 50 steps after its evaluation, grown
+    /// by 10 % with each re-evaluation at it (0: none learnt; learnt by the BDF only).
     #[serde(default)]
     pub age_limit: f64,
 }
