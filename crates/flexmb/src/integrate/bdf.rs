@@ -432,12 +432,14 @@ impl Bdf {
                 // step size) is re-evaluated here before the step is reduced: F_y of a stiff spring or of
                 // the constraints turns with the bodies, and a chord iteration with a turned one diverges.
                 if !self.reuse.at_attempt {
+                    self.reuse.rate.reuse_failed(t_new, h);
                     self.refresh_jacobian(t_new, c);
                     continue;
                 }
                 // Increments that shrank neither with the iterations nor with the step are the residual's
                 // rounding: the attempt is repeated with them as its floor.
-                if self.rounding.failed_with_fresh_matrix(test.smallest_after_first * self.share, self.tolerances.rtol) {
+                let (stalled, change) = (test.smallest_after_first * self.share, self.predicted_change());
+                if self.rounding.failed_with_fresh_matrix(stalled, change, self.tolerances.rtol) {
                     continue;
                 }
                 failure = AttemptFailure::Newton { t_new, step: c };
@@ -583,6 +585,12 @@ impl Bdf {
         for k in 0..n {
             self.scale[k] = error_weight(atol, rtol, self.y_pred[k]);
         }
+    }
+
+    /// The weighted norm (in tolerances) of the step's change of the solution that the predictor makes,
+    /// `y⁽⁰⁾ − yₙ`, over the differential components.
+    fn predicted_change(&self) -> f64 {
+        weighted_rms_norm((0..self.n_diff).map(|k| (self.y_pred[k] - self.d[k], self.scale[k])))
     }
 
     /// The weighted norm of the local error estimate `d/(k + 1)` of the converged corrector, with the

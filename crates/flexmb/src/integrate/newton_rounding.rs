@@ -26,7 +26,17 @@
 //! increment after the first, in tolerances) times [`FLOOR_MARGIN`] becomes the floor: an increment at or
 //! below it has converged whatever its rate, as one below `1e-4` of the tolerance always has. The floor is
 //! kept while iterations end at it and decays by [`FLOOR_DECAY`] for every step whose iteration converges
-//! without it. Only increments below [`NOISE_CEILING`] of the solution can be rounding.
+//! without it. Only increments below [`NOISE_CEILING`] of the solution, and below [`CHANGE_RATIO`] of the
+//! step's own change of the solution, can be rounding.
+//!
+//! The second bound tells rounding from a motion that runs away (the flexible beam spun up past its
+//! limits, crates/flexmb-cli/tests/physics_watchdog.rs, at rtol 1e-6): its iterations fail at every step
+//! size too, with increments of 1e-12 to 1e-9 of the solution, under the first bound, and pairs of them
+//! stalled within [`STALL_RATIO`]. But they are what remains of a correction, and the step's change of the
+//! solution (predictor minus last solution, in tolerances) shrinks with the step as they do: the stalled
+//! increments were 2.5e-5 to 1.7 of it at the 70 pairs that passed as rounding. The rounding of the residual
+//! is at the level of the solution's last digits, which a step moves by many of them: 1.2e-7 to 1.4e-6 of
+//! the change at the double four-bar's floors (h = 6e-7 to 3e-5 s at rtol 1e-12).
 
 /// An increment after the first that has not fallen below this fraction of the one of the attempt at
 /// twice the step size has not shrunk with the step: a failing iteration's increments fall at least
@@ -43,6 +53,9 @@ const FLOOR_DECAY: f64 = 0.5;
 /// spun up past its limits (crates/flexmb-cli/tests/physics_watchdog.rs), whose iteration fails because
 /// the motion runs away, passed steps at 1e-8 as rounding.
 const NOISE_CEILING: f64 = 1e-9;
+/// Only increments below this fraction of the step's change of the solution can be rounding: the double
+/// four-bar's were at most 1.4e-6 of it, a runaway's at least 2.5e-5 (see the module documentation).
+const CHANGE_RATIO: f64 = 1e-5;
 
 /// The rounding floor of the Newton increments of one integrator (see the module documentation); all
 /// levels are weighted norms in tolerances (the error weights `atol + rtol |y|`), not in a step's share.
@@ -63,11 +76,13 @@ impl RoundingFloor {
 
     /// The iteration of an attempt failed with a matrix evaluated at its own predictor, its increments
     /// after the first no smaller than `stalled` (in tolerances; infinite when it failed before a second
-    /// one). True when they are rounding: an attempt at a step at least twice as long failed the same way
-    /// at a level not [`STALL_RATIO`] above it. The floor is then raised to [`FLOOR_MARGIN`] times the larger
-    /// of the two levels, and the attempt may be repeated as it is.
-    pub fn failed_with_fresh_matrix(&mut self, stalled: f64, rtol: f64) -> bool {
-        if !stalled.is_finite() || stalled * rtol > NOISE_CEILING {
+    /// one), and `change` the weighted norm of the step's change of the solution, predictor minus last
+    /// solution, in tolerances (infinite for a method that does not measure it: generalized-α). True when
+    /// they are rounding: an attempt at a step at least twice as long failed the same way at a level not
+    /// [`STALL_RATIO`] above it. The floor is then raised to [`FLOOR_MARGIN`] times the larger of the two
+    /// levels, and the attempt may be repeated as it is.
+    pub fn failed_with_fresh_matrix(&mut self, stalled: f64, change: f64, rtol: f64) -> bool {
+        if !stalled.is_finite() || stalled * rtol > NOISE_CEILING || stalled > CHANGE_RATIO * change {
             self.stalled = 0.0;
             return false;
         }
@@ -118,8 +133,8 @@ mod tests {
     #[test]
     fn increments_that_do_not_shrink_with_the_step_raise_the_floor() {
         let mut floor = RoundingFloor::default();
-        assert!(!floor.failed_with_fresh_matrix(0.06, 1e-12), "one failure alone");
-        assert!(floor.failed_with_fresh_matrix(0.05, 1e-12), "the four-bar: 0.06 then 0.05");
+        assert!(!floor.failed_with_fresh_matrix(0.06, f64::INFINITY, 1e-12), "one failure alone");
+        assert!(floor.failed_with_fresh_matrix(0.05, f64::INFINITY, 1e-12), "the four-bar: 0.06 then 0.05");
         assert_eq!(floor.floor, FLOOR_MARGIN * 0.06);
         assert_eq!(floor.in_share(0.5), 2.0 * FLOOR_MARGIN * 0.06);
         floor.accepted(true);
@@ -128,8 +143,8 @@ mod tests {
         assert_eq!(floor.floor, FLOOR_DECAY * FLOOR_MARGIN * 0.06);
 
         let mut floor = RoundingFloor::default();
-        assert!(!floor.failed_with_fresh_matrix(0.8, 1e-6));
-        assert!(!floor.failed_with_fresh_matrix(0.1, 1e-6), "fell eightfold with the step: not rounding");
+        assert!(!floor.failed_with_fresh_matrix(0.8, f64::INFINITY, 1e-6));
+        assert!(!floor.failed_with_fresh_matrix(0.1, f64::INFINITY, 1e-6), "fell eightfold with the step: not rounding");
         assert_eq!(floor.floor, 0.0);
     }
 
@@ -138,13 +153,28 @@ mod tests {
     #[test]
     fn large_or_missing_increments_are_not_rounding() {
         let mut floor = RoundingFloor::default();
-        assert!(!floor.failed_with_fresh_matrix(0.5, 1e-6));
-        assert!(!floor.failed_with_fresh_matrix(0.5, 1e-6), "5e-7 of the solution is not rounding");
+        assert!(!floor.failed_with_fresh_matrix(0.5, f64::INFINITY, 1e-6));
+        assert!(!floor.failed_with_fresh_matrix(0.5, f64::INFINITY, 1e-6), "5e-7 of the solution is not rounding");
         let mut floor = RoundingFloor::default();
-        assert!(!floor.failed_with_fresh_matrix(f64::INFINITY, 1e-12));
-        assert!(!floor.failed_with_fresh_matrix(0.1, 1e-12));
+        assert!(!floor.failed_with_fresh_matrix(f64::INFINITY, f64::INFINITY, 1e-12));
+        assert!(!floor.failed_with_fresh_matrix(0.1, f64::INFINITY, 1e-12));
         floor.accepted(false);
-        assert!(!floor.failed_with_fresh_matrix(0.1, 1e-12), "the failure of an earlier step is forgotten");
+        assert!(!floor.failed_with_fresh_matrix(0.1, f64::INFINITY, 1e-12), "the failure of an earlier step is forgotten");
         assert_eq!(RoundingFloor::restored(floor.stored()), floor);
+    }
+
+    /// Increments that are a sizeable fraction of the step's change of the solution are what remains of a
+    /// correction, not rounding, however little they shrink: the spun-up beam's (7.2e-4 and 4.0e-4
+    /// tolerances at rtol 1e-6, changes of 12 and 25), against the double four-bar's (2.7 and 2.8
+    /// tolerances at rtol 1e-12, changes of 2.4e6 and 3.3e7).
+    #[test]
+    fn increments_large_against_the_step_change_are_not_rounding() {
+        let mut floor = RoundingFloor::default();
+        assert!(!floor.failed_with_fresh_matrix(4.0e-4, 25.0, 1e-6));
+        assert!(!floor.failed_with_fresh_matrix(7.2e-4, 12.0, 1e-6), "the runaway: 6e-5 of the change");
+        assert_eq!(floor.floor, 0.0);
+        assert!(!floor.failed_with_fresh_matrix(2.8, 3.3e7, 1e-12));
+        assert!(floor.failed_with_fresh_matrix(2.7, 2.4e6, 1e-12), "the four-bar: 1.1e-6 of the change");
+        assert_eq!(floor.floor, FLOOR_MARGIN * 2.8);
     }
 }

@@ -480,7 +480,7 @@ impl GeneralizedAlpha {
                 // Increments that shrank neither with the iterations nor with the step are the residual's
                 // rounding: the attempt is repeated with them as its floor.
                 let share = self.share_floor.share(&self.tolerances, h_step);
-                if factored && self.rounding.failed_with_fresh_matrix(self.newton_stalled * share, self.tolerances.rtol) {
+                if factored && self.rounding.failed_with_fresh_matrix(self.newton_stalled * share, f64::INFINITY, self.tolerances.rtol) {
                     continue;
                 }
                 failure = if factored {
