@@ -9,10 +9,13 @@ mod program;
 
 use program::{scratch, succeed, workspace, ResultCsv};
 
-/// The BDF at the finest tolerance reaches t = 0.713 s, 1 ms before the links come into line, instead of
-/// stopping at t = 0.7116 s: its Newton increments there are found to be rounding, the run says to what
+/// The BDF at the finest tolerance reaches t = 0.7139 s, 0.1 ms before the links come into line, instead
+/// of stopping at t = 0.7116 s: its Newton increments there are found to be rounding, the run says to what
 /// level the steps are resolved (a tolerance warning, and the counts in the JSON statistics), and B0's
-/// path stays within 1e-8 m of the Adams method's at the same tolerance (2.6e-10 m measured).
+/// path stays within 1e-8 m of the Adams method's at the same tolerance (2.5e-10 m measured). Since the
+/// rate monitor learns from failed reuses of the Jacobian, the BDF reaches 0.713 s without the floor (3
+/// Newton failures in 366 steps, 25 in 416 and 45 steps at the floor before); the increments are rounding
+/// from about 0.7138 s on (111 steps at the floor, resolved to 7e-10, on the way to 0.7139 s).
 #[test]
 fn the_bdf_at_the_finest_tolerance_approaches_the_singular_position_with_a_warning() {
     let model = workspace().join("models/benchmarks/double_four_bar.toml");
@@ -29,7 +32,7 @@ fn the_bdf_at_the_finest_tolerance_approaches_the_singular_position_with_a_warni
             "--atol",
             "1e-12",
             "--t-end",
-            "0.713",
+            "0.7139",
             "--output-step",
             "0.001",
             "--quiet",
@@ -53,7 +56,7 @@ fn the_bdf_at_the_finest_tolerance_approaches_the_singular_position_with_a_warni
     let mut worst = 0.0_f64;
     for column in ["b0.position.x", "b0.position.y"] {
         let (x, y) = (a.column(column), b.column(column));
-        assert_eq!(x.len(), 714);
+        assert_eq!(x.len(), 715);
         assert_eq!(y.len(), x.len());
         worst = worst.max(program::largest_difference(&x, &y));
     }

@@ -432,6 +432,10 @@ impl Bdf {
                 // step size) is re-evaluated here before the step is reduced: F_y of a stiff spring or of
                 // the constraints turns with the bodies, and a chord iteration with a turned one diverges.
                 if !self.reuse.at_attempt {
+                    // A measurement as a converged reuse is: where a stiff element turns with the bodies
+                    // (the flyball governor's springs spin with the shaft), a matrix one step old fails
+                    // at every step, and the monitor must learn it to re-evaluate ahead of the step.
+                    self.reuse.rate.failed(t_new, test.failed_rate(), test.first_increment);
                     self.reuse.rate.reuse_failed(t_new, h);
                     self.refresh_jacobian(t_new, c);
                     continue;

@@ -43,7 +43,11 @@ const MOST_AGE_STEPS: f64 = 50.0;
 /// the matrix after that is reused, and measured, whatever it predicts. An iteration that fails with a
 /// reused matrix is a measurement too, and doubles (plus one) the re-evaluations its measurement outlives,
 /// so that where reuse keeps failing (a driven mechanism whose matrix is stale after one step) it is tried
-/// ever more rarely; a converged reuse resets that to none.
+/// ever more rarely; a converged reuse halves that. Halves, not resets: where a stiff element turns with
+/// the bodies (the springs of the IFToMM A05 flyball governor spin with its shaft) a matrix one step old
+/// fails at most steps but converges now and then, slowly, and with a reset each such convergence began
+/// the cycle of failures again (the BDF at rtol 1e-6: 63 Newton failures in 1,174 steps, 28 in 1,163
+/// with the halving, for 8 % more residual evaluations).
 /// It travels with a checkpoint, so that a resumed run re-evaluates where the uninterrupted one does.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RateMonitor {
@@ -137,7 +141,7 @@ impl RateMonitor {
         let elapsed = (t - t0).abs();
         if elapsed > 0.0 {
             self.record(t0, rate, elapsed, first_increment);
-            self.patience = 0;
+            self.patience /= 2;
         }
     }
 
@@ -217,7 +221,7 @@ mod tests {
         monitor.evaluated(2.3);
         assert_eq!(monitor.expected_rate(2.35), 0.0);
         // A failed reuse is a measurement, which then outlives one re-evaluation more; a converged one
-        // resets that.
+        // halves that.
         monitor.evaluated(2.4);
         monitor.failed(2.5, 1.0, 1.0);
         assert_eq!(monitor.patience, 1);
@@ -228,6 +232,14 @@ mod tests {
         assert_eq!(monitor.expected_rate(2.9), 0.0);
         monitor.converged(2.95, 0.01, 1.0);
         assert_eq!(monitor.patience, 0);
+        // Three failed reuses in a row outlive 7 re-evaluations; a converged reuse then leaves 3.
+        for t in [3.0, 3.1, 3.2] {
+            monitor.evaluated(t);
+            monitor.failed(t + 0.05, 1.0, 1.0);
+        }
+        assert_eq!(monitor.patience, 7);
+        monitor.converged(3.26, 0.3, 1.0);
+        assert_eq!(monitor.patience, 3);
     }
 
     /// A reuse that failed at an age teaches that matrices fail from about that age on, whatever their

@@ -74,6 +74,16 @@ impl ConvergenceTest {
         Self { rounding_floor: floor, ..self }
     }
 
+    /// The rate an iteration that did not converge measured before it gave up: its slowest or its last,
+    /// 1 when it measured none (a residual that was not finite: as diverged).
+    pub fn failed_rate(&self) -> f64 {
+        if self.last_rate > 0.0 {
+            self.slowest.max(self.last_rate)
+        } else {
+            1.0
+        }
+    }
+
     /// The verdict on the weighted norm of the increment of iteration `k` (from 0). With the rate
     /// `ρ = ‖Δₖ‖ / ‖Δₖ₋₁‖` it converges when `ρ/(1 − ρ) ‖Δₖ‖ < tol` (the error left) and diverges when
     /// `ρ ≥ 1` or when the iterations left cannot bring the error below the tolerance. A second

@@ -647,9 +647,7 @@ impl GeneralizedAlpha {
             // Slow with factors made here: the finite-difference parts are what is stale.
             self.refresh_next = !reused && test.slowest > SLOW_RATE && !self.derivatives_current;
         } else {
-            // What it measured before giving up (a residual that is not finite measured nothing: as diverged).
-            let rate = if test.last_rate > 0.0 { test.slowest.max(test.last_rate) } else { 1.0 };
-            self.rate.failed(t_new, rate, test.first_increment);
+            self.rate.failed(t_new, test.failed_rate(), test.first_increment);
         }
         outcome.converged
     }
