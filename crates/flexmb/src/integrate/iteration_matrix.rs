@@ -13,7 +13,8 @@
 use std::ops::Range;
 
 use crate::data::Data;
-use crate::linalg::{greedy_colouring, perturbation, SingularMatrix, SparseLu};
+use super::CheckpointError;
+use crate::linalg::{greedy_colouring, perturbation, InvalidPivots, SingularMatrix, SparseLu};
 use crate::model::{Coupling, Model};
 use crate::stage::{body_mass_entries, multiplier_jacobian_entries, residual, YLayout};
 
@@ -103,7 +104,7 @@ impl IterationMatrix {
             }
         }
         let n = yl.len();
-        let lu = SparseLu::new(n, entries);
+        let lu = SparseLu::with_kept_pivots(n, entries);
 
         // Blocks of one colour touch disjoint row blocks. Only the positions' and velocities' columns are
         // differenced; the multipliers' (from λ on) are analytic.
@@ -234,6 +235,22 @@ impl IterationMatrix {
     pub fn set_stored_parts(&mut self, f_y: &[f64], f_yp: &[f64]) {
         self.f_y.copy_from_slice(f_y);
         self.f_yp.copy_from_slice(f_yp);
+    }
+
+
+    /// The pivot sequence its factorizations keep (for a checkpoint; `None` when none is kept).
+    pub fn kept_pivots(&self) -> Option<&[usize]> {
+        self.lu.kept_pivots()
+    }
+
+    /// Keeps the pivot sequence of a checkpoint (or none) for the next factorizations.
+    pub fn keep_pivots(&mut self, row_positions: Option<&[usize]>) -> Result<(), CheckpointError> {
+        self.lu.keep_pivots(row_positions).map_err(|InvalidPivots| {
+            CheckpointError::Unsupported(format!(
+                "the checkpoint's kept pivots do not fit the iteration matrix ({} unknowns): not a permutation of its rows, or a zero pivot on its pattern",
+                self.lu.n()
+            ))
+        })
     }
 
     /// Solves with the current factors in place.
