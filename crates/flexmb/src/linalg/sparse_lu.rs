@@ -333,6 +333,7 @@ impl KeptPivots {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::linalg::InvalidPivots;
 
     /// A diagonally dominant unsymmetric band matrix with a few far entries, of dimension `n`.
     fn band_matrix(n: usize) -> (Vec<(usize, usize)>, Vec<f64>) {
@@ -352,7 +353,7 @@ mod tests {
         for n in [DENSE_LIMIT / 2, DENSE_LIMIT + 50] {
             let (entries, values) = band_matrix(n);
             let mut a = SparseLu::new(n, entries.iter().copied());
-            assert_eq!(a.dense.is_some(), n <= DENSE_LIMIT);
+            assert_eq!(matches!(a.factorization, Factorization::Dense(_)), n <= DENSE_LIMIT);
             for ((r, c), v) in entries.iter().zip(&values) {
                 a.add(*r, *c, *v);
             }
@@ -381,6 +382,127 @@ mod tests {
             let outcome = a.factor().and_then(|()| a.solve_in_place(&mut x));
             assert_eq!(outcome, Err(SingularMatrix), "n = {n}");
         }
+    }
+
+    /// Uniform numbers in [-1, 1) from a fixed seed (a 64-bit linear congruential generator, Knuth's
+    /// MMIX constants), for reproducible random matrices.
+    fn uniform(seed: &mut u64) -> f64 {
+        *seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (*seed >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    }
+
+    /// The band matrix of dimension `n` with kept pivots, its values in place.
+    fn band_with_kept_pivots(n: usize) -> SparseLu {
+        let (entries, values) = band_matrix(n);
+        let mut a = SparseLu::with_kept_pivots(n, entries.iter().copied());
+        for ((r, c), v) in entries.iter().zip(&values) {
+            a.add(*r, *c, *v);
+        }
+        a
+    }
+
+    /// The largest residual `|A x − b|` of the solution of `A x = b`.
+    fn residual_of_solution(a: &mut SparseLu, b: &[f64]) -> f64 {
+        let mut x = b.to_vec();
+        a.solve_in_place(&mut x).unwrap();
+        let mut ax = vec![0.0; b.len()];
+        a.multiply(&x, &mut ax);
+        ax.iter().zip(b).map(|(p, q)| (p - q).abs()).fold(0.0, f64::max)
+    }
+
+    /// New values on the same pattern (each entry of the diagonally dominant band matrix scaled by a
+    /// random factor in [0.8, 1.2]: its diagonal pivots stay the largest) are refactored on the kept
+    /// pivots: 20 value sets, one factorization with pivoting in all, each solved to round-off.
+    #[test]
+    fn a_refactorization_on_kept_pivots_solves_to_round_off() {
+        let n = 150;
+        let mut a = band_with_kept_pivots(n);
+        let start = a.values.clone();
+        let b: Vec<f64> = (0..n).map(|k| (k as f64 * 0.37).sin()).collect();
+        let mut seed = 7;
+        for _ in 0..20 {
+            for (v, v0) in a.values.iter_mut().zip(&start) {
+                *v = v0 * (1.0 + 0.2 * uniform(&mut seed));
+            }
+            a.factor().unwrap();
+            let residual = residual_of_solution(&mut a, &b);
+            assert!(residual < 1e-13, "residual {residual:e}");
+        }
+        assert_eq!(a.pivoting_factorizations(), 1);
+    }
+
+    /// The factors are a function of the kept pivot sequence and the values: a second matrix given the
+    /// first's pivots (as a checkpoint gives them) factors the same later values to the same solution,
+    /// to the last bit, without a factorization with pivoting.
+    #[test]
+    fn loading_the_kept_pivots_gives_the_same_factors_to_the_last_bit() {
+        let n = 120;
+        let mut a = band_with_kept_pivots(n);
+        a.factor().unwrap();
+        let mut resumed = band_with_kept_pivots(n);
+        resumed.keep_pivots(a.kept_pivots()).unwrap();
+        assert_eq!(resumed.kept_pivots(), a.kept_pivots());
+        let b: Vec<f64> = (0..n).map(|k| (k as f64 * 0.61).cos()).collect();
+        let mut seed = 3;
+        for _ in 0..5 {
+            for (v, w) in a.values.iter_mut().zip(&mut resumed.values) {
+                *v *= 1.0 + 0.1 * uniform(&mut seed);
+                *w = *v;
+            }
+            a.factor().unwrap();
+            resumed.factor().unwrap();
+            let (mut x, mut y) = (b.clone(), b.clone());
+            a.solve_in_place(&mut x).unwrap();
+            resumed.solve_in_place(&mut y).unwrap();
+            assert_eq!(x, y);
+        }
+        assert_eq!(resumed.pivoting_factorizations(), 0);
+    }
+
+    /// A kept pivot below a tenth of its column's largest candidate is given up and the matrix factored
+    /// afresh with pivoting; every solution is right. 21 blocks `[[v, 1], [1, v]]` (42 unknowns, above
+    /// the dense limit) from `v = 2` pivot on the diagonal; `v = 0.5` keeps it (half the candidate),
+    /// `v = 0.05` gives it up for the off-diagonal 1, which `v = 0.5` and 5 keep (a fifth of 5) and
+    /// `v = 20` gives up again.
+    #[test]
+    fn a_kept_pivot_below_the_threshold_is_chosen_afresh() {
+        let blocks = 21;
+        let entries: Vec<(usize, usize)> =
+            (0..blocks).flat_map(|k| [(2 * k, 2 * k), (2 * k, 2 * k + 1), (2 * k + 1, 2 * k), (2 * k + 1, 2 * k + 1)]).collect();
+        let mut a = SparseLu::with_kept_pivots(2 * blocks, entries.iter().copied());
+        for &(r, c) in &entries {
+            a.add(r, c, if r == c { 2.0 } else { 1.0 });
+        }
+        a.factor().unwrap();
+        let diagonal: Vec<usize> = (0..2 * blocks).map(|k| a.slot(k, k).unwrap()).collect();
+        for (v, pivoting) in [(0.5, 1), (0.05, 2), (0.5, 2), (5.0, 2), (20.0, 3)] {
+            diagonal.iter().for_each(|&s| a.values[s] = v);
+            a.factor().unwrap();
+            let mut x = vec![1.0; 2 * blocks];
+            a.solve_in_place(&mut x).unwrap();
+            let exact = 1.0 / (v + 1.0);
+            assert!(x.iter().all(|x| (x - exact).abs() < 1e-15), "{v}: {x:?}");
+            assert_eq!(a.pivoting_factorizations(), pivoting, "{v}");
+        }
+    }
+
+    /// Pivots that do not fit are refused: not a permutation, of another dimension, for a matrix that
+    /// keeps none (factored afresh, or dense); no pivots at all are always accepted.
+    #[test]
+    fn pivots_that_do_not_fit_are_refused() {
+        let mut a = band_with_kept_pivots(60);
+        assert_eq!(a.keep_pivots(Some(&[0; 60])), Err(InvalidPivots));
+        assert_eq!(a.keep_pivots(Some(&(0..59).collect::<Vec<_>>())), Err(InvalidPivots));
+        assert_eq!(a.keep_pivots(None), Ok(()));
+        a.factor().unwrap();
+        let pivots = a.kept_pivots().unwrap().to_vec();
+        let (entries, _) = band_matrix(60);
+        let mut afresh = SparseLu::new(60, entries.iter().copied());
+        assert_eq!(afresh.keep_pivots(Some(&pivots)), Err(InvalidPivots));
+        let (entries, _) = band_matrix(30);
+        let mut dense = SparseLu::with_kept_pivots(30, entries.iter().copied());
+        assert_eq!(dense.keep_pivots(Some(&pivots[..30])), Err(InvalidPivots));
+        assert_eq!(dense.kept_pivots(), None);
     }
 
     #[test]
