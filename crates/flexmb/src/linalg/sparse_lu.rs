@@ -60,10 +60,17 @@ enum Factorization {
     /// Dense LU with partial pivoting, afresh each time.
     Dense(DenseLu),
     /// faer's sparse LU with partial pivoting, afresh each time.
-    Fresh { numeric: NumericLu<usize, f64>, factor_buffer: MemBuffer, solve_buffer: MemBuffer },
+    Fresh(Box<FreshFactors>),
     /// Refactorization with kept pivots, which a factorization with partial pivoting chooses when a
     /// kept pivot fails.
     KeptPivots(Box<KeptPivots>),
+}
+
+/// faer's numeric LU and its workspaces.
+struct FreshFactors {
+    numeric: NumericLu<usize, f64>,
+    factor_buffer: MemBuffer,
+    solve_buffer: MemBuffer,
 }
 
 /// The state of a factorization with kept pivots.
@@ -146,11 +153,11 @@ impl SparseLu {
                 pivoting_factorizations: 0,
             }))
         } else {
-            Factorization::Fresh {
+            Factorization::Fresh(Box::new(FreshFactors {
                 numeric: NumericLu::new(),
                 factor_buffer: MemBuffer::new(symbolic.factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default())),
                 solve_buffer: MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq)),
-            }
+            }))
         };
         Self { n, pattern, values: vec![0.0; nnz], symbolic, factorization, factored: false }
     }
@@ -264,9 +271,9 @@ impl SparseLu {
                     return Err(SingularMatrix);
                 }
             }
-            Factorization::Fresh { numeric, factor_buffer, .. } => {
-                let stack = MemStack::new(factor_buffer);
-                self.symbolic.factorize_numeric_lu(numeric, a, Par::Seq, stack, Default::default()).map_err(|_| SingularMatrix)?;
+            Factorization::Fresh(fresh) => {
+                let stack = MemStack::new(&mut fresh.factor_buffer);
+                self.symbolic.factorize_numeric_lu(&mut fresh.numeric, a, Par::Seq, stack, Default::default()).map_err(|_| SingularMatrix)?;
             }
             Factorization::KeptPivots(kept) => {
                 if !(kept.factors.is_loaded() && kept.factors.refactor(a).is_ok()) {
@@ -287,10 +294,10 @@ impl SparseLu {
         assert!(self.factored, "solve before factor");
         match &mut self.factorization {
             Factorization::Dense(dense) => dense.solve_in_place(rhs),
-            Factorization::Fresh { numeric, solve_buffer, .. } => {
+            Factorization::Fresh(fresh) => {
                 // `numeric` was produced by `symbolic.factorize_numeric_lu`, the only precondition.
-                let lu = faer::sparse::linalg::lu::LuRef::new_unchecked(&self.symbolic, numeric);
-                let stack = MemStack::new(solve_buffer);
+                let lu = faer::sparse::linalg::lu::LuRef::new_unchecked(&self.symbolic, &fresh.numeric);
+                let stack = MemStack::new(&mut fresh.solve_buffer);
                 let mat = MatMut::from_column_major_slice_mut(rhs, self.n, 1);
                 lu.solve_in_place_with_conj(Conj::No, mat, Par::Seq, stack);
             }
