@@ -109,6 +109,9 @@ impl LuFactors {
         self.u_diagonal.resize(n, 0.0);
         self.marked.clear();
         self.marked.resize(n, 0);
+        // A reach holds each position once, and so does the search's stack.
+        self.reach.reserve(n);
+        self.stack.reserve(n);
         for v in [&mut self.l_start, &mut self.l_rows, &mut self.u_start, &mut self.u_rows] {
             v.clear();
         }
@@ -124,10 +127,17 @@ impl LuFactors {
             self.u_start.push(self.u_rows.len());
             self.l_start.push(self.l_rows.len());
         }
-        self.l_values.clear();
-        self.l_values.resize(self.l_rows.len(), 0.0);
-        self.u_values.clear();
-        self.u_values.resize(self.u_rows.len(), 0.0);
+        // A later pivot sequence may fill in more: the patterns are given twice the room of the first
+        // (or of a larger one), and the values as much as the patterns, so that a new pivot sequence
+        // inside a time step seldom allocates.
+        for (rows, values) in [(&mut self.l_rows, &mut self.l_values), (&mut self.u_rows, &mut self.u_values)] {
+            if rows.capacity() > values.capacity() || values.capacity() < rows.len() {
+                rows.reserve(rows.len());
+            }
+            values.clear();
+            values.reserve(rows.capacity());
+            values.resize(rows.len(), 0.0);
+        }
         self.loaded = true;
         Ok(())
     }

@@ -33,10 +33,13 @@ use super::lu_refactorization::{InvalidPivots, LuFactors};
 pub const DENSE_LIMIT: usize = 200;
 
 /// Largest dimension of a matrix with kept pivots ([`SparseLu::with_kept_pivots`]) that is factored
-/// dense. The refactorization with kept pivots costs fewer instructions than the dense LU from about
-/// 20 unknowns on (BDF, 0.3 s: a rigid pendulum's 20 unknowns 11.7 M instructions against 13.4 M, the
-/// chain of 4 rods' 80 unknowns 85.1 M against 93.9 M); below 40 the dense LU's cost is a few
-/// thousand multiply–adds, and a dense factorization chooses its pivots afresh each time.
+/// dense, afresh each time. Measured on the chain of spherical rods (BDF, rtol = atol = 3e-10, 0.1 s,
+/// valgrind lackey, instructions of the run less those of its start): at 80 unknowns (4 rods) the
+/// refactorization costs 49.2 M against the dense LU's 42.1 M, at 160 (8 rods) 126.8 M against
+/// 146.7 M, so the crossover lies between. The limit is lower, so that the cost per step grows
+/// linearly from the chain of 4 rods on (×2.1 to 8 rods, against the dense LU's ×2.9); below it the
+/// dense LU's cost is a few thousand multiply–adds, and the physics watchdog's spin-up beam (34
+/// unknowns), whose failure mode depends on round-off, keeps its factorization.
 pub const KEPT_PIVOTS_DENSE_LIMIT: usize = 40;
 
 /// The factorization produced a zero or non-finite pivot.
