@@ -259,6 +259,7 @@ impl Bdf {
             jacobian: f_y.to_vec(),
             jacobian_derivative: f_yp.to_vec(),
             factored_c: self.reuse.factored_c,
+            kept_pivots: self.jac.kept_pivots().map(<[usize]>::to_vec),
             jacobian_at_attempt: self.reuse.at_attempt,
             newton_rate: self.reuse.rate,
             filter_steps: self.filter_steps,
@@ -296,6 +297,7 @@ impl Bdf {
         self.n_equal_steps = c.n_equal_steps;
         self.d.copy_from_slice(&c.differences);
         self.jac.set_stored_parts(&c.jacobian, &c.jacobian_derivative);
+        self.jac.keep_pivots(c.kept_pivots.as_deref())?;
         self.reuse.factored_c = c.factored_c.filter(|&cf| self.jac.factor(cf).is_ok());
         self.reuse.at_attempt = c.jacobian_at_attempt;
         self.reuse.rate = c.newton_rate;

@@ -1,10 +1,12 @@
 //! The complete state of an integrator between two steps, as plain data: what a resumed integrator
 //! needs to continue the same step sequence (its history, order, step size, the Jacobian it reuses,
-//! its counters), and nothing it recomputes (workspaces, factors, scratch data).
+//! the pivot sequence its iteration matrix's factorizations keep, its counters), and nothing it
+//! recomputes (workspaces, factors, scratch data).
 //!
 //! A checkpoint is restored into an integrator of the same method built for the same model
-//! ([`Integrator::restore`](super::Integrator::restore)); the integrator refactors a reused Jacobian
-//! from the stored values, which gives the same factors and so the same steps.
+//! ([`Integrator::restore`](super::Integrator::restore)); the integrator loads the kept pivots and
+//! refactors a reused Jacobian from the stored values on them, which gives the same factors and so the
+//! same steps.
 
 use serde::{Deserialize, Serialize};
 
@@ -64,6 +66,13 @@ pub struct BdfCheckpoint {
     pub jacobian_derivative: Vec<f64>,
     /// The `c = h/γ_k` the factors in use were made for (`None`: none in use).
     pub factored_c: Option<f64>,
+    /// The pivot sequence the iteration matrix's factorizations keep (the position of each row in the
+    /// pivot order; `None` when none is kept, or the matrix is small enough to be factored dense): the
+    /// factors depend on it, so a resumed run loads it to take the same steps to the last bit. A
+    /// checkpoint written before kept pivots has none: the resumed run's first factorization chooses
+    /// its pivots afresh, and its steps agree with the uninterrupted run's within the tolerances only.
+    #[serde(default)]
+    pub kept_pivots: Option<Vec<usize>>,
     /// The Jacobian was evaluated at the predictor of the attempt in progress.
     pub jacobian_at_attempt: bool,
     /// The convergence rate of the Newton iterations, from which the next step's is predicted.
@@ -165,6 +174,13 @@ pub struct GeneralizedAlphaCheckpoint {
     /// See [`factored_h`](Self::factored_h).
     #[serde(default)]
     pub factored_matrix: Vec<f64>,
+    /// The pivot sequence the iteration matrix's factorizations keep (the position of each row in the
+    /// pivot order; `None` when none is kept, or the matrix is small enough to be factored dense): the
+    /// factors depend on it, so a resumed run loads it to take the same steps to the last bit. A
+    /// checkpoint written before kept pivots has none: the resumed run's first factorization chooses
+    /// its pivots afresh, and its steps agree with the uninterrupted run's within the tolerances only.
+    #[serde(default)]
+    pub kept_pivots: Option<Vec<usize>>,
     /// The convergence rate of the Newton iterations, from which the next step's is predicted.
     #[serde(default)]
     pub newton_rate: RateMonitor,

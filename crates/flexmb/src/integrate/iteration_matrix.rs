@@ -13,7 +13,8 @@
 use std::ops::Range;
 
 use crate::data::Data;
-use crate::linalg::{greedy_colouring, perturbation, SingularMatrix, SparseLu};
+use super::CheckpointError;
+use crate::linalg::{greedy_colouring, perturbation, InvalidPivots, SingularMatrix, SparseLu};
 use crate::model::{Coupling, Model};
 use crate::stage::{body_mass_entries, multiplier_jacobian_entries, residual, YLayout};
 
@@ -103,7 +104,7 @@ impl IterationMatrix {
             }
         }
         let n = yl.len();
-        let lu = SparseLu::new(n, entries);
+        let lu = SparseLu::with_kept_pivots(n, entries);
 
         // Blocks of one colour touch disjoint row blocks. Only the positions' and velocities' columns are
         // differenced; the multipliers' (from λ on) are analytic.
@@ -236,6 +237,22 @@ impl IterationMatrix {
         self.f_yp.copy_from_slice(f_yp);
     }
 
+
+    /// The pivot sequence its factorizations keep (for a checkpoint; `None` when none is kept).
+    pub fn kept_pivots(&self) -> Option<&[usize]> {
+        self.lu.kept_pivots()
+    }
+
+    /// Keeps the pivot sequence of a checkpoint (or none) for the next factorizations.
+    pub fn keep_pivots(&mut self, row_positions: Option<&[usize]>) -> Result<(), CheckpointError> {
+        self.lu.keep_pivots(row_positions).map_err(|InvalidPivots| {
+            CheckpointError::Unsupported(format!(
+                "the checkpoint's kept pivots do not fit the iteration matrix ({} unknowns): not a permutation of its rows, or a zero pivot on its pattern",
+                self.lu.n()
+            ))
+        })
+    }
+
     /// Solves with the current factors in place.
     pub fn solve_in_place(&mut self, rhs: &mut [f64]) -> Result<(), SingularMatrix> {
         self.lu.solve_in_place(rhs)
@@ -268,6 +285,33 @@ mod tests {
         let jac = IterationMatrix::new(&model, &yl);
         assert!(jac.evaluations_per_jacobian() <= 26, "{} evaluations", jac.evaluations_per_jacobian());
         assert_eq!(jac.analytic_entries(&yl), (253, 1119));
+    }
+
+    /// The factors of a chain's iteration matrix on kept pivots grow linearly with its rods: from 8
+    /// to 64 rods, the entries of `L` and `U` and the multiply–adds of a refactorization grow by at
+    /// most 2.5 per doubling (2 for a pattern that repeats per rod, plus the fill-reducing ordering's
+    /// variations; measured: entries ×2.16, ×2.08, ×2.04, multiply–adds ×2.33, ×2.16, ×2.07).
+    #[test]
+    fn the_factors_of_a_chain_grow_linearly_with_its_rods() {
+        let mut counts = Vec::new();
+        for rods in [8, 16, 32, 64] {
+            let model = test_models::spherical_chain(rods);
+            let (mut data, state, acc) = test_models::moving_state(&model);
+            let yl = YLayout::new(&model);
+            let mut y = vec![0.0; yl.len()];
+            y[yl.q.clone()].copy_from_slice(&state.q);
+            y[yl.v.clone()].copy_from_slice(&state.v);
+            y[yl.lambda.clone()].copy_from_slice(&acc.lambda);
+            let mut jac = IterationMatrix::new(&model, &yl);
+            jac.evaluate(&model, &mut data, &yl, &state.active, 0.1, &y, &vec![0.0; yl.len()]);
+            jac.factor(1e-3).unwrap();
+            let factors = jac.lu.kept_factors().expect("kept pivots above the dense limit");
+            counts.push((rods, factors.factor_entries(), factors.refactor_operations()));
+        }
+        for w in counts.windows(2) {
+            let (a, b) = (w[0], w[1]);
+            assert!(b.1 as f64 <= 2.5 * a.1 as f64 && b.2 as f64 <= 2.5 * a.2 as f64, "{counts:?}");
+        }
     }
 
     fn coloured_against_dense(model: Model) {

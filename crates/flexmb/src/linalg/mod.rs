@@ -6,6 +6,7 @@ mod colouring;
 mod dense_lu;
 mod finite_difference;
 mod givens_qr;
+mod lu_refactorization;
 mod normal_equations;
 mod sparse_lu;
 mod sparse_rows;
@@ -15,6 +16,7 @@ pub use finite_difference::{perturbation, RELATIVE_STEP};
 pub use sparse_lu::SingularMatrix;
 // The integrators' workspace: its callers build the pattern from a model's layout, so its checks are
 // the engine's invariants, not a user's input.
+pub(crate) use lu_refactorization::InvalidPivots;
 pub(crate) use sparse_lu::SparseLu;
 // The initial-condition analyses' sparse Jacobians, their rank and their minimum-norm corrections.
 pub(crate) use givens_qr::dependent_rows;

@@ -24,7 +24,8 @@ use crate::stage::right_jacobian;
 use super::Coefficients;
 use crate::analysis::SparseLinearization;
 use crate::data::Data;
-use crate::linalg::{SingularMatrix, SparseLu};
+use crate::integrate::CheckpointError;
+use crate::linalg::{InvalidPivots, SingularMatrix, SparseLu};
 use crate::math::{Mat3, Vec3};
 use crate::model::{Coupling, Model};
 use crate::stage::{body_mass_entries, jacobian_entries};
@@ -96,7 +97,7 @@ impl IterationMatrix {
                 mu_rows[j] = rows.clone();
             }
         }
-        let lu = SparseLu::new(nv + 2 * nc, entries);
+        let lu = SparseLu::with_kept_pivots(nv + 2 * nc, entries);
         let mut b_ptr = vec![0];
         let mut b_col = Vec::new();
         for row in 0..nc {
@@ -304,6 +305,22 @@ impl IterationMatrix {
     pub fn factor_values(&mut self, values: &[f64]) -> Result<(), SingularMatrix> {
         self.lu.values.copy_from_slice(values);
         self.lu.factor()
+    }
+
+
+    /// The pivot sequence its factorizations keep (for a checkpoint; `None` when none is kept).
+    pub fn kept_pivots(&self) -> Option<&[usize]> {
+        self.lu.kept_pivots()
+    }
+
+    /// Keeps the pivot sequence of a checkpoint (or none) for the next factorizations.
+    pub fn keep_pivots(&mut self, row_positions: Option<&[usize]>) -> Result<(), CheckpointError> {
+        self.lu.keep_pivots(row_positions).map_err(|InvalidPivots| {
+            CheckpointError::Unsupported(format!(
+                "the checkpoint's kept pivots do not fit the iteration matrix ({} unknowns): not a permutation of its rows, or a zero pivot on its pattern",
+                self.lu.n()
+            ))
+        })
     }
 
     /// Solves with the current factors in place.

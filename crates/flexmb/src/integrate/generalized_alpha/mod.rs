@@ -360,6 +360,7 @@ impl GeneralizedAlpha {
             newton_rounding: self.rounding.stored(),
             refresh_next: self.refresh_next,
             factored_h: self.factored_h,
+            kept_pivots: self.matrix.kept_pivots().map(<[usize]>::to_vec),
             factored_matrix: if self.factored_h.is_some() { self.matrix.factored_values().to_vec() } else { Vec::new() },
             newton_rate: self.rate,
             stiffness: stiffness.to_vec(),
@@ -411,6 +412,7 @@ impl GeneralizedAlpha {
         self.rounding = RoundingFloor::restored(c.newton_rounding);
         self.refresh_next = c.refresh_next;
         self.matrix.set_stored_parts(&c.stiffness, &c.damping, &c.start_jacobian);
+        self.matrix.keep_pivots(c.kept_pivots.as_deref())?;
         self.factored_h = None;
         if c.factored_h.is_some() {
             check_len("the factored matrix", self.matrix.factored_values().len(), c.factored_matrix.len())?;
