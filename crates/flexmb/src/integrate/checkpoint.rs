@@ -146,6 +146,10 @@ pub struct GeneralizedAlphaCheckpoint {
     pub v_old: Vec<f64>,
     /// See [`t_old`](Self::t_old).
     pub vdot_old: Vec<f64>,
+    /// The multipliers at the start of the last step (empty in a checkpoint written before they were
+    /// kept: the predictor then holds the multipliers for the first step).
+    #[serde(default)]
+    pub lambda_old: Vec<f64>,
     /// See [`t_old`](Self::t_old).
     pub d_last: Vec<f64>,
     /// The finite-difference parts were evaluated during the step in progress.
