@@ -12,6 +12,9 @@ use super::adams::{AdamsStepper, PartitionCheckpoint, ProjectionDrift};
 use super::{RateMonitor, Stats};
 
 /// The state of one integrator between two steps, by method.
+// The BDF's and generalized-α's states are of a size (vectors and a few numbers each), made once per
+// checkpoint: boxing one would only move the other above the limit.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum IntegratorCheckpoint {
     /// The BDF's state.
