@@ -14,6 +14,9 @@ use super::adams::{AdamsStepper, PartitionCheckpoint, ProjectionDrift};
 use super::{RateMonitor, Stats};
 
 /// The state of one integrator between two steps, by method.
+// The BDF's and generalized-α's states are of a size (vectors and a few numbers each), made once per
+// checkpoint: boxing one would only move the other above the limit.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum IntegratorCheckpoint {
     /// The BDF's state.
@@ -155,6 +158,10 @@ pub struct GeneralizedAlphaCheckpoint {
     pub v_old: Vec<f64>,
     /// See [`t_old`](Self::t_old).
     pub vdot_old: Vec<f64>,
+    /// The multipliers at the start of the last step (empty in a checkpoint written before they were
+    /// kept: the predictor then holds the multipliers for the first step).
+    #[serde(default)]
+    pub lambda_old: Vec<f64>,
     /// See [`t_old`](Self::t_old).
     pub d_last: Vec<f64>,
     /// The finite-difference parts were evaluated during the step in progress.
