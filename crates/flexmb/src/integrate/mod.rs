@@ -35,6 +35,7 @@ mod integrator;
 mod iteration_matrix;
 mod newton;
 mod newton_rounding;
+mod raised_tolerance;
 mod share_floor;
 mod stats;
 mod tolerance_span;
