@@ -26,7 +26,6 @@ use crate::integrate::error_norm::{error_weight, weighted_rms_norm};
 use crate::integrate::iteration_matrix::IterationMatrix;
 use crate::integrate::newton::{self, ConvergenceTest, NewtonSystem};
 use crate::integrate::newton_rounding::RoundingFloor;
-use crate::integrate::raised_tolerance::RaisedTolerance;
 use crate::integrate::share_floor::ShareFloor;
 use crate::integrate::{
     check_len, AttemptFailure, BdfCheckpoint, BdfConfig, CheckpointError, IntegrationError, Integrator, IntegratorCheckpoint, Stats,
@@ -109,8 +108,6 @@ pub struct Bdf {
     share_floor: ShareFloor,
     /// The level below which the Newton increments are the residual's rounding.
     rounding: RoundingFloor,
-    /// The raise of the tolerances near a singular position.
-    raised: RaisedTolerance,
     y_pred: Vec<f64>,
     psi: Vec<f64>,
     y_new: Vec<f64>,
@@ -203,7 +200,6 @@ impl Bdf {
             share: 1.0,
             share_floor: ShareFloor::default(),
             rounding: RoundingFloor::default(),
-            raised: RaisedTolerance::new(&tolerances),
             y_pred: vec![0.0; n],
             psi: vec![0.0; n],
             y_new: vec![0.0; n],
@@ -271,7 +267,6 @@ impl Bdf {
             last_error: self.stability.last_error,
             share_floor: self.share_floor.stored(),
             newton_rounding: self.rounding.stored(),
-            raised_tolerance: self.raised.stored(),
             active: self.active.clone(),
             angle_reference: self.data.angle_reference.clone(),
             stats: self.stats,
@@ -310,7 +305,6 @@ impl Bdf {
         self.stability.last_error = c.last_error;
         self.share_floor = ShareFloor::restored(c.share_floor);
         self.rounding = RoundingFloor::restored(c.newton_rounding);
-        self.raised.restore(c.raised_tolerance, &mut self.tolerances);
         self.active.copy_from_slice(&c.active);
         self.data.angle_reference.copy_from_slice(&c.angle_reference);
         self.stats = c.stats;
@@ -446,7 +440,6 @@ impl Bdf {
                 // rounding: the attempt is repeated with them as its floor.
                 let (stalled, change) = (test.smallest_after_first * self.share, self.predicted_change());
                 if self.rounding.failed_with_fresh_matrix(stalled, change, self.tolerances.rtol) {
-                    self.raised.follow_floor(&mut self.rounding, &mut self.share_floor, &mut self.tolerances);
                     continue;
                 }
                 failure = AttemptFailure::Newton { t_new, step: c };
@@ -488,12 +481,10 @@ impl Bdf {
             self.stability.accepted(h, error_norm);
             self.share_floor.accepted(h, self.share);
             self.rounding.accepted(test.at_floor);
-            if test.at_floor || self.raised.is_raised() {
-                let level = if test.at_floor { self.rounding.floor * self.tolerances.rtol } else { 0.0 };
+            if test.at_floor {
                 self.stats.rounding_floor_steps += 1;
-                self.stats.rounding_floor = self.stats.rounding_floor.max(level).max(self.raised_level());
+                self.stats.rounding_floor = self.stats.rounding_floor.max(self.rounding.floor * self.tolerances.rtol);
             }
-            self.raised.accepted(h, &mut self.tolerances);
             break (t_new, safety);
         };
         self.accept(t_new);
@@ -508,15 +499,6 @@ impl Bdf {
             self.select_order_and_step(safety, filtering);
         }
         Ok(())
-    }
-
-    /// The relative tolerance in force when it is raised ([`RaisedTolerance`]), else 0.
-    fn raised_level(&self) -> f64 {
-        if self.raised.is_raised() {
-            self.tolerances.rtol
-        } else {
-            0.0
-        }
     }
 
     /// After `k + 1` steps of equal size: the order among `k − 1, k, k + 1` whose error estimate allows

@@ -87,10 +87,6 @@ pub struct BdfCheckpoint {
     /// step (zero in checkpoints written before the floor).
     #[serde(default)]
     pub newton_rounding: [f64; 2],
-    /// The factor of the tolerances in force over those asked for, raised near a singular position (0 or 1:
-    /// none; 0 in checkpoints written before the raise).
-    #[serde(default)]
-    pub raised_tolerance: f64,
     /// The constraint rows in force.
     pub active: Vec<bool>,
     /// Last accepted relative angle of each joint (for continuing angles past ±π).
@@ -162,9 +158,6 @@ pub struct GeneralizedAlphaCheckpoint {
     /// The rounding floor of the Newton increments (see [`BdfCheckpoint::newton_rounding`]).
     #[serde(default)]
     pub newton_rounding: [f64; 2],
-    /// The raise of the tolerances (see [`BdfCheckpoint::raised_tolerance`]).
-    #[serde(default)]
-    pub raised_tolerance: f64,
     /// The step size the factors in use were made for (`None`: none in use), and the matrix they were
     /// made of, in the order of its sparse pattern (empty when none).
     #[serde(default)]

@@ -35,7 +35,6 @@ mod integrator;
 mod iteration_matrix;
 mod newton;
 mod newton_rounding;
-mod raised_tolerance;
 mod share_floor;
 mod stats;
 mod tolerance_span;

@@ -112,12 +112,6 @@ impl RoundingFloor {
         }
     }
 
-    /// The levels in tolerances that are `factor` times the former (after the tolerances were divided by it).
-    pub fn rescale(&mut self, factor: f64) {
-        self.floor *= factor;
-        self.stalled *= factor;
-    }
-
     /// The state to store in a checkpoint.
     pub fn stored(&self) -> [f64; 2] {
         [self.floor, self.stalled]

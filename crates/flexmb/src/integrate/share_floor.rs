@@ -89,16 +89,6 @@ impl ShareFloor {
         }
     }
 
-    /// The floors and the first failure's estimate in tolerances that are `factor` times the former (after
-    /// the tolerances were divided by it).
-    pub fn rescale(&mut self, factor: f64) {
-        self.accepted *= factor;
-        self.noise *= factor;
-        if let Some((h, error)) = self.probe {
-            self.probe = Some((h, error * factor));
-        }
-    }
-
     /// The floors `[accepted, noise]`, for a checkpoint.
     pub fn stored(&self) -> [f64; 2] {
         [self.accepted, self.noise]

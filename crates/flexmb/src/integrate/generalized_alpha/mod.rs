@@ -97,7 +97,6 @@ use crate::integrate::diagnosis::{self, EquationRow};
 use crate::integrate::error_norm::{error_weight, position_sum_of_squares, root_mean_square};
 use crate::integrate::newton::{self, ConvergenceTest, NewtonSystem};
 use crate::integrate::newton_rounding::RoundingFloor;
-use crate::integrate::raised_tolerance::RaisedTolerance;
 use crate::integrate::share_floor::ShareFloor;
 use crate::integrate::RateMonitor;
 use std::sync::Arc;
@@ -172,8 +171,6 @@ pub struct GeneralizedAlpha {
     share_floor: ShareFloor,
     /// The level below which the Newton increments are the residual's rounding.
     rounding: RoundingFloor,
-    /// The raise of the tolerances near a singular position.
-    raised: RaisedTolerance,
     /// Of the last Newton iteration: its smallest increment after the first (in the step's share), and
     /// whether it converged by the rounding floor.
     newton_stalled: f64,
@@ -272,7 +269,6 @@ impl GeneralizedAlpha {
             nc,
             share_floor: ShareFloor::default(),
             rounding: RoundingFloor::default(),
-            raised: RaisedTolerance::new(&tolerances),
             newton_stalled: f64::INFINITY,
             newton_at_floor: false,
             matrix: IterationMatrix::new(&model),
@@ -362,7 +358,6 @@ impl GeneralizedAlpha {
             derivatives_current: self.derivatives_current,
             share_floor: self.share_floor.stored(),
             newton_rounding: self.rounding.stored(),
-            raised_tolerance: self.raised.stored(),
             refresh_next: self.refresh_next,
             factored_h: self.factored_h,
             factored_matrix: if self.factored_h.is_some() { self.matrix.factored_values().to_vec() } else { Vec::new() },
@@ -414,7 +409,6 @@ impl GeneralizedAlpha {
         self.derivatives_current = c.derivatives_current;
         self.share_floor = ShareFloor::restored(c.share_floor);
         self.rounding = RoundingFloor::restored(c.newton_rounding);
-        self.raised.restore(c.raised_tolerance, &mut self.tolerances);
         self.refresh_next = c.refresh_next;
         self.matrix.set_stored_parts(&c.stiffness, &c.damping, &c.start_jacobian);
         self.factored_h = None;
@@ -487,7 +481,6 @@ impl GeneralizedAlpha {
                 // rounding: the attempt is repeated with them as its floor.
                 let share = self.share_floor.share(&self.tolerances, h_step);
                 if factored && self.rounding.failed_with_fresh_matrix(self.newton_stalled * share, f64::INFINITY, self.tolerances.rtol) {
-                    self.raised.follow_floor(&mut self.rounding, &mut self.share_floor, &mut self.tolerances);
                     continue;
                 }
                 failure = if factored {
@@ -518,13 +511,10 @@ impl GeneralizedAlpha {
             }
             self.accept(t_new, h_step);
             self.rounding.accepted(self.newton_at_floor);
-            if self.newton_at_floor || self.raised.is_raised() {
-                let floor = if self.newton_at_floor { self.rounding.floor * self.tolerances.rtol } else { 0.0 };
-                let raised = if self.raised.is_raised() { self.tolerances.rtol } else { 0.0 };
+            if self.newton_at_floor {
                 self.stats.rounding_floor_steps += 1;
-                self.stats.rounding_floor = self.stats.rounding_floor.max(floor).max(raised);
+                self.stats.rounding_floor = self.stats.rounding_floor.max(self.rounding.floor * self.tolerances.rtol);
             }
-            self.raised.accepted(h_step, &mut self.tolerances);
             self.share_floor.accepted(h_step, self.share_floor.share(&self.tolerances, h_step));
             self.h = match self.fixed_step {
                 Some(fixed) => fixed,
