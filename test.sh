@@ -11,5 +11,7 @@ python3 -m pip --version >/dev/null
 if ! python3 -c "import pytest, numpy" >/dev/null 2>&1; then
     python3 -m pip install --quiet pytest numpy
 fi
+# pandas for Results.to_pandas (optional: without it that test checks the ImportError only).
+python3 -c "import pandas" >/dev/null 2>&1 || python3 -m pip install --quiet pandas || echo "note: could not install pandas"
 CARGO_TARGET_DIR="$PWD/target" python3 -m pip install --quiet ./python
 FLEXMB_PROGRAM="$PWD/target/release/flexmb" python3 -m pytest python/tests

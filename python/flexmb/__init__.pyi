@@ -152,10 +152,6 @@ class Simulation:
     def velocities(self) -> npt.NDArray[np.float64]:
         """The velocities ``v`` at the last accepted step (per body: origin velocity, body-frame angular
         velocity, modal rates)."""
-    def parameter(self, name: str) -> float:
-        """The current value of the parameter ``name``; ``KeyError`` if there is none."""
-    def set_parameter(self, name: str, value: float) -> None:
-        """Changes the parameter ``name`` from the next step on."""
     @property
     def results(self) -> Results:
         """The outputs reported since the simulation was started or resumed, with the summary so far."""

