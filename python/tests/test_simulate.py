@@ -98,3 +98,23 @@ def test_to_pandas_gives_a_data_frame_or_a_clear_import_error(models, monkeypatc
     assert isinstance(frame, pandas.DataFrame)
     assert list(frame.columns) == results.columns
     np.testing.assert_array_equal(frame["pivot_angle"].to_numpy(), results["pivot_angle"])
+
+
+def test_a_failing_run_raises_simulation_error_with_the_program_s_message_and_the_rows_before(models, program, tmp_path):
+    # The pivot driven by sqrt(0.05 − t), whose rate is infinite at t = 0.05 s: the run stops there.
+    driver = '[[driver]]\nname = "runaway"\njoint = "pivot"\nfunction = "sqrt(0.05 - t)"\n\n[[output]]'
+    path = tmp_path / "runaway.toml"
+    path.write_text((models / "pendulum.toml").read_text().replace("[[output]]", driver, 1))
+    printed = program("run", path, "--t-end", "1", "--out", tmp_path, "--quiet", check=False)
+    assert printed.returncode != 0
+    with pytest.raises(flexmb.SimulationError) as raised:
+        flexmb.load(path).simulate(t_end=1.0)
+    message = str(raised.value)
+    assert isinstance(raised.value, RuntimeError)
+    assert f"{path}: simulation failed: " in message and "at t = 0.050000 s" in message
+    assert printed.stderr.splitlines()[0] == f"error: {message}"
+    results = raised.value.results
+    assert results.summary["status"] == "failed" and results.summary["error"] in message
+    written = len((tmp_path / "runaway.csv").read_text().splitlines()) - 1
+    assert len(results) == written and 0 < written <= 6  # t = 0 … 0.05 at most
+    assert results.time[-1] <= 0.05
