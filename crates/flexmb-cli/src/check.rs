@@ -1,27 +1,14 @@
 //! `flexmb check`: validate a model, assemble it, and report degrees of freedom and redundancy, and
 //! the flexible bodies: their modes, and whether each was reduced, read from the cache or from a file.
 
-use flexmb::analysis::{assemble, velocity_analysis, AssemblyReport, AssemblySettings, State, VelocityReport};
 use flexmb::body::ModalBody;
 use flexmb::model::BodyId;
-use flexmb::{Data, Model};
+use flexmb::Model;
 
 use flexmb_files::model_file::{FlexibleBodyOrigin, LoadedModel};
 
-/// Result of checking a model.
-pub struct CheckReport {
-    pub assembly: AssemblyReport,
-    pub velocity: VelocityReport,
-}
-
-/// Assembles the model and runs the velocity analysis.
-pub fn check_model(model: &Model, settings: AssemblySettings) -> Result<CheckReport, flexmb::analysis::AssemblyError> {
-    let mut data = Data::new(model);
-    let mut state = State::initial(model);
-    let assembly = assemble(model, &mut data, &mut state, settings)?;
-    let velocity = velocity_analysis(model, &mut data, &mut state)?;
-    Ok(CheckReport { assembly, velocity })
-}
+/// The engine's check of a model (assembly and velocity analysis), which the program prints.
+pub use flexmb::analysis::{check_model, CheckReport};
 
 /// Text for the assembly part of a check or run.
 pub fn describe(model: &Model, report: &CheckReport) -> String {

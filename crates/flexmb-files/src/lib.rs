@@ -55,6 +55,6 @@ pub mod study_file;
 pub mod vtk;
 
 pub use model_file::{load_model, load_model_with, parse_model, LoadOptions, LoadedModel, ModelFileError, SimulationDefaults};
-pub use restart::{read_checkpoint, save_checkpoint, Restart};
+pub use restart::{read_checkpoint, resume_simulation, save_checkpoint, Restart};
 pub use result_table::ResultTable;
 pub use results::{record_model_run, RecordedRun, ResultFileError, RunOutputs};

@@ -7,8 +7,10 @@
 //! holds the counters of the whole run (the checkpoint carries those of the first part).
 
 use std::path::Path;
+use std::sync::Arc;
 
-use flexmb::analysis::SimulationCheckpoint;
+use flexmb::analysis::{Simulation, SimulationCheckpoint, SimulationSettings};
+use flexmb::Model;
 
 use crate::results::ResultFileError;
 
@@ -42,4 +44,21 @@ pub fn read_checkpoint(path: &Path) -> Result<SimulationCheckpoint, ResultFileEr
     serde_json::from_str(&text).map_err(|e| {
         ResultFileError(format!("{}: not a simulation checkpoint written by `flexmb run --save-state` ({e})", path.display()))
     })
+}
+
+/// A simulation resumed from the checkpoint in `file`, and the checkpoint's time; a checkpoint the
+/// engine refuses (of another model or method) or one after the end time is an error naming `file`.
+pub fn resume_simulation(model: &Arc<Model>, settings: &SimulationSettings, file: &Path) -> Result<(Simulation, f64), ResultFileError> {
+    let checkpoint = read_checkpoint(file)?;
+    if checkpoint.t > settings.t_end {
+        return Err(ResultFileError(format!(
+            "{}: the checkpoint is at t = {} s, after the end time {} s",
+            file.display(),
+            checkpoint.t,
+            settings.t_end
+        )));
+    }
+    let simulation = Simulation::resume(Arc::clone(model), *settings, &checkpoint)
+        .map_err(|e| ResultFileError(format!("{}: {e}", file.display())))?;
+    Ok((simulation, checkpoint.t))
 }

@@ -13,7 +13,7 @@ use flexmb::Model;
 use serde_json::{json, Value};
 
 use crate::model_file::LoadedModel;
-use crate::restart::{read_checkpoint, save_checkpoint, Restart};
+use crate::restart::{resume_simulation, save_checkpoint, Restart};
 use crate::vtk::{RunSeries, SeriesTimes, SeriesWritten};
 
 /// A result file that could not be written or read, with the message that names it.
@@ -73,6 +73,23 @@ pub struct RunRequest<'a> {
     pub integrator: &'a str,
     /// The physics watchdog's thresholds.
     pub limits: PhysicsLimits,
+}
+
+impl<'a> RunRequest<'a> {
+    /// What a run of `model` with `settings`, from the file named `model_file`, was asked to do; the
+    /// integrator named as `report` names it.
+    pub fn of(model: &'a Model, settings: &SimulationSettings, model_file: &'a str, report: &SimulationReport) -> Self {
+        RunRequest {
+            model_file,
+            model_name: model.name(),
+            t_end: settings.t_end,
+            output_step: settings.output_step,
+            rtol: settings.tolerances.rtol,
+            atol: settings.tolerances.atol,
+            integrator: if report.method.is_empty() { "bdf" } else { report.method },
+            limits: settings.physics_limits,
+        }
+    }
 }
 
 /// The JSON summary of a run (completed or failed).
@@ -361,7 +378,7 @@ pub fn record_run(
 ) -> Result<RecordedRun, ResultFileError> {
     let (started, resumed_at) = match restart.resume {
         Some(file) => {
-            let (simulation, t) = resume(model, settings, file)?;
+            let (simulation, t) = resume_simulation(model, settings, file)?;
             (Ok(simulation), Some((file, t)))
         }
         None => (Simulation::new(Arc::clone(model), *settings), None),
@@ -395,16 +412,7 @@ pub fn record_run(
         Ok(r) => (r, None),
         Err(e) => ((*e.report).clone(), Some(e.to_string())),
     };
-    let request = RunRequest {
-        model_file,
-        model_name: model.name(),
-        t_end: settings.t_end,
-        output_step: settings.output_step,
-        rtol: settings.tolerances.rtol,
-        atol: settings.tolerances.atol,
-        integrator: if report.method.is_empty() { "bdf" } else { report.method },
-        limits: settings.physics_limits,
-    };
+    let request = RunRequest::of(model, settings, model_file, &report);
     let mut summary = summary_json(&request, &report, &columns, csv_path, error.as_deref());
     if let Some((file, t)) = resumed_at {
         summary["resumed_from"] = json!({ "checkpoint": file.display().to_string(), "t": t });
@@ -437,21 +445,4 @@ fn run_with_pause(
         }
     }
     Ok(())
-}
-
-/// A simulation resumed from the checkpoint in `file`, and the checkpoint's time; a checkpoint the
-/// engine refuses (of another model or method) or one after the end time is an error naming `file`.
-fn resume(model: &Arc<Model>, settings: &SimulationSettings, file: &Path) -> Result<(Simulation, f64), ResultFileError> {
-    let checkpoint = read_checkpoint(file)?;
-    if checkpoint.t > settings.t_end {
-        return Err(ResultFileError(format!(
-            "{}: the checkpoint is at t = {} s, after the end time {} s",
-            file.display(),
-            checkpoint.t,
-            settings.t_end
-        )));
-    }
-    let simulation = Simulation::resume(Arc::clone(model), *settings, &checkpoint)
-        .map_err(|e| ResultFileError(format!("{}: {e}", file.display())))?;
-    Ok((simulation, checkpoint.t))
 }

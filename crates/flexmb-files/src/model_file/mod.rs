@@ -32,6 +32,8 @@ pub struct LoadedModel {
     pub model: std::sync::Arc<flexmb::Model>,
     /// The file's `[simulation]` values, for runs.
     pub simulation: SimulationDefaults,
+    /// The values of the file's `[parameters]`, overrides applied, by name.
+    pub parameters: std::collections::BTreeMap<String, f64>,
     /// The flexible bodies, in the order of their `[[flexible_body]]` tables: mode set, frequencies,
     /// and whether each was reduced now, read from the cache or read from a flexible-body file.
     pub flexible_bodies: Vec<FlexibleBodyInfo>,

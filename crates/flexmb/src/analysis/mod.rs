@@ -1,8 +1,9 @@
-//! Analyses of a model: redundancy check, assembly (position analysis), velocity analysis,
+//! Analyses of a model: the check before a run (`check_model`), redundancy check, assembly (position analysis), velocity analysis,
 //! accelerations and reaction forces, the linearized equations of motion, and the dynamic simulation.
 
 mod accelerations;
 mod assembly;
+mod check;
 mod linearization;
 mod memory;
 mod outputs;
@@ -20,6 +21,7 @@ pub mod test_models;
 
 pub use accelerations::{AccelerationError, AccelerationSolver, Accelerations};
 pub use assembly::{assemble, AssemblyError, AssemblyReport, AssemblySettings, ModalAssembly};
+pub use check::{check_model, CheckReport};
 pub use linearization::{displaced_positions, linearize, Linearization, OperatingPoint, SparseLinearization};
 pub(crate) use linearization::linearize_at;
 pub use outputs::{output_columns, OutputColumn};

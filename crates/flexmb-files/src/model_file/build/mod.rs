@@ -70,6 +70,7 @@ pub(crate) fn build(
 ) -> Result<LoadedModel, ModelFileError> {
     let parameters = parameters::evaluate(&file.parameters, source)?;
     let declared_measures = file.measure.iter().map(|m| m.get_ref().name.get_ref().clone()).collect();
+    let parameter_values = parameters.clone();
     let mut ctx = Context::new(source, parameters, declared_measures);
     let (name, gravity) = simulation::model_settings(&ctx, file, default_name)?;
     let simulation = simulation::simulation_defaults(&ctx, file.simulation.as_ref())?;
@@ -95,5 +96,5 @@ pub(crate) fn build(
     };
     outputs::add_outputs(&ctx, &file.output, &output_references, &mut builder, &mut names.outputs)?;
     let model = builder.build().map_err(|e| engine_errors::locate(&e, &names, source))?;
-    Ok(LoadedModel { model: std::sync::Arc::new(model), simulation, flexible_bodies, shapes })
+    Ok(LoadedModel { model: std::sync::Arc::new(model), simulation, parameters: parameter_values, flexible_bodies, shapes })
 }

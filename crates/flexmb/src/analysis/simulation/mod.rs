@@ -380,9 +380,25 @@ impl Simulation {
     /// Steps until the time reaches `t` (or the end time), reporting the outputs passed to `sink`.
     /// The last step may end after `t`: steps are not shortened to land on it.
     pub fn advance_to(&mut self, t: f64, sink: &mut dyn OutputSink) -> Result<(), SimulationFailure> {
+        self.advance_to_interruptible(t, sink, &|| None)
+    }
+
+    /// [`advance_to`](Self::advance_to), asking `interrupt` after every accepted step whether to stop,
+    /// as [`run`](Self::run) does: when it answers with a reason, the simulation pauses there and its
+    /// report carries [`SimulationReport::interrupted`] (it may be checkpointed or advanced further).
+    pub fn advance_to_interruptible(
+        &mut self,
+        t: f64,
+        sink: &mut dyn OutputSink,
+        interrupt: &dyn Fn() -> Option<String>,
+    ) -> Result<(), SimulationFailure> {
         self.guarded(|s| s.report_initial(sink))?;
         while !self.is_finished() && (self.time() < t || self.reached_end()) {
             self.step(sink)?;
+            if let Some(reason) = interrupt() {
+                self.interrupt(reason);
+                break;
+            }
         }
         Ok(())
     }

@@ -1,0 +1,47 @@
+//! `Model.simulate`: a run from the initial state to the end time into a table in memory, without the
+//! GIL, stopped by Ctrl-C; its failure or interruption raised with the rows computed until then.
+
+use std::sync::Arc;
+
+use flexmb::analysis::{OutputTable, Simulation as Engine, SimulationFailure, SimulationSettings};
+use pyo3::prelude::*;
+
+use crate::errors::{model_error, SimulationError};
+use crate::interrupt::SignalWatch;
+use crate::model::Model;
+use crate::results::Results;
+
+/// Runs `model` with `settings` to its end time.
+pub fn simulate(py: Python<'_>, model: &Model, settings: &SimulationSettings) -> PyResult<Results> {
+    let engine = Arc::clone(&model.loaded.model);
+    let mut simulation = py.detach(|| Engine::new(engine, *settings)).map_err(|e| model_error(format!("{}: {e}", model.file)))?;
+    let mut table = OutputTable::new(&model.loaded.model);
+    let (run, raised) = py.detach(|| {
+        let watch = SignalWatch::new();
+        let run = simulation.run(&mut table, &|| watch.interrupted());
+        (run, watch.into_raised())
+    });
+    finish(py, &model.file, &simulation, &table, run, raised)
+}
+
+/// The results of a run (or of the steps a `Simulation` took) that returned `run` and was stopped by the
+/// signal handler's exception `raised`, if one was: the results, or the exception with the results in
+/// its attribute `results`.
+pub fn finish(
+    py: Python<'_>,
+    file: &str,
+    simulation: &Engine,
+    table: &OutputTable,
+    run: Result<(), SimulationFailure>,
+    raised: Option<PyErr>,
+) -> PyResult<Results> {
+    let error = run.as_ref().err().map(ToString::to_string);
+    let results = Results::of_run(simulation.model(), file, simulation.settings(), simulation.report(), table, error.as_deref());
+    let failure = match (raised, error) {
+        (Some(raised), _) => raised,
+        (None, Some(error)) => SimulationError::new_err(format!("{file}: simulation failed: {error}")),
+        (None, None) => return Ok(results),
+    };
+    failure.value(py).setattr("results", Py::new(py, results)?)?;
+    Err(failure)
+}
