@@ -237,7 +237,6 @@ impl IterationMatrix {
         self.f_yp.copy_from_slice(f_yp);
     }
 
-
     /// The pivot sequence its factorizations keep (for a checkpoint; `None` when none is kept).
     pub fn kept_pivots(&self) -> Option<&[usize]> {
         self.lu.kept_pivots()
@@ -245,18 +244,24 @@ impl IterationMatrix {
 
     /// Keeps the pivot sequence of a checkpoint (or none) for the next factorizations.
     pub fn keep_pivots(&mut self, row_positions: Option<&[usize]>) -> Result<(), CheckpointError> {
-        self.lu.keep_pivots(row_positions).map_err(|InvalidPivots| {
-            CheckpointError::Unsupported(format!(
-                "the checkpoint's kept pivots do not fit the iteration matrix ({} unknowns): not a permutation of its rows, or a zero pivot on its pattern",
-                self.lu.n()
-            ))
-        })
+        keep_checkpoint_pivots(&mut self.lu, row_positions)
     }
 
     /// Solves with the current factors in place.
     pub fn solve_in_place(&mut self, rhs: &mut [f64]) -> Result<(), SingularMatrix> {
         self.lu.solve_in_place(rhs)
     }
+}
+
+/// Keeps the pivot sequence of a checkpoint (or none) in an iteration matrix's LU, BDF's or generalized-α's;
+/// a sequence that does not fit the matrix is the checkpoint's error.
+pub(crate) fn keep_checkpoint_pivots(lu: &mut SparseLu, row_positions: Option<&[usize]>) -> Result<(), CheckpointError> {
+    lu.keep_pivots(row_positions).map_err(|InvalidPivots| {
+        CheckpointError::Unsupported(format!(
+            "the checkpoint's kept pivots do not fit the iteration matrix ({} unknowns): not a permutation of its rows, or a zero pivot on its pattern",
+            lu.n()
+        ))
+    })
 }
 
 #[cfg(test)]

@@ -25,7 +25,8 @@ use super::Coefficients;
 use crate::analysis::SparseLinearization;
 use crate::data::Data;
 use crate::integrate::CheckpointError;
-use crate::linalg::{InvalidPivots, SingularMatrix, SparseLu};
+use crate::integrate::iteration_matrix::keep_checkpoint_pivots;
+use crate::linalg::{SingularMatrix, SparseLu};
 use crate::math::{Mat3, Vec3};
 use crate::model::{Coupling, Model};
 use crate::stage::{body_mass_entries, jacobian_entries};
@@ -307,7 +308,6 @@ impl IterationMatrix {
         self.lu.factor()
     }
 
-
     /// The pivot sequence its factorizations keep (for a checkpoint; `None` when none is kept).
     pub fn kept_pivots(&self) -> Option<&[usize]> {
         self.lu.kept_pivots()
@@ -315,12 +315,7 @@ impl IterationMatrix {
 
     /// Keeps the pivot sequence of a checkpoint (or none) for the next factorizations.
     pub fn keep_pivots(&mut self, row_positions: Option<&[usize]>) -> Result<(), CheckpointError> {
-        self.lu.keep_pivots(row_positions).map_err(|InvalidPivots| {
-            CheckpointError::Unsupported(format!(
-                "the checkpoint's kept pivots do not fit the iteration matrix ({} unknowns): not a permutation of its rows, or a zero pivot on its pattern",
-                self.lu.n()
-            ))
-        })
+        keep_checkpoint_pivots(&mut self.lu, row_positions)
     }
 
     /// Solves with the current factors in place.
