@@ -40,7 +40,7 @@ def test_frequencies_and_mass_properties_are_the_programs_to_the_digits_printed(
     assert f"{body.mass:.6e}" == f"{mass:.6e}"
     com = [float(x) for x in re.search(r"centre of mass \[(.*?)\]", report).group(1).split(",")]
     assert [f"{x:.6f}" for x in body.center_of_mass] == [f"{x:.6f}" for x in com]
-    printed = dict(re.findall(r"(I[xyz]{2}) (\S+)", report))
+    printed = dict(re.findall(r"(I[xyz]{2}) ([-+.e0-9]+)", report))
     for name, (r, c) in {"Ixx": (0, 0), "Iyy": (1, 1), "Izz": (2, 2)}.items():
         assert f"{body.inertia[r, c]:.6e}" == f"{float(printed[name]):.6e}", name
     # The closed forms of a slender bar: ρ A L and, about its centre, ρ A L³ / 12 across it.
