@@ -227,59 +227,41 @@ class FlexibleBody:
     """A flexible body reduced from an FE model: modes, frequencies, shapes, mass properties, and its
     flexible-body file (``write``)."""
 
-    @property
-    def name(self) -> str:
-        """The body's name."""
-    @property
-    def mode_set(self) -> str:
-        """The mode set, e.g. ``"4N5S"``."""
-    @property
-    def basis(self) -> str:
-        """``"raw"`` or ``"orthonormal"``."""
-    @property
-    def mass_model(self) -> str:
-        """``"lumped"`` or ``"consistent"``."""
-    @property
-    def labels(self) -> List[str]:
-        """The mode labels in basis order (``N1``, ``S1``, ``O1``, …)."""
-    @property
-    def kinds(self) -> List[str]:
-        """Each mode's kind: ``"vibration"``, ``"static"`` or ``"orthonormal"``."""
-    @property
-    def frequencies(self) -> npt.NDArray[np.float64]:
-        """Natural frequencies of the reduced body (Hz), ascending."""
-    @property
-    def fe_frequencies(self) -> npt.NDArray[np.float64]:
-        """Lowest natural frequencies of the supported FE model (Hz), ascending."""
-    @property
-    def node_ids(self) -> npt.NDArray[np.uint64]:
-        """The FE nodes' ids, in the order of ``node_positions`` and ``mode_shapes``."""
-    @property
-    def node_positions(self) -> npt.NDArray[np.float64]:
-        """Nodes × 3: positions in the body frame (m)."""
-    @property
-    def mode_shapes(self) -> npt.NDArray[np.float64]:
-        """Nodes × 6 × modes: translations x, y, z and rotations about x, y, z per unit modal coordinate."""
-    @property
-    def mass(self) -> float:
-        """Mass of the undeformed body (kg)."""
-    @property
-    def center_of_mass(self) -> npt.NDArray[np.float64]:
-        """Centre of mass in the body frame (m)."""
-    @property
-    def inertia(self) -> npt.NDArray[np.float64]:
-        """3 × 3 inertia tensor about the centre of mass (kg m²)."""
-    @property
-    def modal_mass(self) -> npt.NDArray[np.float64]:
-        """Modal mass matrix (modes × modes)."""
-    @property
-    def modal_stiffness(self) -> npt.NDArray[np.float64]:
-        """Modal stiffness matrix (modes × modes)."""
-    @property
-    def warnings(self) -> List[str]:
-        """The FE model's and the reduction's warnings."""
-    @property
-    def seconds(self) -> float:
-        """Wall time of the reduction (s)."""
+    name: str
+    """The body's name."""
+    mode_set: str
+    """The mode set, e.g. ``"4N5S"``."""
+    basis: str
+    """``"raw"`` or ``"orthonormal"``."""
+    mass_model: str
+    """``"lumped"`` or ``"consistent"``."""
+    labels: List[str]
+    """The mode labels in basis order (``N1``, ``S1``, ``O1``, …)."""
+    kinds: List[str]
+    """Each mode's kind: ``"vibration"``, ``"static"`` or ``"orthonormal"``."""
+    frequencies: npt.NDArray[np.float64]
+    """Natural frequencies of the reduced body (Hz), ascending."""
+    fe_frequencies: npt.NDArray[np.float64]
+    """Lowest natural frequencies of the supported FE model (Hz), ascending."""
+    node_ids: npt.NDArray[np.uint64]
+    """The FE nodes' ids, in the order of ``node_positions`` and ``mode_shapes``."""
+    node_positions: npt.NDArray[np.float64]
+    """Nodes × 3: positions in the body frame (m)."""
+    mode_shapes: npt.NDArray[np.float64]
+    """Nodes × 6 × modes: translations x, y, z and rotations about x, y, z per unit modal coordinate."""
+    mass: float
+    """Mass of the undeformed body (kg)."""
+    center_of_mass: npt.NDArray[np.float64]
+    """Centre of mass in the body frame (m)."""
+    inertia: npt.NDArray[np.float64]
+    """3 × 3 inertia tensor about the centre of mass (kg m²)."""
+    modal_mass: npt.NDArray[np.float64]
+    """Modal mass matrix (modes × modes)."""
+    modal_stiffness: npt.NDArray[np.float64]
+    """Modal stiffness matrix (modes × modes)."""
+    warnings: List[str]
+    """The FE model's and the reduction's warnings."""
+    seconds: float
+    """Wall time of the reduction (s)."""
     def write(self, path: _Path) -> None:
         """Writes the flexible-body file (JSON), as ``flexmb modes --out`` does."""
