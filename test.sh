@@ -13,5 +13,8 @@ if ! python3 -c "import pytest, numpy" >/dev/null 2>&1; then
 fi
 # pandas for Results.to_pandas (optional: without it that test checks the ImportError only).
 python3 -c "import pandas" >/dev/null 2>&1 || python3 -m pip install --quiet pandas || echo "note: could not install pandas"
+# matplotlib for the plotting example of docs/python.md (binary wheels, about 2 min on the shared
+# 2-core machine; without it that example's test is skipped, saying so).
+python3 -c "import matplotlib" >/dev/null 2>&1 || python3 -m pip install --quiet matplotlib || echo "note: could not install matplotlib"
 CARGO_TARGET_DIR="$PWD/target" python3 -m pip install --quiet ./python
 FLEXMB_PROGRAM="$PWD/target/release/flexmb" python3 -m pytest python/tests

@@ -22,3 +22,9 @@ from ._native import (
 )
 
 __all__ = ["Model", "ModelError", "Results", "Simulation", "SimulationError", "__version__", "load"]
+
+# Models built in code (flexmb.ModelBuilder, through flexmb.loads) and the preprocessor (flexmb.modes).
+from ._native import FlexibleBody, loads, modes
+from .builder import ModelBuilder
+
+__all__ += ["FlexibleBody", "ModelBuilder", "loads", "modes"]

@@ -158,3 +158,110 @@ class Simulation:
     def save(self, path: _Path) -> None:
         """Writes the simulation's complete state to ``path`` as the checkpoint of
         ``flexmb run --save-state``."""
+
+# Models built in code and the preprocessor.
+
+def loads(
+    text: str,
+    source: str = "<string>",
+    base_dir: Optional[_Path] = None,
+    parameters: Optional[Mapping[str, float]] = None,
+    modes: Optional[Mapping[str, str]] = None,
+) -> Model:
+    """Loads a model from ``text``, the text of a model file: ``source`` names it in messages, relative
+    ``fe_model`` and ``body_file`` paths start at ``base_dir`` (default the current directory);
+    ``parameters`` and ``modes`` as in ``load``. Raises ``ModelError``."""
+
+class ModelBuilder:
+    """A model built in code: one call per table of a model file, the keywords its keys; ``build()``
+    loads the text of ``to_toml()`` with the model file's validation and messages."""
+
+    name: str
+    base_dir: Optional[_Path]
+    def __init__(self, name: str, gravity: Optional[Any] = None, base_dir: Optional[_Path] = None) -> None:
+        """A builder of the model ``name`` with ``gravity`` (m/s²) if given."""
+    def parameter(self, name: str, value: Union[float, str]) -> "ModelBuilder":
+        """``[parameters] name = value``."""
+    def simulation(self, **keys: Any) -> "ModelBuilder":
+        """``[simulation]``: ``t_end``, ``output_step``, ``rtol``, ``atol``, ``integrator``, …"""
+    def body(self, name: str, **keys: Any) -> "ModelBuilder":
+        """``[[body]]``: a rigid body."""
+    def flexible_body(self, name: str, **keys: Any) -> "ModelBuilder":
+        """``[[flexible_body]]``: from an FE model file (``fe_model``) or a flexible-body file (``body_file``)."""
+    def marker(self, name: str, **keys: Any) -> "ModelBuilder":
+        """``[[marker]]``: a frame fixed on a body."""
+    def joint(self, name: str, **keys: Any) -> "ModelBuilder":
+        """``[[joint]]``: ``type`` between markers ``i`` and ``j``."""
+    def driver(self, name: str, **keys: Any) -> "ModelBuilder":
+        """``[[driver]]``: a prescribed motion."""
+    def measure(self, name: str, **keys: Any) -> "ModelBuilder":
+        """``[[measure]]``: a named quantity."""
+    def force(self, name: str, **keys: Any) -> "ModelBuilder":
+        """``[[force]]``: a force element."""
+    def output(self, type: Optional[str] = None, **keys: Any) -> "ModelBuilder":
+        """``[[output]]``: what a run reports."""
+    def to_toml(self) -> str:
+        """The model file this builder describes, as text."""
+    def build(
+        self,
+        parameters: Optional[Mapping[str, float]] = None,
+        modes: Optional[Mapping[str, str]] = None,
+    ) -> Model:
+        """The ``Model`` of this builder; raises ``ModelError`` with the file's message and the builder
+        call that made the table it names."""
+
+def modes(
+    fe_model: _Path,
+    modes: Optional[str] = None,
+    basis: Optional[str] = None,
+    mass: Optional[str] = None,
+    solver: Optional[str] = None,
+    path: Optional[_Path] = None,
+) -> "FlexibleBody":
+    """Reduces the FE model file ``fe_model`` to the mode set ``modes`` (e.g. ``"4N5S"``) as ``flexmb
+    modes`` does; ``basis`` ``"raw"``/``"orthonormal"``, ``mass`` ``"lumped"``/``"consistent"``,
+    ``solver`` ``"auto"``/``"dense"``/``"lanczos"``, each ``None`` taking the file's value; with
+    ``path``, writes the flexible-body file there. Raises ``ModelError``."""
+
+class FlexibleBody:
+    """A flexible body reduced from an FE model: modes, frequencies, shapes, mass properties, and its
+    flexible-body file (``write``)."""
+
+    name: str
+    """The body's name."""
+    mode_set: str
+    """The mode set, e.g. ``"4N5S"``."""
+    basis: str
+    """``"raw"`` or ``"orthonormal"``."""
+    mass_model: str
+    """``"lumped"`` or ``"consistent"``."""
+    labels: List[str]
+    """The mode labels in basis order (``N1``, ``S1``, ``O1``, …)."""
+    kinds: List[str]
+    """Each mode's kind: ``"vibration"``, ``"static"`` or ``"orthonormal"``."""
+    frequencies: npt.NDArray[np.float64]
+    """Natural frequencies of the reduced body (Hz), ascending."""
+    fe_frequencies: npt.NDArray[np.float64]
+    """Lowest natural frequencies of the supported FE model (Hz), ascending."""
+    node_ids: npt.NDArray[np.uint64]
+    """The FE nodes' ids, in the order of ``node_positions`` and ``mode_shapes``."""
+    node_positions: npt.NDArray[np.float64]
+    """Nodes × 3: positions in the body frame (m)."""
+    mode_shapes: npt.NDArray[np.float64]
+    """Nodes × 6 × modes: translations x, y, z and rotations about x, y, z per unit modal coordinate."""
+    mass: float
+    """Mass of the undeformed body (kg)."""
+    center_of_mass: npt.NDArray[np.float64]
+    """Centre of mass in the body frame (m)."""
+    inertia: npt.NDArray[np.float64]
+    """3 × 3 inertia tensor about the centre of mass (kg m²)."""
+    modal_mass: npt.NDArray[np.float64]
+    """Modal mass matrix (modes × modes)."""
+    modal_stiffness: npt.NDArray[np.float64]
+    """Modal stiffness matrix (modes × modes)."""
+    warnings: List[str]
+    """The FE model's and the reduction's warnings."""
+    seconds: float
+    """Wall time of the reduction (s)."""
+    def write(self, path: _Path) -> None:
+        """Writes the flexible-body file (JSON), as ``flexmb modes --out`` does."""

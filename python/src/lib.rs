@@ -5,6 +5,8 @@
 mod errors;
 mod interrupt;
 mod model;
+mod model_text;
+mod modes;
 mod results;
 mod run;
 mod settings;
@@ -20,6 +22,10 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<model::Model>()?;
     m.add_class::<results::Results>()?;
     m.add_class::<simulation::Simulation>()?;
+    // Models from text (flexmb.ModelBuilder) and the preprocessor (flexmb.modes).
+    m.add_function(wrap_pyfunction!(model_text::loads, m)?)?;
+    m.add_function(wrap_pyfunction!(modes::modes, m)?)?;
+    m.add_class::<modes::FlexibleBody>()?;
     m.add("ModelError", py.get_type::<errors::ModelError>())?;
     m.add("SimulationError", py.get_type::<errors::SimulationError>())?;
     Ok(())

@@ -36,14 +36,20 @@ pub fn load(
     parameters: Option<HashMap<String, f64>>,
     modes: Option<HashMap<String, String>>,
 ) -> PyResult<Model> {
+    let options = load_options(parameters, modes);
+    let file = path.display().to_string();
+    let loaded = py.detach(|| load_model_with(&path, &options)).map_err(model_error)?;
+    Ok(Model { loaded, file })
+}
+
+/// The load options of `parameters` and `modes` (in name order, so that a load does not depend on a
+/// dict's order).
+pub(crate) fn load_options(parameters: Option<HashMap<String, f64>>, modes: Option<HashMap<String, String>>) -> LoadOptions {
     let mut parameters: Vec<(String, f64)> = parameters.unwrap_or_default().into_iter().collect();
     parameters.sort_by(|a, b| a.0.cmp(&b.0));
     let mut modes: Vec<(String, String)> = modes.unwrap_or_default().into_iter().collect();
     modes.sort();
-    let options = LoadOptions { overrides: ModelOverrides { modes, parameters }, ..Default::default() };
-    let file = path.display().to_string();
-    let loaded = py.detach(|| load_model_with(&path, &options)).map_err(model_error)?;
-    Ok(Model { loaded, file })
+    LoadOptions { overrides: ModelOverrides { modes, parameters }, ..Default::default() }
 }
 
 #[pymethods]

@@ -9,8 +9,11 @@ import pytest
 from conftest import REPOSITORY
 
 
-def python_blocks(path):
-    return re.findall(r"```python\n(.*?)```", path.read_text(), flags=re.S)
+def python_blocks(path, plotting=False):
+    """The fenced Python examples of `path`: without those that plot with matplotlib (which the package
+    does not need), or only those with `plotting`."""
+    blocks = re.findall(r"```python\n(.*?)```", path.read_text(), flags=re.S)
+    return [b for b in blocks if ("import matplotlib" in b) == plotting]
 
 
 @pytest.mark.parametrize("page", ["README.md", "docs/python.md"])
@@ -45,3 +48,17 @@ def test_the_examples_print_what_their_comments_show(monkeypatch):
                 assert line.startswith(expected[0]) and line.endswith(expected[-1]), (line, comment)
                 shown += 1
     assert shown >= 5
+
+
+def test_the_plotting_example_runs_with_matplotlib(monkeypatch):
+    # docs/python.md's matplotlib example, on its own: skipped, saying why, where matplotlib is absent
+    # (./test.sh installs it).
+    pytest.importorskip("matplotlib", reason="matplotlib is not installed: the plotting example of docs/python.md was not run")
+    blocks = python_blocks(REPOSITORY / "docs" / "python.md", plotting=True)
+    assert blocks, "docs/python.md has a plotting example"
+    monkeypatch.chdir(REPOSITORY)
+    for block in blocks:
+        printed = io.StringIO()
+        with contextlib.redirect_stdout(printed):
+            exec(compile(block, "docs/python.md plotting example", "exec"), {"__name__": "__example__"})
+        assert printed.getvalue().strip() == "pendulum.png True", printed.getvalue()

@@ -8,6 +8,7 @@ pub mod compare;
 pub mod interrupt;
 pub mod limits;
 pub mod modes;
+pub mod parameters;
 pub mod plot;
 pub mod run;
 pub mod spectrum;

@@ -11,6 +11,7 @@ use flexmb_cli::bench::{run_benchmarks, BenchCase, BenchIntegrator, BenchOptions
 use flexmb_cli::check::{check_model, describe, describe_flexible_bodies};
 use flexmb_cli::compare::{compare_model, CompareOptions};
 use flexmb_cli::modes::{run_modes, ModesOptions};
+use flexmb_cli::parameters::parse_parameter;
 use flexmb_cli::plot::{plot_run_outputs, run_plot, PlotOptions, YScale, DEFAULT_SIZE};
 use flexmb_cli::run::{run_model, RunFiles, RunOptions};
 use flexmb_cli::spectrum::estimator::FrequencyBand;
@@ -27,12 +28,17 @@ struct Cli {
     command: Command,
 }
 
+// Parsed once per run of the program: the size of its largest variant costs nothing.
+#[allow(clippy::large_enum_variant)]
 #[derive(Subcommand)]
 enum Command {
     /// Simulate a model and write its outputs (CSV) and a summary (JSON).
     Run {
         /// Model file (TOML), e.g. models/slider_crank.toml.
         model: PathBuf,
+        /// Replace the value of a parameter of the model's [parameters] table: NAME=VALUE (repeatable).
+        #[arg(long = "parameter", short = 'p', value_name = "NAME=VALUE", value_parser = parse_parameter)]
+        parameter: Vec<(String, f64)>,
         /// End time (s); default from the model's [simulation].
         #[arg(long)]
         t_end: Option<f64>,
@@ -105,6 +111,9 @@ enum Command {
     Check {
         /// Model file (TOML).
         model: PathBuf,
+        /// Replace the value of a parameter of the model's [parameters] table: NAME=VALUE (repeatable).
+        #[arg(long = "parameter", short = 'p', value_name = "NAME=VALUE", value_parser = parse_parameter)]
+        parameter: Vec<(String, f64)>,
     },
     /// Reduce a flexible body's FE model to a mode set: frequencies, mass properties, and the
     /// flexible-body file (JSON) that mechanism models use.
@@ -245,6 +254,10 @@ enum Command {
         /// End time (s) of every run, instead of the study's or the model's.
         #[arg(long)]
         t_end: Option<f64>,
+        /// Replace the value of a parameter of the model's [parameters] table in every variant:
+        /// NAME=VALUE (repeatable); a variant's own value of that parameter wins.
+        #[arg(long = "parameter", short = 'p', value_name = "NAME=VALUE", value_parser = parse_parameter)]
+        parameter: Vec<(String, f64)>,
         /// Print only the table.
         #[arg(long, short)]
         quiet: bool,
@@ -279,7 +292,7 @@ enum SolverArg {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Run { model, t_end, output_step, rtol, atol, tolerance_span, integrator, spectral_radius, out, quiet, vtk, vtk_step, plot, max_output_rows, max_vtk_frames, save_state, resume, pause_at } => {
+        Command::Run { model, parameter, t_end, output_step, rtol, atol, tolerance_span, integrator, spectral_radius, out, quiet, vtk, vtk_step, plot, max_output_rows, max_vtk_frames, save_state, resume, pause_at } => {
             let options = RunOptions {
                 t_end,
                 output_step,
@@ -297,6 +310,7 @@ fn main() -> ExitCode {
                 save_state,
                 resume,
                 pause_at,
+                parameters: parameter,
                 catch_signals: true,
             };
             match run_model(&model, &options) {
@@ -317,7 +331,7 @@ fn main() -> ExitCode {
                 Err(e) => Err(e),
             }
         }
-        Command::Check { model } => flexmb_files::load_model_with(&model, &flexmb_cli::limits::load_options())
+        Command::Check { model, parameter } => flexmb_files::load_model_with(&model, &flexmb_cli::parameters::load_options_with(&parameter))
             .map_err(|e| e.to_string())
             .and_then(|loaded| {
                 print!("{}", describe_flexible_bodies(&loaded));
@@ -369,7 +383,7 @@ fn main() -> ExitCode {
             let options = SpectrumOptions { file: results, y, from, to, peaks, band, out, y_scale, size: (width, height) };
             run_spectrum(&options).map(|report| print!("{report}"))
         }
-        Command::Study { study, out, t_end, quiet } => flexmb_cli::study::run_study(&study, out.as_deref(), t_end, quiet).map(|report| {
+        Command::Study { study, out, t_end, parameter, quiet } => flexmb_cli::study::run_study(&study, out.as_deref(), t_end, &parameter, quiet).map(|report| {
             if quiet {
                 print!("{}", report.table);
             }

@@ -6,10 +6,10 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use flexmb_fem::modes::{EigenSettings, EigenSolver};
-use flexmb_fem::reduction::{reduce, Basis, ModeKind, ModeSet, Reduction, ReductionSettings};
+use flexmb_fem::reduction::{Basis, ModeKind, ModeSet, Reduction};
 use flexmb_fem::{ElementKind, MassModel};
 
-use flexmb_files::fe_model_file::{load_fe_model, LoadedFeModel};
+use flexmb_files::fe_model_file::{reduce_fe_model_file, LoadedFeModel, ReduceFileError, ReducedFeModel, ReductionRequest};
 use crate::run::CliError;
 
 /// What `flexmb modes` was asked to do.
@@ -30,32 +30,18 @@ pub struct ModesOptions {
 
 /// Runs `flexmb modes` on the FE model at `path`; returns the printed report.
 pub fn run_modes(path: &Path, options: &ModesOptions) -> Result<String, CliError> {
-    let mut loaded = load_fe_model(path).map_err(|e| CliError(e.to_string()))?;
-    if let Some(mass) = options.mass {
-        loaded.model.options.mass = mass;
-    }
     let mode_set = match &options.mode_set {
-        Some(text) => text.parse::<ModeSet>().map_err(|e| CliError(format!("--modes: {e}")))?,
-        None => loaded.defaults.mode_set.clone().ok_or_else(|| {
-            CliError(format!(
-                "{}: no mode set: give --modes (e.g. 6N, 5S or 4N5S) or `set` in the file's [modes] table",
-                path.display()
-            ))
-        })?,
+        Some(text) => Some(text.parse::<ModeSet>().map_err(|e| CliError(format!("--modes: {e}")))?),
+        None => None,
     };
-    let basis = options.basis.or(loaded.defaults.basis).unwrap_or_default();
-    let settings = ReductionSettings {
-        mode_set,
-        basis,
-        eigen: EigenSettings {
-            solver: options.solver,
-            memory_limit: crate::limits::memory_limit()?.bytes(),
-            ..Default::default()
-        },
-    };
-    let started = std::time::Instant::now();
-    let reduction = reduce(&loaded.model, &loaded.name, &settings).map_err(|e| CliError(format!("{}: {e}", path.display())))?;
-    let seconds = started.elapsed().as_secs_f64();
+    let eigen = EigenSettings { solver: options.solver, memory_limit: crate::limits::memory_limit()?.bytes(), ..Default::default() };
+    let request = ReductionRequest { mode_set, basis: options.basis, mass: options.mass, eigen };
+    let ReducedFeModel { loaded, reduction, seconds } = reduce_fe_model_file(path, &request).map_err(|e| match e {
+        ReduceFileError::NoModeSet { file } => CliError(format!(
+            "{file}: no mode set: give --modes (e.g. 6N, 5S or 4N5S) or `set` in the file's [modes] table"
+        )),
+        other => CliError(other.to_string()),
+    })?;
     let out = options.out.clone().unwrap_or_else(|| PathBuf::from("out").join(format!("{}.json", loaded.name)));
     if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| CliError(format!("cannot create {}: {e}", dir.display())))?;

@@ -44,6 +44,8 @@ pub struct RunOptions {
     pub resume: Option<PathBuf>,
     /// Pause at the first step at or after this time (`--pause-at`), as an interruption.
     pub pause_at: Option<f64>,
+    /// Values replacing those of the model file's `[parameters]` (`--parameter NAME=VALUE`).
+    pub parameters: Vec<(String, f64)>,
     /// Catch SIGINT and SIGTERM once the simulation starts, and end the run there with its files
     /// complete (the program does; tests that call [`run_model`] need not).
     pub catch_signals: bool,
@@ -91,7 +93,7 @@ fn tolerance_span(text: &str) -> Result<ToleranceSpan, CliError> {
 /// calls, in order: [`load_model_with`], [`SimulationDefaults::settings`](flexmb_files::SimulationDefaults::settings),
 /// [`check_model`] (the engine's assembly and velocity analysis), [`record_model_run`].
 pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError> {
-    let loaded = load_model_with(path, &crate::limits::load_options()).map_err(|e| CliError(e.to_string()))?;
+    let loaded = load_model_with(path, &crate::parameters::load_options_with(&options.parameters)).map_err(|e| CliError(e.to_string()))?;
     let model = &loaded.model;
     let mut d = loaded.simulation;
     d.t_end = positive("--t-end", options.t_end.unwrap_or(d.t_end))?;

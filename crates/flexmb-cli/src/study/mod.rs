@@ -45,9 +45,19 @@ pub struct StudyReport {
 
 /// Runs every case of the study at `path` with every integrator, writing each run's CSV and JSON
 /// summary, the table and the plots into `out_dir` (default `out/<study name>`); `t_end` overrides
-/// the study's end time.
-pub fn run_study(path: &Path, out_dir: Option<&Path>, t_end: Option<f64>, quiet: bool) -> Result<StudyReport, CliError> {
+/// the study's end time; `parameters` replace values of the model's `[parameters]` in every case
+/// (a case's own value of the same parameter wins).
+pub fn run_study(
+    path: &Path,
+    out_dir: Option<&Path>,
+    t_end: Option<f64>,
+    parameters: &[(String, f64)],
+    quiet: bool,
+) -> Result<StudyReport, CliError> {
     let mut study = load_study(path).map_err(|e| CliError(e.to_string()))?;
+    for case in &mut study.cases {
+        case.overrides.parameters.splice(0..0, parameters.iter().cloned());
+    }
     if let Some(t) = t_end {
         if !(t > 0.0 && t.is_finite()) {
             return Err(CliError(format!("--t-end must be a positive number, got {t}")));

@@ -18,6 +18,7 @@ mod names;
 pub(crate) mod node_ref;
 mod nodes;
 mod options;
+mod reduce_file;
 mod schema;
 mod sections;
 mod static_loads;
@@ -33,6 +34,7 @@ use crate::model_file::source::{read_text_file, Source};
 use crate::model_file::toml_errors;
 use crate::model_file::ErrorKind;
 pub use crate::model_file::ModelFileError;
+pub use reduce_file::{reduce_fe_model_file, ReduceFileError, ReducedFeModel, ReductionRequest};
 
 use schema::FeModelFile;
 

@@ -4,6 +4,7 @@
 use toml::Spanned;
 
 use super::schema::ModelFile;
+use super::suggest::did_you_mean;
 use super::value::NumberOrExpression;
 
 /// Values that replace those of a model file.
@@ -23,7 +24,8 @@ impl ModelOverrides {
             let section = file.flexible_body.iter_mut().find(|s| s.get_ref().name.get_ref() == body);
             let Some(section) = section else {
                 let names: Vec<&str> = file.flexible_body.iter().map(|s| s.get_ref().name.get_ref().as_str()).collect();
-                return Err(format!("the model has no flexible body '{body}' (it has: {})", list(&names)));
+                let hint = did_you_mean(body, names.iter().copied());
+                return Err(format!("the model has no flexible body '{body}' (it has: {}){hint}", list(&names)));
             };
             let span = section.span();
             let f = section.get_mut();
@@ -33,7 +35,8 @@ impl ModelOverrides {
         for (name, value) in &self.parameters {
             let Some(entry) = file.parameters.iter_mut().find(|(k, _)| k.get_ref() == name) else {
                 let names: Vec<&str> = file.parameters.keys().map(|k| k.get_ref().as_str()).collect();
-                return Err(format!("the model has no parameter '{name}' (it has: {})", list(&names)));
+                let hint = did_you_mean(name, names.iter().copied());
+                return Err(format!("the model has no parameter '{name}' (it has: {}){hint}", list(&names)));
             };
             *entry.1 = Spanned::new(entry.1.span(), NumberOrExpression::Number(*value));
         }
