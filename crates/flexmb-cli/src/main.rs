@@ -245,6 +245,10 @@ enum Command {
         /// End time (s) of every run, instead of the study's or the model's.
         #[arg(long)]
         t_end: Option<f64>,
+        /// Runs at once, each on its own thread (default: the number of cores this process may
+        /// use). The printed lines, the table and the files are the same for any number.
+        #[arg(long, short, value_parser = clap::value_parser!(u32).range(1..))]
+        jobs: Option<u32>,
         /// Print only the table.
         #[arg(long, short)]
         quiet: bool,
@@ -369,11 +373,14 @@ fn main() -> ExitCode {
             let options = SpectrumOptions { file: results, y, from, to, peaks, band, out, y_scale, size: (width, height) };
             run_spectrum(&options).map(|report| print!("{report}"))
         }
-        Command::Study { study, out, t_end, quiet } => flexmb_cli::study::run_study(&study, out.as_deref(), t_end, quiet).map(|report| {
-            if quiet {
-                print!("{}", report.table);
-            }
-        }),
+        Command::Study { study, out, t_end, jobs, quiet } => {
+            let jobs = jobs.map_or_else(flexmb_cli::study::default_jobs, |j| j as usize);
+            flexmb_cli::study::run_study(&study, out.as_deref(), t_end, jobs, quiet).map(|report| {
+                if quiet {
+                    print!("{}", report.table);
+                }
+            })
+        }
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
