@@ -21,4 +21,8 @@ from ._native import (
     load,
 )
 
+# Sweeps: a model's variants on local processes, a Ray cluster or serially (flexmb/sweep.py).
+from .sweep import SweepResult, sweep
+
 __all__ = ["Model", "ModelError", "Results", "Simulation", "SimulationError", "__version__", "load"]
+__all__ += ["SweepResult", "sweep"]
