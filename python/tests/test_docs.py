@@ -10,6 +10,8 @@ from conftest import REPOSITORY
 
 
 def python_blocks(path):
+    # Only blocks fenced ```python run; an example that cannot run here (one that needs a Ray cluster)
+    # is fenced ```py and shown only.
     return re.findall(r"```python\n(.*?)```", path.read_text(), flags=re.S)
 
 
