@@ -1,7 +1,7 @@
 //! `flexmb study STUDY.toml`: one model in several variants (mode sets, parameter values), each run
 //! with several integrators; a table with the seed's columns (type, T_end, CPU, RMS step size) plus
 //! steps and rejected steps, and plots that overlay one output column of every case. The runs go on
-//! `--jobs` threads at once ([`work_queue`]); what is printed and written is the same in any case.
+//! `--jobs` threads at once (`work_queue`); what is printed and written is the same in any case.
 
 mod work_queue;
 
