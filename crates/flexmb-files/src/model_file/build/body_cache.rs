@@ -68,15 +68,22 @@ pub(crate) fn reduced_body(
         .ok();
     let lock_warning = acquired.as_ref().and_then(|a| a.warning.clone());
     let waited = acquired.as_ref().is_some_and(|a| a.waited);
-    let mut obtained = match cached(&file, loaded, fe_path, set, basis).filter(|_| waited) {
-        Some(obtained) => obtained,
-        None => reduce_now(Some((&dir, &prefix, hash)))?,
+    let obtained = match cached(&file, loaded, fe_path, set, basis).filter(|_| waited) {
+        Some(obtained) => Ok(obtained),
+        None => reduce_now(Some((&dir, &prefix, hash))),
     };
     if let Some(acquired) = acquired {
         acquired.lock.release();
     }
-    obtained.warnings.extend(lock_warning);
-    Ok(obtained)
+    if obtained.is_err() {
+        // Nothing was cached: leave no empty cache directory made for the lock (if it is not empty,
+        // or another process is using it, it stays).
+        let _ = std::fs::remove_dir(&dir);
+    }
+    obtained.map(|mut obtained| {
+        obtained.warnings.extend(lock_warning);
+        obtained
+    })
 }
 
 /// The body cached in `file`, if it is there and valid.
