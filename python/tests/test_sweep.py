@@ -161,3 +161,18 @@ def test_results_pickle_to_the_same_values_bit_for_bit(serial):
     again = pickle.loads(pickle.dumps(results))
     assert again.columns == results.columns and again.units == results.units
     assert np.array_equal(again.values, results.values) and again.summary == results.summary
+
+
+def test_workers_that_need_the_same_fe_reduction_share_one_cached_body(models, tmp_path):
+    # The door in a fresh directory: its FE model is not reduced yet when four workers load it at
+    # once; they reduce it once (the cache's lock), and their runs equal the serial ones.
+    for name in ("door.toml", "door_fe.toml"):
+        (tmp_path / name).write_text((models / "door" / name).read_text())
+    door = tmp_path / "door.toml"
+    parallel = flexmb.sweep(door, {"tilt_deg": [1.0, 2.0, 3.0, 4.0]}, t_end=0.05, outputs={"x": "door.node11.position.x"}, workers=4)
+    cache = sorted(p.name for p in (tmp_path / ".flexmb-cache").iterdir())
+    assert len(cache) == 1 and cache[0].startswith("door_fe-4N5S-orthonormal-") and cache[0].endswith(".json"), cache
+    serial = flexmb.sweep(door, {"tilt_deg": [1.0, 2.0, 3.0, 4.0]}, t_end=0.05, outputs={"x": "door.node11.position.x"}, executor="serial")
+    assert parallel.failures == [] and parallel.column("x") == serial.column("x")
+    for a, b in zip(parallel.results, serial.results):
+        assert np.array_equal(a.values, b.values)
