@@ -21,6 +21,9 @@ from ._native import (
     load,
 )
 
+# Sweeps: a model's variants on local processes, a Ray cluster or serially (flexmb/sweep.py).
+from .sweep import SweepResult, sweep
+
 __all__ = ["Model", "ModelError", "Results", "Simulation", "SimulationError", "__version__", "load"]
 
 # Models built in code (flexmb.ModelBuilder, through flexmb.loads) and the preprocessor (flexmb.modes).
@@ -28,3 +31,4 @@ from ._native import FlexibleBody, loads, modes
 from .builder import ModelBuilder
 
 __all__ += ["FlexibleBody", "ModelBuilder", "loads", "modes"]
+__all__ += ["SweepResult", "sweep"]

@@ -1,7 +1,7 @@
 """Type stubs of the flexmb package (its native module, flexmb._native, re-exported)."""
 
 import os
-from typing import Any, Dict, List, Mapping, Optional, Union
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -81,7 +81,8 @@ class Model:
 
 class Results:
     """The outputs of a run: ``time`` and every column as numpy arrays by name (``results["tip.x"]``),
-    the column names and units, the statistics and the summary."""
+    the column names and units, the statistics and the summary. Results pickle (for process pools and
+    Ray) to the same values, bit for bit."""
 
     @property
     def time(self) -> npt.NDArray[np.float64]:
@@ -265,3 +266,46 @@ class FlexibleBody:
     """Wall time of the reduction (s)."""
     def write(self, path: _Path) -> None:
         """Writes the flexible-body file (JSON), as ``flexmb modes --out`` does."""
+# Sweeps (flexmb/sweep.py): a model's variants on local processes, a Ray cluster or serially.
+
+class SweepResult:
+    """What ``sweep`` gathered: ``rows`` (a dict per variant, in variant order), ``table`` (a pandas
+    DataFrame when pandas is installed, else the rows), ``results`` (each variant's ``Results``; for a
+    failed run the rows before the failure, or ``None`` when nothing ran), ``columns`` (the table's
+    column names) and ``wall_time`` (the sweep's wall time, s)."""
+
+    columns: List[str]
+    rows: List[Dict[str, Any]]
+    results: List[Optional[Results]]
+    wall_time: float
+    @property
+    def table(self) -> Any:
+        """The table as a pandas DataFrame if pandas can be imported, else the list of rows."""
+    def column(self, name: str) -> List[Any]:
+        """The values of the table's column ``name``, one per variant; ``KeyError`` otherwise."""
+    @property
+    def failures(self) -> List[int]:
+        """The indices of the variants that failed."""
+    def __len__(self) -> int:
+        """The number of variants."""
+
+def sweep(
+    model: _Path,
+    parameters: Mapping[str, Sequence[float]],
+    integrators: Sequence[str] = ("bdf",),
+    outputs: Union[None, Sequence[str], Mapping[str, Union[str, Tuple[str, str]]]] = None,
+    t_end: Optional[float] = None,
+    rtol: Optional[float] = None,
+    atol: Optional[float] = None,
+    output_step: Optional[float] = None,
+    design: str = "grid",
+    executor: Any = None,
+    workers: Optional[int] = None,
+) -> SweepResult:
+    """Runs the model file in every variant (the ``design`` — ``"grid"``: every combination,
+    ``"zip"``: the k-th values together — of the ``parameters`` × ``integrators``) on local processes
+    (``executor=None``, ``workers`` of them, default the cores), on Ray (``"ray"`` or the ``ray``
+    module, after ``ray.init(address=...)``), serially (``"serial"``) or on a
+    ``concurrent.futures.Executor``; returns the table (variant, parameters, integrator, wall_time,
+    steps, newton_iterations, rejected_steps, the ``outputs`` reduced by final, initial, min, max,
+    max_abs, mean, time_of_min, time_of_max or first_zero, failure) and each run's results."""

@@ -7,9 +7,9 @@ use flexmb::analysis::{output_columns, OutputTable, SimulationReport, Simulation
 use flexmb::Model;
 use flexmb_files::results::{summary_json, RunRequest};
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
-use pyo3::exceptions::{PyImportError, PyKeyError};
+use pyo3::exceptions::{PyImportError, PyKeyError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyBytes, PyDict};
 
 /// The outputs of a run: `time` and every output column as numpy arrays (`results["tip.x"]`), the
 /// column names and units, the run's statistics and its summary.
@@ -132,5 +132,28 @@ impl Results {
 
     fn __repr__(&self) -> String {
         format!("<flexmb.Results: {} rows × {} columns>", self.rows(), self.columns.len())
+    }
+
+    /// Pickling, for process pools (`concurrent.futures`, `multiprocessing`) and Ray, which hand a
+    /// worker's results back: the column names, the units, the values as little-endian bytes (the
+    /// same numbers to the last bit) and the summary.
+    #[allow(clippy::type_complexity)]
+    fn __reduce__<'py>(
+        slf: &Bound<'py, Self>,
+    ) -> PyResult<(Bound<'py, PyAny>, (Vec<String>, Vec<String>, Bound<'py, PyBytes>, String))> {
+        let this = slf.get();
+        let bytes: Vec<u8> = this.values.iter().flat_map(|v| v.to_le_bytes()).collect();
+        let state = (this.columns.clone(), this.units.clone(), PyBytes::new(slf.py(), &bytes), this.summary.clone());
+        Ok((slf.get_type().getattr("_from_state")?, state))
+    }
+
+    /// The results `__reduce__` took apart, put together again.
+    #[staticmethod]
+    fn _from_state(columns: Vec<String>, units: Vec<String>, values: &[u8], summary: String) -> PyResult<Self> {
+        if columns.is_empty() || units.len() != columns.len() || values.len() % (8 * columns.len()) != 0 {
+            return Err(PyValueError::new_err("not the state of a flexmb.Results"));
+        }
+        let values = values.chunks_exact(8).map(|b| f64::from_le_bytes(std::array::from_fn(|i| b[i]))).collect();
+        Ok(Self { columns, units, values, summary })
     }
 }

@@ -11,7 +11,8 @@ from conftest import REPOSITORY
 
 def python_blocks(path, plotting=False):
     """The fenced Python examples of `path`: without those that plot with matplotlib (which the package
-    does not need), or only those with `plotting`."""
+    does not need), or only those with `plotting`. Only blocks fenced ```python run; an example that
+    cannot run here (one that needs a Ray cluster) is fenced ```py and shown only."""
     blocks = re.findall(r"```python\n(.*?)```", path.read_text(), flags=re.S)
     return [b for b in blocks if ("import matplotlib" in b) == plotting]
 

@@ -258,6 +258,10 @@ enum Command {
         /// NAME=VALUE (repeatable); a variant's own value of that parameter wins.
         #[arg(long = "parameter", short = 'p', value_name = "NAME=VALUE", value_parser = parse_parameter)]
         parameter: Vec<(String, f64)>,
+        /// Runs at once, each on its own thread (default: the number of cores this process may
+        /// use). The printed lines, the table and the files are the same for any number.
+        #[arg(long, short, value_parser = clap::value_parser!(u32).range(1..))]
+        jobs: Option<u32>,
         /// Print only the table.
         #[arg(long, short)]
         quiet: bool,
@@ -383,11 +387,14 @@ fn main() -> ExitCode {
             let options = SpectrumOptions { file: results, y, from, to, peaks, band, out, y_scale, size: (width, height) };
             run_spectrum(&options).map(|report| print!("{report}"))
         }
-        Command::Study { study, out, t_end, parameter, quiet } => flexmb_cli::study::run_study(&study, out.as_deref(), t_end, &parameter, quiet).map(|report| {
-            if quiet {
-                print!("{}", report.table);
-            }
-        }),
+        Command::Study { study, out, t_end, parameter, jobs, quiet } => {
+            let jobs = jobs.map_or_else(flexmb_cli::study::default_jobs, |j| j as usize);
+            flexmb_cli::study::run_study(&study, out.as_deref(), t_end, &parameter, jobs, quiet).map(|report| {
+                if quiet {
+                    print!("{}", report.table);
+                }
+            })
+        }
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

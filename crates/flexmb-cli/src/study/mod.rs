@@ -1,6 +1,9 @@
 //! `flexmb study STUDY.toml`: one model in several variants (mode sets, parameter values), each run
 //! with several integrators; a table with the seed's columns (type, T_end, CPU, RMS step size) plus
-//! steps and rejected steps, and plots that overlay one output column of every case.
+//! steps and rejected steps, and plots that overlay one output column of every case. The runs go on
+//! `--jobs` threads at once (`work_queue`); what is printed and written is the same in any case.
+
+mod work_queue;
 
 
 use std::fmt::Write as _;
@@ -16,6 +19,7 @@ use flexmb_files::Restart;
 use crate::run::CliError;
 
 pub use flexmb_files::study_file::{load_study, parse_study, Case, Published, Study};
+pub use work_queue::default_jobs;
 
 /// One run of a study: a case with an integrator.
 #[derive(Clone, Debug)]
@@ -46,12 +50,15 @@ pub struct StudyReport {
 /// Runs every case of the study at `path` with every integrator, writing each run's CSV and JSON
 /// summary, the table and the plots into `out_dir` (default `out/<study name>`); `t_end` overrides
 /// the study's end time; `parameters` replace values of the model's `[parameters]` in every case
-/// (a case's own value of the same parameter wins).
+/// (a case's own value of the same parameter wins). The (case, integrator) runs go on `jobs` threads at once (each loads the
+/// model itself and writes its own files); the lines printed and the table are in the study's order,
+/// as with one job.
 pub fn run_study(
     path: &Path,
     out_dir: Option<&Path>,
     t_end: Option<f64>,
     parameters: &[(String, f64)],
+    jobs: usize,
     quiet: bool,
 ) -> Result<StudyReport, CliError> {
     let mut study = load_study(path).map_err(|e| CliError(e.to_string()))?;
@@ -66,16 +73,16 @@ pub fn run_study(
     }
     let out_dir = out_dir.map(Path::to_path_buf).unwrap_or_else(|| Path::new("out").join(&study.name));
     std::fs::create_dir_all(&out_dir).map_err(|e| CliError(format!("cannot create {}: {e}", out_dir.display())))?;
+    let pairs: Vec<(&Case, &String)> =
+        study.cases.iter().flat_map(|case| study.integrators.iter().map(move |integrator| (case, integrator))).collect();
     let mut runs = Vec::new();
-    for case in &study.cases {
-        for integrator in &study.integrators {
-            let run = run_case(&study, case, integrator, &out_dir)?;
-            if !quiet {
-                println!("{}", run_line(&run));
-            }
-            runs.push(run);
+    let run_pair = |index: usize| run_case(&study, pairs[index].0, pairs[index].1, &out_dir);
+    work_queue::run_in_order(pairs.len(), jobs, run_pair, |run| {
+        if !quiet {
+            println!("{}", run_line(&run));
         }
-    }
+        runs.push(run);
+    })?;
     let table = table(&study, &runs);
     let table_path = out_dir.join("table.md");
     std::fs::write(&table_path, &table).map_err(|e| CliError(format!("cannot write {}: {e}", table_path.display())))?;

@@ -3,7 +3,10 @@
 //! (FNV-1a, 64 bits) covers the bytes of the FE model file and of every file it read (the mesh file and
 //! its includes), the mode set, the basis, the flexible-body format version and the program's version.
 //! A changed input gives another name, so a stale file is never read; it is removed when the new one
-//! is written. A cache that cannot be written only costs the next run a new reduction.
+//! is written. A cache that cannot be written only costs the next run a new reduction. The file is
+//! written to a temporary file and renamed into place, so a reader sees all of it or nothing, and
+//! the reduction is made under a lock ([`ReductionLock`]), so that many processes loading the same
+//! model at once reduce it once.
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -14,6 +17,7 @@ use flexmb_fem::reduction::{reduce, Basis, FlexibleBody, ModeSet, ReductionSetti
 use flexmb_fem::FemError;
 
 use super::flexible_bodies::FlexibleBodyOrigin;
+use super::reduction_lock::{ReductionLock, POLL_EVERY, STALE_AFTER};
 use crate::fe_model_file::LoadedFeModel;
 
 /// The cache directory's name, next to the FE model file.
@@ -28,7 +32,9 @@ pub(crate) struct Obtained {
 }
 
 /// The reduced body of `loaded` (read from `fe_path`) for `set` and `basis`: from the cache if it holds
-/// a valid one, else reduced now (and cached if possible) with at most `memory_limit` bytes.
+/// a valid one, else reduced now (and cached if possible) with at most `memory_limit` bytes. The
+/// reduction is made under the cache's [`ReductionLock`]: processes and threads that need the same
+/// body at the same time wait for the first one's reduction and read it from the cache.
 pub(crate) fn reduced_body(
     loaded: &LoadedFeModel,
     fe_path: &Path,
@@ -39,24 +45,52 @@ pub(crate) fn reduced_body(
     let dir = fe_path.parent().unwrap_or(Path::new("")).join(CACHE_DIR);
     let stem = fe_path.file_stem().and_then(|s| s.to_str()).unwrap_or("fe_model");
     let prefix = format!("{stem}-{set}-{}-", basis_name(basis));
-    let hash = cache_hash(loaded, set, basis);
-    if let Some(hash) = hash {
-        let file = dir.join(format!("{prefix}{hash:016x}.json"));
-        if let Ok(body) = FlexibleBody::read(&file) {
-            if is_valid(&body, loaded, set, basis) {
-                let origin = FlexibleBodyOrigin::Cached { fe_model: fe_path.to_path_buf(), cache: file };
-                return Ok(Obtained { body, origin, warnings: Vec::new() });
-            }
-        }
+    let reduce_now = |cache: Option<(&Path, &str, u64)>| {
+        let started = Instant::now();
+        let eigen = EigenSettings { memory_limit, ..Default::default() };
+        let settings = ReductionSettings { mode_set: set.clone(), basis, eigen };
+        let reduction = reduce(&loaded.model, &loaded.name, &settings)?;
+        let seconds = started.elapsed().as_secs_f64();
+        let cache = cache.and_then(|(dir, prefix, hash)| store(dir, prefix, hash, &reduction.body));
+        let origin = FlexibleBodyOrigin::Reduced { fe_model: fe_path.to_path_buf(), cache, seconds };
+        Ok(Obtained { body: reduction.body, origin, warnings: reduction.warnings })
+    };
+    let Some(hash) = cache_hash(loaded, set, basis) else { return reduce_now(None) };
+    let name = format!("{prefix}{hash:016x}.json");
+    let file = dir.join(&name);
+    if let Some(obtained) = cached(&file, loaded, fe_path, set, basis) {
+        return Ok(obtained);
     }
-    let started = Instant::now();
-    let eigen = EigenSettings { memory_limit, ..Default::default() };
-    let settings = ReductionSettings { mode_set: set.clone(), basis, eigen };
-    let reduction = reduce(&loaded.model, &loaded.name, &settings)?;
-    let seconds = started.elapsed().as_secs_f64();
-    let cache = hash.and_then(|hash| store(&dir, &prefix, hash, &reduction.body));
-    let origin = FlexibleBodyOrigin::Reduced { fe_model: fe_path.to_path_buf(), cache, seconds };
-    Ok(Obtained { body: reduction.body, origin, warnings: reduction.warnings })
+    // A directory where the lock cannot be created cannot hold the cache either: reduce without it.
+    let lock_path = dir.join(format!(".{name}.lock"));
+    let acquired = std::fs::create_dir_all(&dir)
+        .and_then(|()| ReductionLock::acquire(&lock_path, STALE_AFTER, POLL_EVERY))
+        .ok();
+    let lock_warning = acquired.as_ref().and_then(|a| a.warning.clone());
+    let waited = acquired.as_ref().is_some_and(|a| a.waited);
+    let obtained = match cached(&file, loaded, fe_path, set, basis).filter(|_| waited) {
+        Some(obtained) => Ok(obtained),
+        None => reduce_now(Some((&dir, &prefix, hash))),
+    };
+    if let Some(acquired) = acquired {
+        acquired.lock.release();
+    }
+    if obtained.is_err() {
+        // Nothing was cached: leave no empty cache directory made for the lock (if it is not empty,
+        // or another process is using it, it stays).
+        let _ = std::fs::remove_dir(&dir);
+    }
+    obtained.map(|mut obtained| {
+        obtained.warnings.extend(lock_warning);
+        obtained
+    })
+}
+
+/// The body cached in `file`, if it is there and valid.
+fn cached(file: &Path, loaded: &LoadedFeModel, fe_path: &Path, set: &ModeSet, basis: Basis) -> Option<Obtained> {
+    let body = FlexibleBody::read(file).ok().filter(|body| is_valid(body, loaded, set, basis))?;
+    let origin = FlexibleBodyOrigin::Cached { fe_model: fe_path.to_path_buf(), cache: file.to_path_buf() };
+    Some(Obtained { body, origin, warnings: Vec::new() })
 }
 
 /// `raw` or `orthonormal`, as in files.

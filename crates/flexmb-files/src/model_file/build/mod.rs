@@ -17,6 +17,7 @@ pub(crate) mod names;
 mod nodes;
 mod orientation;
 mod outputs;
+pub(crate) mod reduction_lock;
 mod shapes;
 mod simulation;
 
