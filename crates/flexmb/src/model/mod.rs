@@ -4,6 +4,7 @@
 mod builder;
 #[cfg(test)]
 mod builder_tests;
+mod coordinate_names;
 mod coupling;
 mod error;
 mod flexible_checks;
