@@ -63,20 +63,18 @@ pub fn start_error(py: Python<'_>, file: &str, error: flexmb::analysis::Simulati
 }
 
 /// A force law calling `law(t, measures)` with the measures as a numpy array.
-fn force_law(name: &str, law: Py<PyAny>) -> Arc<flexmb::function::ForceLaw> {
-    let name = name.to_string();
+fn force_law(law: Py<PyAny>) -> Arc<flexmb::function::ForceLaw> {
     Arc::new(move |t, measures: &[f64]| {
         Python::attach(|py| {
             let values = PyArray1::from_slice(py, measures);
             let value = law.call1(py, (t, values)).and_then(|v| v.extract::<f64>(py));
-            value.map_err(|e| keep(py, e)).map_err(|m| format!("{m} (in the Python law `{name}`)"))
+            value.map_err(|e| keep(py, e))
         })
     })
 }
 
 /// A driver's motion calling `law(t)` for `(f, f', f'')`.
-fn motion_law(name: &str, law: Py<PyAny>) -> Arc<flexmb::function::MotionLaw> {
-    let name = name.to_string();
+fn motion_law(law: Py<PyAny>) -> Arc<flexmb::function::MotionLaw> {
     Arc::new(move |t| {
         Python::attach(|py| {
             let value = law.call1(py, (t,)).and_then(|v| {
@@ -87,7 +85,7 @@ fn motion_law(name: &str, law: Py<PyAny>) -> Arc<flexmb::function::MotionLaw> {
                     ))
                 })
             });
-            value.map(|(f, df, ddf)| [f, df, ddf]).map_err(|e| keep(py, e)).map_err(|m| format!("{m} (in the Python law `{name}`)"))
+            value.map(|(f, df, ddf)| [f, df, ddf]).map_err(|e| keep(py, e))
         })
     })
 }
@@ -107,7 +105,7 @@ pub fn with_law(model: &Model, name: &str, law: Py<PyAny>, measures: &[String], 
             Some("z") => Some(2),
             Some(other) => return Err(fail(&format!("component must be \"x\", \"y\" or \"z\", got {other:?}"))),
         };
-        let law = UserFunction::new(name, ids, force_law(name, law)).map_err(|e| fail(&e))?;
+        let law = UserFunction::new(name, ids, force_law(law)).map_err(|e| fail(&e))?;
         engine.set_force_law(name, component, law).map_err(|e| fail(&e))?;
     } else {
         if !measures.is_empty() || component.is_some() {
@@ -117,7 +115,7 @@ pub fn with_law(model: &Model, name: &str, law: Py<PyAny>, measures: &[String], 
                 forces.join(", ")
             )));
         }
-        engine.set_driver_motion(name, UserMotion::new(name, motion_law(name, law))).map_err(|e| {
+        engine.set_driver_motion(name, UserMotion::new(name, motion_law(law))).map_err(|e| {
             let forces: Vec<&str> = engine.forces().iter().map(|f| f.name.as_str()).collect();
             fail(&format!("{e}; force elements: {}", forces.join(", ")))
         })?;

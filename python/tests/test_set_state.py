@@ -47,7 +47,7 @@ def test_the_motion_after_a_state_set_mid_run_is_that_of_a_run_started_there(pen
     simulation = pendulum.simulation(t_end=10.0, rtol=1e-10, atol=1e-10)
     t_s = simulation.advance_to(0.73)
     change = simulation.set_state(positions=q0, velocities=v0)
-    assert change["assembly_iterations"] == 0 and change["energy_change"] == pytest.approx(0.0, abs=1e-12)
+    assert change["assembly_iterations"] == 0 and change["energy_change"] == pytest.approx(0.0, abs=1e-6)
     simulation.advance_to(t_s + span)
     later = simulation.time - t_s
     assert later >= span
