@@ -1,7 +1,7 @@
 """Type stubs of the flexmb package (its native module, flexmb._native, re-exported)."""
 
 import os
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -78,6 +78,23 @@ class Model:
         spectral_radius: Optional[float] = None,
     ) -> "Simulation":
         """A ``Simulation`` that steps on request, with the arguments of ``simulate``."""
+    def with_law(
+        self,
+        name: str,
+        law: Union[Callable[[float, npt.NDArray[np.float64]], float], Callable[[float], Tuple[float, float, float]]],
+        measures: Sequence[str] = (),
+        component: Optional[str] = None,
+    ) -> "Model":
+        """A copy of the model whose force element or driver ``name`` takes its law from the Python
+        callable ``law`` (Python in the loop). A force element's law is ``law(t, measures) -> float``,
+        ``measures`` a numpy array of the values of the measures named in ``measures``, in that order:
+        the actuator of a spring-damper, or the ``component`` (``"x"``, ``"y"``, ``"z"``) of an applied
+        force or torque. A driver's law is ``law(t) -> (f, f', f'')``, the motion with its first two
+        time derivatives. An exception in the law stops the run with ``SimulationError``, the exception
+        its ``__cause__``. Raises ``ModelError`` for an unknown element, driver or measure."""
+    @property
+    def laws(self) -> List[str]:
+        """The names of the laws given as Python callables (``with_law``), force elements then drivers."""
 
 class Results:
     """The outputs of a run: ``time`` and every column as numpy arrays by name (``results["tip.x"]``),
@@ -266,6 +283,7 @@ class FlexibleBody:
     """Wall time of the reduction (s)."""
     def write(self, path: _Path) -> None:
         """Writes the flexible-body file (JSON), as ``flexmb modes --out`` does."""
+
 # Sweeps (flexmb/sweep.py): a model's variants on local processes, a Ray cluster or serially.
 
 class SweepResult:
@@ -309,3 +327,19 @@ def sweep(
     ``concurrent.futures.Executor``; returns the table (variant, parameters, integrator, wall_time,
     steps, newton_iterations, rejected_steps, the ``outputs`` reduced by final, initial, min, max,
     max_abs, mean, time_of_min, time_of_max or first_zero, failure) and each run's results."""
+    def set_state(
+        self,
+        positions: Optional[npt.ArrayLike] = None,
+        velocities: Optional[npt.ArrayLike] = None,
+    ) -> Dict[str, float]:
+        """Replaces the positions and/or velocities (``None`` keeps them) at the current time: the
+        positions moved onto the constraints by the assembly's Newton iteration, the velocities projected
+        onto the velocity constraints (both the least change), the integrator restarted there (order 1,
+        a new first step). Returns ``assembly_iterations``, ``position_change``, ``velocity_change``,
+        ``position_residual``, ``velocity_residual`` and ``energy_change``. Raises ``ValueError`` for a
+        wrong length (naming the expected one) or a value that is not finite."""
+    @property
+    def coordinate_names(self) -> Dict[str, List[str]]:
+        """``{"positions": [...], "velocities": [...]}``: a name for each entry of ``positions``
+        (``<body>.R.x``, ``<body>.p.0``, ``<body>.a.1``) and of ``velocities`` (``<body>.Rdot.x``,
+        ``<body>.omega.x`` in body axes, ``<body>.adot.1``)."""

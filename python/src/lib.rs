@@ -2,6 +2,7 @@
 //! `flexmb` program makes (`flexmb_files::load_model_with`, `flexmb::analysis::check_model`,
 //! `flexmb::analysis::Simulation`, the restart files), with numpy arrays for results.
 
+mod callable_law;
 mod errors;
 mod interrupt;
 mod model;
@@ -11,6 +12,7 @@ mod results;
 mod run;
 mod settings;
 mod simulation;
+mod state_setting;
 
 use pyo3::prelude::*;
 

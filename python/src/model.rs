@@ -177,6 +177,23 @@ impl Model {
         Simulation::start(py, self, arguments.settings(&self.loaded, &self.file)?)
     }
 
+    /// A copy of the model whose force element or driver `name` takes its law from the Python
+    /// callable `law` (Python in the loop). A force element's law is `law(t, measures) -> float`,
+    /// `measures` a numpy array of the values of the measures named in `measures`, in that order: the
+    /// actuator of a spring-damper, or the `component` ("x", "y", "z") of an applied force or torque. A
+    /// driver's law is `law(t) -> (f, f', f'')`, the motion with its first two time derivatives. An
+    /// exception in the law stops the run with `SimulationError` (the exception its `__cause__`).
+    #[pyo3(signature = (name, law, measures = Vec::new(), component = None))]
+    fn with_law(&self, name: &str, law: Py<PyAny>, measures: Vec<String>, component: Option<String>) -> PyResult<Model> {
+        crate::callable_law::with_law(self, name, law, &measures, component.as_deref())
+    }
+
+    /// The names of the laws given as Python callables (`with_law`), force elements then drivers.
+    #[getter]
+    fn laws(&self) -> Vec<String> {
+        self.loaded.model.user_laws().into_iter().map(str::to_string).collect()
+    }
+
     fn __repr__(&self) -> String {
         format!("<flexmb.Model '{}' from {}>", self.loaded.model.name(), self.file)
     }

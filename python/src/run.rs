@@ -6,7 +6,7 @@ use std::sync::Arc;
 use flexmb::analysis::{OutputTable, Simulation as Engine, SimulationFailure, SimulationSettings};
 use pyo3::prelude::*;
 
-use crate::errors::{model_error, SimulationError};
+use crate::errors::SimulationError;
 use crate::interrupt::SignalWatch;
 use crate::model::Model;
 use crate::results::Results;
@@ -14,7 +14,7 @@ use crate::results::Results;
 /// Runs `model` with `settings` to its end time.
 pub fn simulate(py: Python<'_>, model: &Model, settings: &SimulationSettings) -> PyResult<Results> {
     let engine = Arc::clone(&model.loaded.model);
-    let mut simulation = py.detach(|| Engine::new(engine, *settings)).map_err(|e| model_error(format!("{}: {e}", model.file)))?;
+    let mut simulation = py.detach(|| Engine::new(engine, *settings)).map_err(|e| crate::callable_law::start_error(py, &model.file, e))?;
     let mut table = OutputTable::new(&model.loaded.model);
     let (run, raised) = py.detach(|| {
         let watch = SignalWatch::new();
@@ -42,6 +42,7 @@ pub fn finish(
         (None, Some(error)) => SimulationError::new_err(format!("{file}: simulation failed: {error}")),
         (None, None) => return Ok(results),
     };
+    crate::callable_law::chain_cause(py, &failure, run.as_ref().err());
     failure.value(py).setattr("results", Py::new(py, results)?)?;
     Err(failure)
 }

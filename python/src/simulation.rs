@@ -37,7 +37,7 @@ impl Simulation {
     /// A simulation of `model` with `settings`, assembled now.
     pub fn start(py: Python<'_>, model: &Model, settings: flexmb::analysis::SimulationSettings) -> PyResult<Self> {
         let engine = Arc::clone(&model.loaded.model);
-        let engine = py.detach(|| Engine::new(engine, settings)).map_err(|e| model_error(format!("{}: {e}", model.file)))?;
+        let engine = py.detach(|| Engine::new(engine, settings)).map_err(|e| crate::callable_law::start_error(py, &model.file, e))?;
         Ok(Self::holding(model, engine))
     }
 
@@ -147,6 +147,31 @@ impl Simulation {
         let mut stepping = self.stepping()?;
         let checkpoint = stepping.engine.checkpoint().map_err(|e| SimulationError::new_err(format!("{}: {e}", self.file)))?;
         save_checkpoint(&path, &checkpoint).map_err(|e| PyOSError::new_err(e.0))
+    }
+
+    /// Replaces the positions and/or velocities (numpy arrays of the lengths of `positions` and
+    /// `velocities`; `None` keeps them) at the current time. The positions are moved onto the
+    /// constraints by the assembly's Newton iteration, the velocities projected onto the velocity
+    /// constraints (both the least change), and the integrator restarts there (order 1, a new first
+    /// step). Returns what the projection changed: `assembly_iterations`, `position_change`,
+    /// `velocity_change` (largest changes), `position_residual`, `velocity_residual`, `energy_change`.
+    /// Raises `ValueError` for a wrong length or a value that is not finite.
+    #[pyo3(signature = (positions = None, velocities = None))]
+    fn set_state<'py>(
+        &self,
+        py: Python<'py>,
+        positions: Option<Vec<f64>>,
+        velocities: Option<Vec<f64>>,
+    ) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+        crate::state_setting::set_state(py, &mut self.stepping()?.engine, positions, velocities)
+    }
+
+    /// The names of the coordinates: `{"positions": [...], "velocities": [...]}`, one per entry of
+    /// `positions` and `velocities` (`<body>.R.x`, `<body>.p.0`, `<body>.a.1`; `<body>.Rdot.x`,
+    /// `<body>.omega.x` in body axes, `<body>.adot.1`).
+    #[getter]
+    fn coordinate_names<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+        crate::state_setting::coordinate_names(py, &self.stepping()?.engine)
     }
 
     fn __repr__(&self) -> PyResult<String> {

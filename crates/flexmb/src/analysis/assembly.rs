@@ -223,6 +223,20 @@ pub fn assemble(
     })
 }
 
+/// Moves `state.q` onto the constraints in force (the rows of `state.active`, which stay) by the
+/// assembly's Newton iteration, the minimum-norm correction; returns its iterations. Fails as
+/// [`assemble`] does when it does not converge or a row cannot hold.
+pub(crate) fn project_positions(model: &Model, data: &mut Data, state: &mut State, settings: AssemblySettings) -> Result<usize, AssemblyError> {
+    check_state(model, data, state)?;
+    let iterations = newton(model, data, state, settings)?;
+    let violated = violated_rows(model, data, &state.active, false, settings.tolerance);
+    if !violated.is_empty() {
+        let dependency = dependency_of(model, data, &state.active, &violated[0]);
+        return Err(AssemblyError::SingularPosition { t: state.t, level: "position", violated, dependency });
+    }
+    Ok(iterations)
+}
+
 /// Fails on the first constraint equation whose value or time derivative is not finite (after
 /// `constraint_equations` at `t`).
 pub(crate) fn check_finite(model: &Model, data: &Data, t: f64) -> Result<(), AssemblyError> {

@@ -43,43 +43,8 @@ pub fn velocity_analysis(model: &Model, data: &mut Data, state: &mut State) -> R
         weight[vo + 6..vo + 6 + m].fill(GIVEN_WEIGHT);
     }
     let v0 = state.v.clone();
-    let rows: Vec<usize> = (0..l.nc).filter(|r| state.active[*r]).collect();
-    let mut row_of = vec![usize::MAX; l.nc];
-    rows.iter().enumerate().for_each(|(k, r)| row_of[*r] = k);
-    run_kinematic_stages(model, data, state.t, &state.q, &state.v);
-    super::assembly::check_finite(model, data, state.t)?;
-    let mut entries = Vec::new();
-    jacobian_entries(model, data, |r, c, x| {
-        if row_of[r] != usize::MAX {
-            entries.push((row_of[r], c, x));
-        }
-    });
-    let b = SparseRows::from_entries(rows.len(), l.nv, entries);
-    // r = ν − B v₀ = −(B v₀ + Φ_t); Δv = W⁻¹ Bᵀ z with (B W⁻¹ Bᵀ) z = r.
-    let mut z: Vec<f64> = rows
-        .iter()
-        .map(|&r| {
-            let (j, _) = l.equations[r];
-            let joint = &model.joints[j.0];
-            -data.equations[r].rate(&data.markers[joint.marker_i.0], &data.markers[joint.marker_j.0])
-        })
-        .collect();
-    let mut dv = vec![0.0; l.nv];
-    if solve_normal_equations(&b, Some(&weight), &mut z).is_ok() {
-        b.multiply_transposed(&z, &mut dv);
-        dv.iter_mut().zip(&weight).for_each(|(x, w)| *x /= w);
-    } else {
-        dv.fill(f64::NAN);
-    }
-    for k in 0..l.nv {
-        state.v[k] += dv[k];
-    }
-    if !state.v.iter().all(|x| x.is_finite()) {
-        state.v = v0;
-        let dependent = newly_dependent_rows(model, data, state.t, &state.q, &state.active).map(|n| format!("; {n}")).unwrap_or_default();
-        return Err(AssemblyError::Singular { what: "velocity analysis", dependent });
-    }
-    let mut report = VelocityReport::default();
+    let residual = project_velocities(model, data, state, &weight)?;
+    let mut report = VelocityReport { residual, ..Default::default() };
     for (bi, body) in model.bodies.iter().enumerate() {
         let vo = l.v_offset[bi];
         let changed = |range: std::ops::Range<usize>| {
@@ -102,8 +67,54 @@ pub fn velocity_analysis(model: &Model, data: &mut Data, state: &mut State) -> R
             ));
         }
     }
+    Ok(report)
+}
+
+/// Makes `state.v` consistent with the velocity constraints at `state.q` (already assembled), the
+/// correction of least `½ Δvᵀ W Δv` for the diagonal weights `weight`; returns the largest `|B v − ν|`
+/// after it. Fails when the constraint Jacobian is singular, or a row switched off as redundant cannot
+/// hold.
+pub(crate) fn project_velocities(model: &Model, data: &mut Data, state: &mut State, weight: &[f64]) -> Result<f64, AssemblyError> {
+    let l = &model.layout;
+    let v0 = state.v.clone();
+    let rows: Vec<usize> = (0..l.nc).filter(|r| state.active[*r]).collect();
+    let mut row_of = vec![usize::MAX; l.nc];
+    rows.iter().enumerate().for_each(|(k, r)| row_of[*r] = k);
     run_kinematic_stages(model, data, state.t, &state.q, &state.v);
-    report.residual = rows
+    super::assembly::check_finite(model, data, state.t)?;
+    let mut entries = Vec::new();
+    jacobian_entries(model, data, |r, c, x| {
+        if row_of[r] != usize::MAX {
+            entries.push((row_of[r], c, x));
+        }
+    });
+    let b = SparseRows::from_entries(rows.len(), l.nv, entries);
+    // r = ν − B v₀ = −(B v₀ + Φ_t); Δv = W⁻¹ Bᵀ z with (B W⁻¹ Bᵀ) z = r.
+    let mut z: Vec<f64> = rows
+        .iter()
+        .map(|&r| {
+            let (j, _) = l.equations[r];
+            let joint = &model.joints[j.0];
+            -data.equations[r].rate(&data.markers[joint.marker_i.0], &data.markers[joint.marker_j.0])
+        })
+        .collect();
+    let mut dv = vec![0.0; l.nv];
+    if solve_normal_equations(&b, Some(weight), &mut z).is_ok() {
+        b.multiply_transposed(&z, &mut dv);
+        dv.iter_mut().zip(weight).for_each(|(x, w)| *x /= w);
+    } else {
+        dv.fill(f64::NAN);
+    }
+    for k in 0..l.nv {
+        state.v[k] += dv[k];
+    }
+    if !state.v.iter().all(|x| x.is_finite()) {
+        state.v = v0;
+        let dependent = newly_dependent_rows(model, data, state.t, &state.q, &state.active).map(|n| format!("; {n}")).unwrap_or_default();
+        return Err(AssemblyError::Singular { what: "velocity analysis", dependent });
+    }
+    run_kinematic_stages(model, data, state.t, &state.q, &state.v);
+    let residual = rows
         .iter()
         .map(|r| {
             let (j, _) = l.equations[*r];
@@ -117,5 +128,5 @@ pub fn velocity_analysis(model: &Model, data: &mut Data, state: &mut State) -> R
         let dependency = dependency_of(model, data, &state.active, &violated[0]);
         return Err(AssemblyError::SingularPosition { t: state.t, level: "velocity", violated, dependency });
     }
-    Ok(report)
+    Ok(residual)
 }

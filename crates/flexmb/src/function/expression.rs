@@ -3,6 +3,7 @@
 
 use exmex::prelude::*;
 
+use super::UserFunction;
 use crate::model::MeasureId;
 
 /// Most variables one expression may name; their values are passed on the stack.
@@ -64,14 +65,17 @@ pub enum ExpressionError {
     },
 }
 
-/// A parsed expression with its variables bound to time and measures.
+/// A parsed expression with its variables bound to time and measures, or a law given as code
+/// ([`Expression::user`]).
 #[derive(Clone, Debug)]
 pub struct Expression {
     source: String,
-    /// `None` for a constant made by [`Expression::constant`].
+    /// `None` for a constant made by [`Expression::constant`] or a user law.
     flat: Option<FlatEx<f64>>,
     constant: f64,
     variables: Vec<Variable>,
+    /// The law of [`Expression::user`], evaluated in place of `flat`.
+    user: Option<UserFunction>,
 }
 
 impl Expression {
@@ -91,7 +95,29 @@ impl Expression {
 
     /// A constant expression.
     pub fn constant(value: f64) -> Self {
-        Self { source: format!("{value:?}"), flat: None, constant: value, variables: Vec::new() }
+        Self { source: format!("{value:?}"), flat: None, constant: value, variables: Vec::new(), user: None }
+    }
+
+    /// A constant that `source` names in messages.
+    pub(crate) fn named_constant(source: String, value: f64) -> Self {
+        Self { source, ..Self::constant(value) }
+    }
+
+    /// A law given as code, read wherever an expression is (a force element's actuator or
+    /// components); its [`source`](Self::source) is ``user law `name` ``.
+    pub fn user(law: UserFunction) -> Self {
+        Self {
+            source: format!("user law `{}`", law.name()),
+            flat: None,
+            constant: f64::NAN,
+            variables: law.measures().iter().map(|m| Variable::Measure(*m)).collect(),
+            user: Some(law),
+        }
+    }
+
+    /// The law given as code, for an expression made by [`Expression::user`].
+    pub fn user_function(&self) -> Option<&UserFunction> {
+        self.user.as_ref()
     }
 
     fn bind(
@@ -126,7 +152,7 @@ impl Expression {
             };
             variables.push(v);
         }
-        Ok(Self { source: source.to_string(), flat: Some(flat), constant: 0.0, variables })
+        Ok(Self { source: source.to_string(), flat: Some(flat), constant: 0.0, variables, user: None })
     }
 
     /// The text the expression was parsed from.
@@ -150,6 +176,9 @@ impl Expression {
     /// Evaluates at time `t` with the current measure values; NaN if evaluation fails.
     #[inline]
     pub fn eval(&self, t: f64, measures: &[f64]) -> f64 {
+        if let Some(user) = &self.user {
+            return user.eval(t, measures);
+        }
         let Some(flat) = &self.flat else {
             return self.constant;
         };
@@ -165,6 +194,12 @@ impl Expression {
 
     /// `d/dt` of an expression of time only (symbolic, by `exmex`).
     pub(crate) fn time_derivative(&self) -> Result<Self, ExpressionError> {
+        if self.user.is_some() {
+            return Err(ExpressionError::NotDifferentiable {
+                source_text: self.source.clone(),
+                message: "a law given as code is not differentiated: give a motion with its derivatives".into(),
+            });
+        }
         let Some(flat) = &self.flat else {
             return Ok(Self::constant(0.0));
         };
@@ -176,7 +211,7 @@ impl Expression {
                     message: e.to_string(),
                 })?;
                 let text = d.to_string();
-                Ok(Self { source: text, flat: Some(d), constant: 0.0, variables: self.variables.clone() })
+                Ok(Self { source: text, flat: Some(d), constant: 0.0, variables: self.variables.clone(), user: None })
             }
             _ => Err(ExpressionError::NotTimeOnly {
                 source_text: self.source.clone(),

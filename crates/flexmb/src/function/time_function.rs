@@ -1,13 +1,16 @@
 //! A function of time with its first two derivatives, for drivers (`Φ = θ − f(t)`, `ν = f'`, `γ ∋ f''`).
 
-use super::{Expression, ExpressionError};
+use super::{Expression, ExpressionError, UserMotion};
 
-/// `f(t)`, `f'(t)`, `f''(t)`, differentiated symbolically once when the model is built.
+/// `f(t)`, `f'(t)`, `f''(t)`: an expression differentiated symbolically once when the model is built,
+/// or a motion given as code with its own derivatives ([`TimeFunction::user`]).
 #[derive(Clone, Debug)]
 pub struct TimeFunction {
     f: Expression,
     df: Expression,
     ddf: Expression,
+    /// The motion of [`TimeFunction::user`], evaluated in place of the expressions.
+    user: Option<UserMotion>,
 }
 
 impl TimeFunction {
@@ -21,7 +24,18 @@ impl TimeFunction {
     pub fn new(f: Expression) -> Result<Self, ExpressionError> {
         let df = f.time_derivative()?;
         let ddf = df.time_derivative()?;
-        Ok(Self { f, df, ddf })
+        Ok(Self { f, df, ddf, user: None })
+    }
+
+    /// A motion given as code; its [`source`](Self::source) is ``user motion `name` ``.
+    pub fn user(motion: UserMotion) -> Self {
+        let f = Expression::named_constant(format!("user motion `{}`", motion.name()), f64::NAN);
+        Self { f: f.clone(), df: f.clone(), ddf: f, user: Some(motion) }
+    }
+
+    /// The motion given as code, for a function made by [`TimeFunction::user`].
+    pub fn user_motion(&self) -> Option<&UserMotion> {
+        self.user.as_ref()
     }
 
     /// The source text.
@@ -32,6 +46,9 @@ impl TimeFunction {
     /// `[f(t), f'(t), f''(t)]`.
     #[inline]
     pub fn eval(&self, t: f64) -> [f64; 3] {
+        if let Some(motion) = &self.user {
+            return motion.eval(t);
+        }
         [self.f.eval(t, &[]), self.df.eval(t, &[]), self.ddf.eval(t, &[])]
     }
 }

@@ -38,6 +38,25 @@ impl Stats {
         self.error_test_failures + self.newton_failures
     }
 
+    /// The counters of two integrations one after the other (a run whose integrator was restarted).
+    pub fn followed_by(&self, later: &Stats) -> Stats {
+        let mut order_counts = self.order_counts;
+        order_counts.iter_mut().zip(&later.order_counts).for_each(|(a, b)| *a += b);
+        Stats {
+            steps: self.steps + later.steps,
+            error_test_failures: self.error_test_failures + later.error_test_failures,
+            newton_failures: self.newton_failures + later.newton_failures,
+            newton_iterations: self.newton_iterations + later.newton_iterations,
+            residual_evaluations: self.residual_evaluations + later.residual_evaluations,
+            jacobian_evaluations: self.jacobian_evaluations + later.jacobian_evaluations,
+            factorizations: self.factorizations + later.factorizations,
+            order_counts,
+            sum_h_squared: self.sum_h_squared + later.sum_h_squared,
+            rounding_floor_steps: self.rounding_floor_steps + later.rounding_floor_steps,
+            rounding_floor: self.rounding_floor.max(later.rounding_floor),
+        }
+    }
+
     /// Root-mean-square accepted step size (s), the seed's "RMS integration stepsize".
     pub fn rms_step(&self) -> f64 {
         if self.steps == 0 {

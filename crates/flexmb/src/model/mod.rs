@@ -4,6 +4,7 @@
 mod builder;
 #[cfg(test)]
 mod builder_tests;
+mod coordinate_names;
 mod coupling;
 mod error;
 mod flexible_checks;
@@ -13,6 +14,7 @@ mod output;
 mod references;
 mod rigid_checks;
 mod size_mismatch;
+mod user_laws;
 
 pub use builder::ModelBuilder;
 pub(crate) use coupling::Coupling;
@@ -21,6 +23,7 @@ pub use ids::{BodyId, BodyRef, ForceId, JointId, MarkerId, MeasureId, ParameterI
 pub use layout::Layout;
 pub use output::OutputKind;
 pub use size_mismatch::SizeMismatch;
+pub use user_laws::UserLawError;
 pub(crate) use size_mismatch::SizeCheck;
 
 use crate::body::{Marker, ModalBody, RigidBody};

@@ -43,4 +43,11 @@ pub struct SimulationCheckpoint {
     pub output_step: f64,
     /// Whether the output at the end time (off the grid) was reported.
     pub end_reported: bool,
+    /// The names of the model's laws given as code ([`Model::user_laws`](crate::Model::user_laws)):
+    /// they are not in the checkpoint, and the model it resumes must have the same.
+    #[serde(default)]
+    pub user_laws: Vec<String>,
+    /// The counters of the integrators a [`set_state`](super::Simulation::set_state) replaced.
+    #[serde(default)]
+    pub restarted_stats: crate::integrate::Stats,
 }

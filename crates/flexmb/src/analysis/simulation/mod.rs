@@ -9,6 +9,7 @@
 mod checkpoint;
 mod output;
 mod report;
+mod set_state;
 mod settings;
 
 use std::sync::Arc;
@@ -17,6 +18,7 @@ use std::time::Instant;
 pub use checkpoint::{SimulationCheckpoint, CHECKPOINT_VERSION};
 pub use output::{OutputFrame, OutputSink, OutputTable};
 pub use report::{Interruption, SimulationError, SimulationFailure, SimulationReport, WorkAtStep};
+pub use set_state::StateProjection;
 pub use settings::SimulationSettings;
 
 use super::outputs::{constraint_residuals, evaluate_outputs, output_columns};
@@ -101,6 +103,11 @@ pub struct Simulation {
     v: Vec<f64>,
     /// Whether a joint of the model is a driver (whose power needs the multipliers).
     has_drivers: bool,
+    /// Whether the model has laws given as code, whose failures stop the run.
+    has_user_laws: bool,
+    /// The counters of the integrators [`set_state`](Self::set_state) replaced (added to the
+    /// current integrator's in the report).
+    restarted_stats: crate::integrate::Stats,
 }
 
 impl Simulation {
@@ -109,9 +116,10 @@ impl Simulation {
     /// by the first call of [`step`](Self::step) or [`advance_to`](Self::advance_to).
     pub fn new(model: Arc<Model>, settings: SimulationSettings) -> Result<Self, SimulationError> {
         let mut report = SimulationReport::default();
-        match Self::start(model, settings, &mut report) {
+        model.clear_user_law_failures();
+        match Self::start(Arc::clone(&model), settings, &mut report) {
             Ok(simulation) => Ok(simulation),
-            Err(cause) => Err(SimulationError { cause, report: Box::new(report) }),
+            Err(cause) => Err(SimulationError { cause: user_law_failure(&model).unwrap_or(cause), report: Box::new(report) }),
         }
     }
 
@@ -157,6 +165,8 @@ impl Simulation {
             failed: false,
             parameters: model.parameters.iter().map(|p| p.value).collect(),
             has_drivers: model.joints.iter().any(|j| j.kind.is_driver()),
+            has_user_laws: !model.user_laws().is_empty(),
+            restarted_stats: crate::integrate::Stats::default(),
             model,
         }
     }
@@ -177,6 +187,16 @@ impl Simulation {
                 checkpoint.version
             ))));
         }
+        let laws: Vec<String> = model.user_laws().into_iter().map(str::to_string).collect();
+        if checkpoint.user_laws != laws {
+            return Err(fail(SimulationFailure::Invalid(format!(
+                "the checkpoint was taken of a run with the laws given as code [{}], the model given has [{}]: \
+                 give the model the same laws before resuming (they are code, not in the checkpoint)",
+                checkpoint.user_laws.join(", "),
+                laws.join(", ")
+            ))));
+        }
+        model.clear_user_law_failures();
         let l = &model.layout;
         for (what, expected, found) in [
             ("the positions", l.nq, checkpoint.q.len()),
@@ -218,6 +238,7 @@ impl Simulation {
             k + 1
         };
         simulation.end_reported = checkpoint.end_reported;
+        simulation.restarted_stats = checkpoint.restarted_stats;
         Ok(simulation)
     }
 
@@ -242,6 +263,8 @@ impl Simulation {
             next_output: self.next_output,
             output_step: self.settings.output_step,
             end_reported: self.end_reported,
+            user_laws: self.model.user_laws().into_iter().map(str::to_string).collect(),
+            restarted_stats: self.restarted_stats,
         })
     }
 
@@ -347,9 +370,10 @@ impl Simulation {
         Ok(linearize_at(&self.model, self.integrator.data_mut(), &state, &acc))
     }
 
-    /// The integrator's counters so far.
+    /// The integrator's counters so far (with those of the integrators a
+    /// [`set_state`](Self::set_state) replaced).
     pub fn stats(&self) -> &crate::integrate::Stats {
-        self.integrator.stats()
+        &self.report.stats
     }
 
     /// The report so far.
@@ -425,7 +449,10 @@ impl Simulation {
         self.usable()?;
         let start = Instant::now();
         let wall_time = self.report.wall_time;
-        let result = f(self);
+        let mut result = f(self);
+        if let Some(failure) = self.has_user_laws.then(|| user_law_failure(&self.model)).flatten() {
+            result = Err(failure);
+        }
         self.report.wall_time = wall_time + start.elapsed().as_secs_f64();
         self.failed = result.is_err();
         result
@@ -451,12 +478,15 @@ impl Simulation {
         }
         let step = self.integrator.step(self.settings.t_end);
         let rounding_before = self.report.stats.rounding_floor_steps;
-        self.report.stats = *self.integrator.stats();
+        self.report.stats = self.restarted_stats.followed_by(self.integrator.stats());
         if rounding_before == 0 && self.report.stats.rounding_floor_steps > 0 {
             let message = rounding_floor_warning(self.report.stats.rounding_floor, self.settings.tolerances.rtol);
             self.report.warnings.push(SimulationWarning { t: self.integrator.t(), kind: WarningKind::Tolerance, message });
         }
         self.report.t_reached = self.integrator.t();
+        if let Some(failure) = self.has_user_laws.then(|| user_law_failure(&self.model)).flatten() {
+            return Err(failure);
+        }
         step?;
         self.copy_state();
         let t = self.integrator.t();
@@ -548,6 +578,11 @@ impl Simulation {
             .check_frame(model, data, (t, q, v), (&e, balance_error), &mut report.warnings, &mut report.physics)?;
         Ok(())
     }
+}
+
+/// The earliest failure of the model's laws given as code, as the simulation's failure.
+fn user_law_failure(model: &Model) -> Option<SimulationFailure> {
+    model.user_law_failure().map(|f| SimulationFailure::UserLaw { law: f.law, t: f.t, message: f.message })
 }
 
 /// Why the accelerations at `t` could not be solved: a constraint equation whose value or rate is not

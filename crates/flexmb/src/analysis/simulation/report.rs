@@ -141,6 +141,16 @@ pub enum SimulationFailure {
     /// Invalid settings, or a simulation used after it failed.
     #[error("{0}")]
     Invalid(String),
+    /// A law given as code failed ([`UserFunction`](crate::function::UserFunction)).
+    #[error("at t = {t:.6} s the law `{law}` failed: {message}")]
+    UserLaw {
+        /// The law's name.
+        law: String,
+        /// Time of the evaluation that failed (s).
+        t: f64,
+        /// The law's message.
+        message: String,
+    },
 }
 
 /// A failed simulation with what it had done.
