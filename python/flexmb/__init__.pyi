@@ -176,6 +176,22 @@ class Simulation:
     def save(self, path: _Path) -> None:
         """Writes the simulation's complete state to ``path`` as the checkpoint of
         ``flexmb run --save-state``."""
+    def set_state(
+        self,
+        positions: Optional[npt.ArrayLike] = None,
+        velocities: Optional[npt.ArrayLike] = None,
+    ) -> Dict[str, float]:
+        """Replaces the positions and/or velocities (``None`` keeps them) at the current time: the
+        positions moved onto the constraints by the assembly's Newton iteration, the velocities projected
+        onto the velocity constraints (both the least change), the integrator restarted there (order 1,
+        a new first step). Returns ``assembly_iterations``, ``position_change``, ``velocity_change``,
+        ``position_residual``, ``velocity_residual`` and ``energy_change``. Raises ``ValueError`` for a
+        wrong length (naming the expected one) or a value that is not finite."""
+    @property
+    def coordinate_names(self) -> Dict[str, List[str]]:
+        """``{"positions": [...], "velocities": [...]}``: a name for each entry of ``positions``
+        (``<body>.R.x``, ``<body>.p.0``, ``<body>.a.1``) and of ``velocities`` (``<body>.Rdot.x``,
+        ``<body>.omega.x`` in body axes, ``<body>.adot.1``)."""
 
 # Models built in code and the preprocessor.
 
@@ -327,19 +343,3 @@ def sweep(
     ``concurrent.futures.Executor``; returns the table (variant, parameters, integrator, wall_time,
     steps, newton_iterations, rejected_steps, the ``outputs`` reduced by final, initial, min, max,
     max_abs, mean, time_of_min, time_of_max or first_zero, failure) and each run's results."""
-    def set_state(
-        self,
-        positions: Optional[npt.ArrayLike] = None,
-        velocities: Optional[npt.ArrayLike] = None,
-    ) -> Dict[str, float]:
-        """Replaces the positions and/or velocities (``None`` keeps them) at the current time: the
-        positions moved onto the constraints by the assembly's Newton iteration, the velocities projected
-        onto the velocity constraints (both the least change), the integrator restarted there (order 1,
-        a new first step). Returns ``assembly_iterations``, ``position_change``, ``velocity_change``,
-        ``position_residual``, ``velocity_residual`` and ``energy_change``. Raises ``ValueError`` for a
-        wrong length (naming the expected one) or a value that is not finite."""
-    @property
-    def coordinate_names(self) -> Dict[str, List[str]]:
-        """``{"positions": [...], "velocities": [...]}``: a name for each entry of ``positions``
-        (``<body>.R.x``, ``<body>.p.0``, ``<body>.a.1``) and of ``velocities`` (``<body>.Rdot.x``,
-        ``<body>.omega.x`` in body axes, ``<body>.adot.1``)."""
