@@ -191,6 +191,11 @@ pub struct GeneralizedAlphaCheckpoint {
     /// The convergence rate of the Newton iterations, from which the next step's is predicted.
     #[serde(default)]
     pub newton_rate: RateMonitor,
+    /// The convergence rate of the iterations with fresh factors of finite-difference parts evaluated
+    /// at an earlier step, from which it is predicted whether they must be re-evaluated (a checkpoint
+    /// written before it was kept: none measured).
+    #[serde(default)]
+    pub derivative_rate: RateMonitor,
     /// Stiffness and damping parts of the iteration matrix, in the order of its sparse pattern.
     pub stiffness: Vec<f64>,
     /// See [`stiffness`](Self::stiffness).
