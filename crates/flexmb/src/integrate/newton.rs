@@ -41,6 +41,10 @@ pub(crate) struct ConvergenceTest {
     pub smallest_after_first: f64,
     /// The iteration converged by the rounding floor, not by its rate.
     pub at_floor: bool,
+    /// Increments after the first at or below this have converged whatever their rate: the estimated
+    /// rounding of the increments ([`set_rounding_level`](Self::set_rounding_level)); `None` before it is
+    /// estimated (once per iteration, when first needed).
+    rounding_level: Option<f64>,
 }
 
 impl ConvergenceTest {
@@ -56,7 +60,27 @@ impl ConvergenceTest {
             rounding_floor: 0.0,
             smallest_after_first: f64::INFINITY,
             at_floor: false,
+            rounding_level: None,
         }
+    }
+
+    /// Whether the increment of iteration `k` of weighted norm `norm` needs the estimated rounding of the
+    /// increments to be judged: one after the first that converges neither outright nor by its rate, while
+    /// no estimate is held.
+    pub fn needs_rounding_level(&self, k: usize, norm: f64) -> bool {
+        let outright = norm == 0.0 || norm <= (NEGLIGIBLE * self.tolerance).max(self.round_off);
+        let by_rate = self.last.is_some_and(|old| {
+            let rate = norm / old;
+            rate < 1.0 && rate / (1.0 - rate) * norm < self.tolerance
+        });
+        k > 0 && self.rounding_level.is_none() && !outright && !by_rate
+    }
+
+    /// Increments after the first at or below `level` have converged whatever their rate: the rounding of
+    /// the residual, amplified by the iteration matrix, in the test's measure
+    /// ([`rounding_residual`](super::newton_rounding::rounding_residual) estimates it).
+    pub fn set_rounding_level(&mut self, level: f64) {
+        self.rounding_level = Some(level);
     }
 
     /// This test with increments up to `round_off` (in the test's norm) converged whatever their rate,
@@ -97,6 +121,10 @@ impl ConvergenceTest {
         if norm == 0.0 || (k > 0 && norm <= (NEGLIGIBLE * self.tolerance).max(self.round_off)) {
             return Verdict::Converged;
         }
+        if k > 0 && self.rounding_level.is_some_and(|level| norm <= level) {
+            // Rounding: its rate says nothing, and is not measured.
+            return Verdict::Converged;
+        }
         if k > 0 {
             self.smallest_after_first = self.smallest_after_first.min(norm);
             if norm <= self.rounding_floor && norm > self.tolerance {
@@ -133,6 +161,12 @@ pub(crate) trait NewtonSystem {
     fn increment_norm(&mut self) -> f64;
     /// Adds the increment to the iterate.
     fn apply(&mut self);
+    /// The weighted norm (the test's measure) of the increment that the rounding of the residual at the
+    /// current iterate produces, with a margin: increments at or below it have converged whatever their
+    /// rate. 0 (the default) for a system that does not estimate it.
+    fn rounding_level(&mut self) -> f64 {
+        0.0
+    }
 }
 
 /// How a Newton iteration ended.
@@ -160,7 +194,11 @@ pub(crate) fn iterate(system: &mut impl NewtonSystem, test: &mut ConvergenceTest
             return end(false, k + 1, solves);
         }
         solves += 1;
-        let verdict = test.assess(k, system.increment_norm());
+        let norm = system.increment_norm();
+        if test.needs_rounding_level(k, norm) {
+            test.set_rounding_level(system.rounding_level());
+        }
+        let verdict = test.assess(k, norm);
         if verdict == Verdict::Diverging {
             return end(false, k + 1, solves);
         }
