@@ -47,9 +47,12 @@
 //! of `J x − b` is about `ε Σⱼ |Jᵢⱼ| |xⱼ|` (the componentwise backward error of Oettli and Prager), so
 //! the increment the rounding of the residual produces is about `J⁻¹ (ε |J| |y|)`, with the signs of the
 //! rows' rounding unknown ([`rounding_residual`] draws them from a fixed sequence, so that they do not
-//! cancel or add up by the matrix's structure). Its weighted norm times [`ESTIMATE_MARGIN`] is the level
-//! at which increments have converged whatever their rate; it is estimated once per attempt, and only for
-//! an increment that converges neither outright nor by its rate (one solve more).
+//! cancel or add up by the matrix's structure). Its weighted norm times [`ESTIMATE_MARGIN`], but at most
+//! [`NOISE_CEILING`] of the solution and [`CHANGE_RATIO`] of the step's change of it, is the level at which increments have converged
+//! whatever their rate; it is estimated once per attempt, and only for an increment that converges
+//! neither outright nor by its rate, contracting slowly (one solve more). Without the bound by the change,
+//! the spun-up beam of the physics watchdog's tests, whose motion runs away and whose iteration matrix
+//! grows ill-conditioned with it, passed its steps at the estimate until its deflection was 1e10 m.
 
 /// The rounding level is this many times the estimated increment of the residual's rounding. The
 /// estimate sums the magnitudes of every term of a row, where the rounding of a sum is about that of its
@@ -83,10 +86,10 @@ const FLOOR_DECAY: f64 = 0.5;
 /// 5e-12 to 2e-11 up to 1 ms before its singular position, the chain's 2e-12; with 1e-8 a flexible beam
 /// spun up past its limits (crates/flexmb-cli/tests/physics_watchdog.rs), whose iteration fails because
 /// the motion runs away, passed steps at 1e-8 as rounding.
-const NOISE_CEILING: f64 = 1e-9;
+pub(crate) const NOISE_CEILING: f64 = 1e-9;
 /// Only increments below this fraction of the step's change of the solution can be rounding: the double
 /// four-bar's were at most 1.4e-6 of it, a runaway's at least 2.5e-5 (see the module documentation).
-const CHANGE_RATIO: f64 = 1e-5;
+pub(crate) const CHANGE_RATIO: f64 = 1e-5;
 
 /// The rounding floor of the Newton increments of one integrator (see the module documentation); all
 /// levels are weighted norms in tolerances (the error weights `atol + rtol |y|`), not in a step's share.
