@@ -25,7 +25,7 @@ use crate::integrate::diagnosis::{self, EquationRow};
 use crate::integrate::error_norm::{error_weight, weighted_rms_norm};
 use crate::integrate::iteration_matrix::IterationMatrix;
 use crate::integrate::newton::{self, ConvergenceTest, NewtonSystem};
-use crate::integrate::newton_rounding::{rounding_residual, RoundingFloor, CHANGE_RATIO, ESTIMATE_MARGIN, NOISE_CEILING};
+use crate::integrate::newton_rounding::RoundingFloor;
 use crate::integrate::share_floor::ShareFloor;
 use crate::integrate::{
     check_len, AttemptFailure, BdfCheckpoint, BdfConfig, CheckpointError, IntegrationError, Integrator, IntegratorCheckpoint, Stats,
@@ -850,23 +850,6 @@ impl NewtonSystem for Corrector<'_> {
             b.y_new[i] += b.rhs[i];
             b.corr[i] += b.rhs[i];
         }
-    }
-
-    /// The increment of the residual's rounding at the iterate, `J⁻¹ (ε |J| |y|)` with the rows' signs
-    /// of `rounding_residual`, in the increments' norm, times `ESTIMATE_MARGIN`, at most `NOISE_CEILING` of
-    /// the solution and `CHANGE_RATIO` of the step's change of it (the rounding floor's bounds); solved in
-    /// the filtered estimate's scratch, which the error test fills afresh after the iteration.
-    fn rounding_level(&mut self) -> f64 {
-        let b = &mut *self.bdf;
-        b.jac.absolute_product(&b.y_new, &mut b.filtered);
-        rounding_residual(&mut b.filtered);
-        if b.jac.solve_in_place(&mut b.filtered).is_err() {
-            return 0.0;
-        }
-        let level = ESTIMATE_MARGIN * self.increment_scale * b.newton_norm(&b.filtered, self.c) * b.share;
-        // Only increments small against the solution and against the step's change of it can be rounding
-        // (a motion that runs away has an ill-conditioned matrix, and a large estimate, too).
-        level.min(NOISE_CEILING / b.tolerances.rtol).min(CHANGE_RATIO * b.predicted_change()) / b.share
     }
 }
 

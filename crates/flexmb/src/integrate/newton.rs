@@ -20,12 +20,6 @@ pub(crate) enum Verdict {
 /// Below this fraction of the tolerance an increment is round-off: IDA's test (`PT0001 * toldel`).
 const NEGLIGIBLE: f64 = 1e-4;
 
-/// An increment that contracts faster than this is a correction, not rounding (whose increments shrink
-/// at rates of 0.5 to 1): it is tested by its rate alone, and the rounding level, which costs a solve, is
-/// not estimated for it. On the chain of 32 rods at rtol 3e-10 estimating it for every increment that
-/// converged neither outright nor by its rate cost 6 % of the run's instructions.
-const SLOW_RATE: f64 = 0.2;
-
 /// The test over the iterations of one Newton solve.
 pub(crate) struct ConvergenceTest {
     tolerance: f64,
@@ -47,10 +41,6 @@ pub(crate) struct ConvergenceTest {
     pub smallest_after_first: f64,
     /// The iteration converged by the rounding floor, not by its rate.
     pub at_floor: bool,
-    /// Increments after the first at or below this have converged whatever their rate: the estimated
-    /// rounding of the increments ([`set_rounding_level`](Self::set_rounding_level)); `None` before it is
-    /// estimated (once per iteration, when first needed).
-    rounding_level: Option<f64>,
 }
 
 impl ConvergenceTest {
@@ -66,25 +56,7 @@ impl ConvergenceTest {
             rounding_floor: 0.0,
             smallest_after_first: f64::INFINITY,
             at_floor: false,
-            rounding_level: None,
         }
-    }
-
-    /// Whether the increment of iteration `k` of weighted norm `norm` needs the estimated rounding of the
-    /// increments to be judged: one after the first that converges neither outright nor by its rate, at a
-    /// rate of at least [`SLOW_RATE`], while no estimate is held.
-    pub fn needs_rounding_level(&self, k: usize, norm: f64) -> bool {
-        let outright = norm == 0.0 || norm <= (NEGLIGIBLE * self.tolerance).max(self.round_off);
-        let rate = self.last.map_or(0.0, |old| norm / old);
-        let by_rate = rate < 1.0 && rate / (1.0 - rate) * norm < self.tolerance;
-        k > 0 && self.rounding_level.is_none() && !outright && !by_rate && rate >= SLOW_RATE
-    }
-
-    /// Increments after the first at or below `level` have converged whatever their rate: the rounding of
-    /// the residual, amplified by the iteration matrix, in the test's measure
-    /// ([`rounding_residual`](super::newton_rounding::rounding_residual) estimates it).
-    pub fn set_rounding_level(&mut self, level: f64) {
-        self.rounding_level = Some(level);
     }
 
     /// This test with increments up to `round_off` (in the test's norm) converged whatever their rate,
@@ -125,10 +97,6 @@ impl ConvergenceTest {
         if norm == 0.0 || (k > 0 && norm <= (NEGLIGIBLE * self.tolerance).max(self.round_off)) {
             return Verdict::Converged;
         }
-        if k > 0 && self.rounding_level.is_some_and(|level| norm <= level) {
-            // Rounding: its rate says nothing, and is not measured.
-            return Verdict::Converged;
-        }
         if k > 0 {
             self.smallest_after_first = self.smallest_after_first.min(norm);
             if norm <= self.rounding_floor && norm > self.tolerance {
@@ -165,12 +133,6 @@ pub(crate) trait NewtonSystem {
     fn increment_norm(&mut self) -> f64;
     /// Adds the increment to the iterate.
     fn apply(&mut self);
-    /// The weighted norm (the test's measure) of the increment that the rounding of the residual at the
-    /// current iterate produces, with a margin: increments at or below it have converged whatever their
-    /// rate. 0 (the default) for a system that does not estimate it.
-    fn rounding_level(&mut self) -> f64 {
-        0.0
-    }
 }
 
 /// How a Newton iteration ended.
@@ -198,11 +160,7 @@ pub(crate) fn iterate(system: &mut impl NewtonSystem, test: &mut ConvergenceTest
             return end(false, k + 1, solves);
         }
         solves += 1;
-        let norm = system.increment_norm();
-        if test.needs_rounding_level(k, norm) {
-            test.set_rounding_level(system.rounding_level());
-        }
-        let verdict = test.assess(k, norm);
+        let verdict = test.assess(k, system.increment_norm());
         if verdict == Verdict::Diverging {
             return end(false, k + 1, solves);
         }
@@ -260,36 +218,6 @@ mod tests {
         let mut test = ConvergenceTest::new(1e-3, 4);
         assert_eq!(test.assess(0, 1e-7), Verdict::Continue);
         assert_eq!(test.assess(1, 2e-7), Verdict::Diverging);
-    }
-
-    /// An increment after the first at or below the rounding level converges at any rate, and its rate is
-    /// not measured; the level is asked for once, by the first increment that converges neither outright
-    /// nor by its rate. The increments of an iteration of the chain of 512 rods (rtol 3e-10), which stalled
-    /// at 2e-3 tolerances and failed, converge against its level of 7e-3.
-    #[test]
-    fn increments_at_the_rounding_level_converge_without_a_rate() {
-        let increments = [7.4, 0.05, 2.4e-3, 2.0e-3];
-        let mut test = ConvergenceTest::new(7.4e-5, 7);
-        let verdicts: Vec<Verdict> = increments.iter().enumerate().map(|(k, &norm)| test.assess(k, norm)).collect();
-        assert_eq!(verdicts, [Verdict::Continue, Verdict::Continue, Verdict::Continue, Verdict::Diverging], "stalled at a rate of 0.83");
-
-        let mut test = ConvergenceTest::new(7.4e-5, 7);
-        assert!(!test.needs_rounding_level(0, 7.4), "the first increment is a correction");
-        assert_eq!(test.assess(0, 7.4), Verdict::Continue);
-        assert!(!test.needs_rounding_level(1, 1e-6), "converges by its rate");
-        assert!(!test.needs_rounding_level(1, 0.05), "contracts fast (0.007): a correction");
-        assert_eq!(test.assess(1, 0.05), Verdict::Continue);
-        assert!(!test.needs_rounding_level(2, 2.4e-3), "contracts fast (0.048): a correction");
-        assert_eq!(test.assess(2, 2.4e-3), Verdict::Continue);
-        assert!(test.needs_rounding_level(3, 2.0e-3), "a rate of 0.83");
-        test.set_rounding_level(7e-3);
-        assert!(!test.needs_rounding_level(3, 2.0e-3), "asked for once");
-        assert_eq!(test.assess(3, 2.0e-3), Verdict::Converged);
-        assert!((test.slowest - 2.4e-3 / 0.05).abs() < 1e-12, "the rate at the level is not measured: {}", test.slowest);
-        let mut test = ConvergenceTest::new(7.4e-5, 7);
-        test.set_rounding_level(7e-3);
-        assert_eq!(test.assess(0, 1e-3), Verdict::Continue, "never the first increment");
-        assert_eq!(test.assess(1, 2e-2), Verdict::Diverging, "above the level a growing increment diverges");
     }
 
     /// Newton's method on the scalar `x² − 2 = 0` with the derivative frozen at the start (a chord

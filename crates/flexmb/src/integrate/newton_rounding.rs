@@ -38,40 +38,6 @@
 //! is at the level of the solution's last digits, which a step moves by many of them: 1.2e-7 to 1.4e-6 of
 //! the change at the double four-bar's floors (h = 6e-7 to 3e-5 s at rtol 1e-12).
 
-//! ## The rounding level estimated from the iteration matrix
-//!
-//! The floor above is learnt from failures. A long chain has a rounding level of its own from the start:
-//! the hanging chain of 512 rods at rtol 3e-10 stalled at 1e-3 tolerances (rates 0.5 to 1) in 21 of its
-//! 127 steps, each failure costing a new Jacobian, and the rates measured at that level made the rate
-//! monitor ask for a Jacobian at most other steps (92 in 127 steps). The rounding of evaluating row `i`
-//! of `J x − b` is about `ε Σⱼ |Jᵢⱼ| |xⱼ|` (the componentwise backward error of Oettli and Prager), so
-//! the increment the rounding of the residual produces is about `J⁻¹ (ε |J| |y|)`, with the signs of the
-//! rows' rounding unknown ([`rounding_residual`] draws them from a fixed sequence, so that they do not
-//! cancel or add up by the matrix's structure). Its weighted norm times [`ESTIMATE_MARGIN`], but at most
-//! [`NOISE_CEILING`] of the solution and [`CHANGE_RATIO`] of the step's change of it, is the level at which increments have converged
-//! whatever their rate; it is estimated once per attempt, and only for an increment that converges
-//! neither outright nor by its rate, contracting slowly (one solve more). Without the bound by the change,
-//! the spun-up beam of the physics watchdog's tests, whose motion runs away and whose iteration matrix
-//! grows ill-conditioned with it, passed its steps at the estimate until its deflection was 1e10 m.
-
-/// The rounding level is this many times the estimated increment of the residual's rounding. The
-/// estimate sums the magnitudes of every term of a row, where the rounding of a sum is about that of its
-/// largest terms, and so lies above the rounding it estimates: on the chain of 512 rods (rtol 3e-10) it
-/// was 7.0e-3 tolerances where the stalled increments were 4.8e-4 to 1.8e-3 (the smallest after the
-/// first of the 21 failed iterations); so no margin is added.
-pub(crate) const ESTIMATE_MARGIN: f64 = 1.0;
-
-/// The rounding of the residual of a system `J x = b` at `y`, row by row: `ε Σⱼ |Jᵢⱼ| |yⱼ|` (given in
-/// `out`, from [`IterationMatrix::absolute_product`](super::iteration_matrix::IterationMatrix::absolute_product))
-/// with a sign from a fixed pseudo-random sequence of the row.
-pub(crate) fn rounding_residual(out: &mut [f64]) {
-    for (i, x) in out.iter_mut().enumerate() {
-        // The top bit of a multiplicative hash of the row (Knuth's golden-ratio constant).
-        let negative = (i as u64 + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 63 == 1;
-        *x *= if negative { -f64::EPSILON } else { f64::EPSILON };
-    }
-}
-
 /// An increment after the first that has not fallen below this fraction of the one of the attempt at
 /// twice the step size has not shrunk with the step: a failing iteration's increments fall at least
 /// eightfold when the step is halved (the predictor's error as `h^(k+1)`, `k ≥ 2`, and the rate with it).
@@ -86,10 +52,10 @@ const FLOOR_DECAY: f64 = 0.5;
 /// 5e-12 to 2e-11 up to 1 ms before its singular position, the chain's 2e-12; with 1e-8 a flexible beam
 /// spun up past its limits (crates/flexmb-cli/tests/physics_watchdog.rs), whose iteration fails because
 /// the motion runs away, passed steps at 1e-8 as rounding.
-pub(crate) const NOISE_CEILING: f64 = 1e-9;
+const NOISE_CEILING: f64 = 1e-9;
 /// Only increments below this fraction of the step's change of the solution can be rounding: the double
 /// four-bar's were at most 1.4e-6 of it, a runaway's at least 2.5e-5 (see the module documentation).
-pub(crate) const CHANGE_RATIO: f64 = 1e-5;
+const CHANGE_RATIO: f64 = 1e-5;
 
 /// The rounding floor of the Newton increments of one integrator (see the module documentation); all
 /// levels are weighted norms in tolerances (the error weights `atol + rtol |y|`), not in a step's share.
