@@ -193,38 +193,39 @@ impl LuFactors {
     /// If no pivots are loaded or `a` is not of their dimension (a bug of the caller).
     pub fn refactor(&mut self, a: SparseColMatRef<'_, usize, f64>) -> Result<(), RefactorFailure> {
         assert!(self.loaded && a.ncols() == self.n && a.nrows() == self.n, "refactor without matching factors");
-        for j in 0..self.n {
-            let column = self.column_order[j];
+        // Slices bound once: a store into `work` through `self` would make the compiler load every field
+        // of `self` again in the inner loop (it cannot tell the stored numbers from the vectors' lengths),
+        // which doubled the instructions of a refactorization.
+        let (l_start, l_rows, l_values) = (&self.l_start[..], &self.l_rows[..], &mut self.l_values[..]);
+        let (u_start, u_rows, u_values) = (&self.u_start[..], &self.u_rows[..], &mut self.u_values[..]);
+        let (work, row_position, u_diagonal) = (&mut self.work[..], &self.row_position[..], &mut self.u_diagonal[..]);
+        for (j, &column) in self.column_order.iter().enumerate() {
             for (&r, &x) in a.row_idx_of_col_raw(column).iter().zip(a.val_of_col(column)) {
-                self.work[self.row_position[r]] = x;
+                work[row_position[r]] = x;
             }
             // x = L(0..j, 0..j)⁻¹ a_j over U(:, j)'s pattern, in increasing pivot order.
-            for p in self.u_start[j]..self.u_start[j + 1] {
-                let k = self.u_rows[p];
-                let xk = self.work[k];
-                self.work[k] = 0.0;
-                self.u_values[p] = xk;
-                let column_of_l = self.l_start[k]..self.l_start[k + 1];
-                for (&r, &l) in self.l_rows[column_of_l.clone()].iter().zip(&self.l_values[column_of_l]) {
-                    self.work[r] -= l * xk;
+            let column_of_u = u_start[j]..u_start[j + 1];
+            for (&k, u) in u_rows[column_of_u.clone()].iter().zip(&mut u_values[column_of_u]) {
+                let xk = std::mem::replace(&mut work[k], 0.0);
+                *u = xk;
+                let column_of_l = l_start[k]..l_start[k + 1];
+                for (&r, &l) in l_rows[column_of_l.clone()].iter().zip(&l_values[column_of_l]) {
+                    work[r] -= l * xk;
                 }
             }
-            let pivot = self.work[j];
-            self.work[j] = 0.0;
-            self.u_diagonal[j] = pivot;
-            let candidates = self.l_start[j]..self.l_start[j + 1];
-            let largest = self.l_rows[candidates.clone()].iter().fold(0.0_f64, |m, &r| m.max(self.work[r].abs()));
+            let pivot = std::mem::replace(&mut work[j], 0.0);
+            u_diagonal[j] = pivot;
+            let candidates = l_start[j]..l_start[j + 1];
+            let largest = l_rows[candidates.clone()].iter().fold(0.0_f64, |m, &r| m.max(work[r].abs()));
             let kept = pivot != 0.0 && pivot.is_finite() && largest.is_finite() && pivot.abs() >= PIVOT_THRESHOLD * largest;
             if !kept {
-                self.work.fill(0.0);
+                work.fill(0.0);
                 self.loaded = false;
                 return Err(RefactorFailure::PivotTooSmall { step: j });
             }
             let reciprocal = pivot.recip();
-            for q in candidates {
-                let r = self.l_rows[q];
-                self.l_values[q] = self.work[r] * reciprocal;
-                self.work[r] = 0.0;
+            for (&r, l) in l_rows[candidates.clone()].iter().zip(&mut l_values[candidates]) {
+                *l = std::mem::replace(&mut work[r], 0.0) * reciprocal;
             }
         }
         Ok(())
@@ -237,32 +238,33 @@ impl LuFactors {
     /// If no factors are loaded or `rhs` is not of their dimension.
     pub fn solve_in_place(&mut self, rhs: &mut [f64]) {
         assert!(self.loaded && rhs.len() == self.n, "solve without matching factors");
-        let y = &mut self.work;
-        for (i, b) in rhs.iter().enumerate() {
-            y[self.row_position[i]] = *b;
+        let y = &mut self.work[..];
+        let (l_start, l_rows, l_values) = (&self.l_start[..], &self.l_rows[..], &self.l_values[..]);
+        let (u_start, u_rows, u_values) = (&self.u_start[..], &self.u_rows[..], &self.u_values[..]);
+        for (&b, &position) in rhs.iter().zip(&self.row_position) {
+            y[position] = b;
         }
         for j in 0..self.n {
             let yj = y[j];
             if yj != 0.0 {
-                let column = self.l_start[j]..self.l_start[j + 1];
-                for (&r, &l) in self.l_rows[column.clone()].iter().zip(&self.l_values[column]) {
+                let column = l_start[j]..l_start[j + 1];
+                for (&r, &l) in l_rows[column.clone()].iter().zip(&l_values[column]) {
                     y[r] -= l * yj;
                 }
             }
         }
-        for j in (0..self.n).rev() {
-            let yj = y[j] / self.u_diagonal[j];
+        for (j, &diagonal) in self.u_diagonal.iter().enumerate().rev() {
+            let yj = y[j] / diagonal;
             y[j] = yj;
             if yj != 0.0 {
-                let column = self.u_start[j]..self.u_start[j + 1];
-                for (&r, &u) in self.u_rows[column.clone()].iter().zip(&self.u_values[column]) {
+                let column = u_start[j]..u_start[j + 1];
+                for (&r, &u) in u_rows[column.clone()].iter().zip(&u_values[column]) {
                     y[r] -= u * yj;
                 }
             }
         }
         for (j, &c) in self.column_order.iter().enumerate() {
-            rhs[c] = y[j];
-            y[j] = 0.0;
+            rhs[c] = std::mem::replace(&mut y[j], 0.0);
         }
     }
 }
