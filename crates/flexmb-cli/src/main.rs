@@ -64,6 +64,15 @@ enum Command {
         /// Spectral radius at infinity of the generalized-α method (0 to 1).
         #[arg(long)]
         spectral_radius: Option<f64>,
+        /// Largest step (s) of any integrator, whatever its error control allows (Adams' HMAX).
+        /// Overrides the model's [simulation] max_step.
+        #[arg(long, value_name = "H")]
+        max_step: Option<f64>,
+        /// Hold the generalized-α method's step at H seconds, without error control: the run takes
+        /// t_end / H steps, the last one shortened to end on t_end (the peer's fixed-step generalized-α).
+        /// Generalized-α only (--integrator gen-alpha). Overrides the model's [simulation] fixed_step.
+        #[arg(long, value_name = "H")]
+        fixed_step: Option<f64>,
         /// Directory for the result files.
         #[arg(long, default_value = "out")]
         out: PathBuf,
@@ -296,7 +305,7 @@ enum SolverArg {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Run { model, parameter, t_end, output_step, rtol, atol, tolerance_span, integrator, spectral_radius, out, quiet, vtk, vtk_step, plot, max_output_rows, max_vtk_frames, save_state, resume, pause_at } => {
+        Command::Run { model, parameter, t_end, output_step, rtol, atol, tolerance_span, integrator, spectral_radius, max_step, fixed_step, out, quiet, vtk, vtk_step, plot, max_output_rows, max_vtk_frames, save_state, resume, pause_at } => {
             let options = RunOptions {
                 t_end,
                 output_step,
@@ -305,6 +314,8 @@ fn main() -> ExitCode {
                 tolerance_span,
                 integrator,
                 spectral_radius,
+                max_step,
+                fixed_step,
                 out_dir: out,
                 quiet,
                 vtk_dir: vtk,

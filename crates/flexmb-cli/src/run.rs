@@ -28,6 +28,10 @@ pub struct RunOptions {
     pub integrator: Option<String>,
     /// Spectral radius ρ∞ of the generalized-α method.
     pub spectral_radius: Option<f64>,
+    /// Largest step (`--max-step`, s), overriding the model file's `max_step`.
+    pub max_step: Option<f64>,
+    /// The generalized-α method's fixed step (`--fixed-step`, s), overriding the model file's `fixed_step`.
+    pub fixed_step: Option<f64>,
     pub out_dir: PathBuf,
     pub quiet: bool,
     /// Directory for a ParaView time series of the run (`--vtk`); none if not given.
@@ -109,6 +113,13 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
     if let Some(name) = &options.integrator {
         d.method = parse_method(name, options.spectral_radius.unwrap_or(0.9)).map_err(|e| CliError(format!("--integrator: {e}")))?;
     }
+    if let Some(h) = options.max_step {
+        d.max_step = Some(positive("--max-step", h)?);
+    }
+    if let Some(h) = options.fixed_step {
+        d.fixed_step = Some(positive("--fixed-step", h)?);
+    }
+    d.check_fixed_step().map_err(|e| CliError(format!("{}: {e}", path.display())))?;
 
     if !options.quiet {
         print!("{}", describe_flexible_bodies(&loaded));

@@ -66,6 +66,14 @@ pub struct SimulationDefaults {
     /// Highest BDF order (`max_order`, 1 to 5); `None`: 5 (with stability limits on orders 3–5 for
     /// models with flexible bodies, see [`BdfConfig::for_model`](flexmb::integrate::BdfConfig::for_model)).
     pub max_order: Option<usize>,
+    /// Largest step of the integrator (`max_step`, s), whatever its error control allows; `None` (the
+    /// default): unlimited.
+    pub max_step: Option<f64>,
+    /// The generalized-α method's step held fixed at this size (`fixed_step`, s), without error control:
+    /// a run of length `T` takes `T / fixed_step` steps (the last one shortened to end on `T`), as the
+    /// peer's fixed-step generalized-α does; only a Newton failure shortens a step. `None` (the default):
+    /// steps from the error estimate. Other methods have no fixed step.
+    pub fixed_step: Option<f64>,
     /// Interval between the frames of the ParaView output (`vtk_step`, s); `None`: the output step.
     pub vtk_step: Option<f64>,
     /// Most output rows a run may write (`max_output_rows`). Default
@@ -90,6 +98,8 @@ impl Default for SimulationDefaults {
             modal_assembly: flexmb::analysis::ModalAssembly::Held,
             method: flexmb::integrate::Method::default(),
             max_order: None,
+            max_step: None,
+            fixed_step: None,
             vtk_step: None,
             max_output_rows: crate::output_limits::DEFAULT_MAX_OUTPUT_ROWS,
             max_vtk_frames: crate::output_limits::DEFAULT_MAX_VTK_FRAMES,
@@ -101,18 +111,36 @@ impl Default for SimulationDefaults {
 impl SimulationDefaults {
     /// The error tolerances and step limits these defaults ask for.
     pub fn tolerances(&self) -> flexmb::integrate::Tolerances {
-        flexmb::integrate::Tolerances { span: self.tolerance_span, ..flexmb::integrate::Tolerances::new(self.rtol, self.atol) }
+        flexmb::integrate::Tolerances {
+            span: self.tolerance_span,
+            h_max: self.max_step.unwrap_or(f64::INFINITY),
+            ..flexmb::integrate::Tolerances::new(self.rtol, self.atol)
+        }
+    }
+
+    /// Why these defaults cannot run: a fixed step with a method other than the generalized-α method.
+    pub fn check_fixed_step(&self) -> Result<(), String> {
+        match (self.fixed_step, &self.method) {
+            (Some(_), flexmb::integrate::Method::GeneralizedAlpha(_)) | (None, _) => Ok(()),
+            (Some(h), _) => Err(format!(
+                "a fixed step ({h} s) is a setting of the generalized-α method only (integrator `gen-alpha`); \
+                 the other integrators choose their steps by error control (limit them with a largest step instead)"
+            )),
+        }
     }
 
     /// The integration method for `model`: [`method`](Self::method), the BDF with the settings for the
     /// model ([`BdfConfig::for_model`](flexmb::integrate::BdfConfig::for_model)) and the order limit
-    /// [`max_order`](Self::max_order).
+    /// [`max_order`](Self::max_order), the generalized-α method with the [`fixed_step`](Self::fixed_step).
     pub fn method_for(&self, model: &flexmb::Model) -> flexmb::integrate::Method {
-        use flexmb::integrate::{BdfConfig, Method};
+        use flexmb::integrate::{BdfConfig, GeneralizedAlphaConfig, Method};
         match self.method {
             Method::Bdf(_) => {
                 let base = BdfConfig::for_model(model);
                 Method::Bdf(BdfConfig { max_order: self.max_order.unwrap_or(base.max_order), ..base })
+            }
+            Method::GeneralizedAlpha(config) => {
+                Method::GeneralizedAlpha(GeneralizedAlphaConfig { fixed_step: self.fixed_step.or(config.fixed_step), ..config })
             }
             other => other,
         }

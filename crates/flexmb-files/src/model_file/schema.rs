@@ -64,6 +64,8 @@ pub(crate) struct SimulationSection {
     pub integrator: Option<Name>,
     pub spectral_radius: Option<Number>,
     pub max_order: Option<Number>,
+    pub max_step: Option<Number>,
+    pub fixed_step: Option<Number>,
     pub vtk_step: Option<Number>,
     pub max_output_rows: Option<Number>,
     pub max_vtk_frames: Option<Number>,

@@ -106,6 +106,20 @@ pub(crate) fn simulation_defaults(
         }
         None => Ok(default),
     };
+    let step = |value: &Option<Number>, name: &str| value.as_ref().map(|_| positive(value, name, 0.0, Some(Quantity::Time))).transpose();
+    let fixed_step = step(&s.fixed_step, "fixed_step")?;
+    if let (Some(v), Some(h)) = (&s.fixed_step, fixed_step) {
+        if !matches!(method, flexmb::integrate::Method::GeneralizedAlpha(_)) {
+            return Err(ctx.invalid(
+                &v.span(),
+                &table.key("fixed_step"),
+                format!(
+                    "fixed_step = {h} needs integrator = \"gen-alpha\" in [simulation]: only the generalized-α method \
+                     takes a fixed step (limit the others' steps with max_step)"
+                ),
+            ));
+        }
+    }
     let modal_assembly = match &s.modal_assembly {
         Some(name) => parse_modal_assembly(name.get_ref()).map_err(|e| ctx.invalid(&name.span(), &table.key("modal_assembly"), e))?,
         None => defaults.modal_assembly,
@@ -114,6 +128,8 @@ pub(crate) fn simulation_defaults(
         method,
         modal_assembly,
         max_order,
+        max_step: step(&s.max_step, "max_step")?,
+        fixed_step,
         t_end: positive(&s.t_end, "t_end", defaults.t_end, Some(Quantity::Time))?,
         output_step: positive(&s.output_step, "output_step", defaults.output_step, Some(Quantity::Time))?,
         rtol: positive(&s.rtol, "rtol", defaults.rtol, None)?,
