@@ -22,7 +22,8 @@ use crate::vtk::{RunSeries, SeriesTimes, SeriesWritten};
 pub struct ResultFileError(pub String);
 
 /// Streams output frames into a CSV file with a header `t,<column>,…`, a row per frame, every value
-/// in scientific notation with 10 decimals, each row flushed as it is written.
+/// written with the fewest digits that read back to the same double (Rust's shortest round-trip
+/// formatting: `0.1`, `1.2345678901234567`, `1e-7`, `-3.5e20`), each row flushed as it is written.
 pub struct CsvWriter {
     path: PathBuf,
     out: csv::Writer<File>,
@@ -39,7 +40,7 @@ impl CsvWriter {
 
     /// Appends one row and flushes it to the file.
     pub fn write_row(&mut self, t: f64, values: &[f64]) -> std::io::Result<()> {
-        self.out.write_record(std::iter::once(&t).chain(values).map(|v| format!("{v:.10e}")))?;
+        self.out.write_record(std::iter::once(&t).chain(values).map(|v| format!("{v:?}")))?;
         self.rows += 1;
         self.out.flush()
     }

@@ -39,7 +39,7 @@ pub enum OutputKind {
     /// The force and torque of [`JointReaction`](Self::JointReaction) resolved in the axes of a marker:
     /// `.fx .fy .fz .tx .ty .tz`.
     JointReactionIn(JointId, MarkerId),
-    /// The Lagrange multipliers of a joint's constraint rows, one column per row: `.1 .2 …`.
+    /// The Lagrange multipliers of a joint's constraint rows, one column per row: `.lambda1 .lambda2 …`.
     JointMultipliers(JointId),
     /// A joint's relative coordinates and their rates.
     JointCoordinates(JointId, JointCoordinateSet),

@@ -71,7 +71,7 @@ pub fn columns_of_output(model: &ColumnSources, o: &OutputRequest) -> Vec<Output
         }
         OutputKind::JointMultipliers(j) => {
             for (k, equation) in model.joints[j.0].kind.equations().into_iter().enumerate() {
-                push(format!("{base}.{}", k + 1), joint_outputs::multiplier_unit(equation));
+                push(format!("{base}.lambda{}", k + 1), joint_outputs::multiplier_unit(equation));
             }
         }
         OutputKind::JointCoordinates(_, set) => {
