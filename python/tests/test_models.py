@@ -9,8 +9,8 @@ from conftest import read_csv_text
 
 
 def written(value):
-    """`value` as the result CSV writes it (10 decimals in scientific notation), read back."""
-    return float(f"{value:.10e}")
+    """`value` as the result CSV writes it and reads back: exactly (shortest round-trip digits)."""
+    return value
 
 
 def test_parameter_override_gives_the_program_s_csv_of_the_edited_file_to_the_last_digit(models, program, tmp_path):
@@ -90,3 +90,21 @@ def test_bad_run_arguments_raise_model_error(models):
         model.simulate(integrator="rk4")
     with pytest.raises(flexmb.ModelError, match="output rows"):
         model.simulate(t_end=1e9, output_step=1e-3)
+
+
+def test_new_output_columns_appear_in_results_by_name(models, tmp_path):
+    # The spinning top with its 3-1-3 Euler angles and its angular momentum about the centre of mass:
+    # the columns are the model's, by name, with no change to the package.
+    text = (models / "spinning_top.toml").read_text()
+    model_file = tmp_path / "top.toml"
+    model_file.write_text(
+        text
+        + '\n[[output]]\ntype = "euler_angles"\nbody = "top"\n'
+        + '\n[[output]]\ntype = "angular_momentum"\nbody = "top"\n'
+    )
+    results = flexmb.load(model_file).simulate(t_end=0.1)
+    assert "top.angles_313.theta" in results.columns
+    # The symmetry axis starts 30° from the vertical: the nutation angle θ of the 3-1-3 sequence.
+    assert abs(results["top.angles_313.theta"][0] - math.radians(30)) < 1e-12
+    # C w_s along the symmetry axis (0, -sin 30°, cos 30°): 0.5 N m s.
+    assert abs(results["top.angular_momentum.z"][0] - 0.5 * math.cos(math.radians(30))) < 1e-12

@@ -51,6 +51,17 @@ pub fn describe(model: &Model, report: &CheckReport) -> String {
     s
 }
 
+/// The columns `flexmb run` writes into the model's CSV, in order, each with its unit:
+/// `output columns (4):` and one `  name [unit]` line per column, `t` first.
+pub fn describe_columns(model: &Model) -> String {
+    let columns = flexmb::analysis::OutputTable::new(model).columns().to_vec();
+    let mut s = format!("output columns ({}):\n", columns.len());
+    for c in columns {
+        s.push_str(&format!("  {} [{}]\n", c.name, c.unit));
+    }
+    s
+}
+
 /// `flexible body 'beam': 4 modes (O1 18.2 Hz, …), 21 nodes, 1.57 kg`.
 fn describe_modal(name: &str, modal: &ModalBody) -> String {
     let frequencies = modal_frequencies(modal);

@@ -8,7 +8,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 use flexmb_cli::bench::{run_benchmarks, BenchCase, BenchIntegrator, BenchOptions};
-use flexmb_cli::check::{check_model, describe, describe_flexible_bodies};
+use flexmb_cli::check::{check_model, describe, describe_columns, describe_flexible_bodies};
 use flexmb_cli::compare::{compare_model, CompareOptions};
 use flexmb_cli::modes::{run_modes, ModesOptions};
 use flexmb_cli::parameters::parse_parameter;
@@ -352,7 +352,7 @@ fn main() -> ExitCode {
                 print!("{}", describe_flexible_bodies(&loaded));
                 let settings = flexmb_cli::limits::assembly_settings(&loaded.simulation).map_err(|e| e.0)?;
                 check_model(&loaded.model, settings)
-                    .map(|report| print!("{}", describe(&loaded.model, &report)))
+                    .map(|report| print!("{}{}", describe(&loaded.model, &report), describe_columns(&loaded.model)))
                     .map_err(|e| format!("{}: {e}", model.display()))
             })
             .map_err(flexmb_cli::run::CliError),

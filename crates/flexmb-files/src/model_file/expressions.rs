@@ -4,7 +4,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use flexmb::function::{Expression, ExpressionError, TimeFunction};
+use flexmb::function::{Expression, ExpressionError, TimeFunction, Variable};
 use flexmb::model::MeasureId;
 
 use flexmb::function::expression_text::{identifiers, rewrite, tokenize, Token, BUILTIN_NAMES, FUNCTION_NAMES};
@@ -26,7 +26,12 @@ enum Dependence {
     Constant,
     Time,
     TimeAndMeasures,
+    /// `t`, measures and output columns (a user output).
+    TimeMeasuresAndColumns,
 }
+
+/// What a column of an earlier output is written as in the text `exmex` reads.
+const COLUMN_PLACEHOLDER: &str = "__column_";
 
 impl Scope<'_> {
     /// The value of an expression of parameters only.
@@ -45,6 +50,13 @@ impl Scope<'_> {
         self.parse(text, Dependence::TimeAndMeasures)
     }
 
+    /// A user output's expression of `t`, measures and the output columns `columns` (named in full,
+    /// dots included: `bob.angular_velocity.z`).
+    pub(crate) fn output_expression(&self, text: &str, columns: &[String]) -> Result<Expression, String> {
+        let ready = substitute_columns(text, columns)?;
+        self.parse(&ready, Dependence::TimeMeasuresAndColumns).map_err(|message| message.replace(&ready, text))
+    }
+
     /// A function of `t` alone, differentiated twice.
     pub(crate) fn time_function(&self, text: &str) -> Result<TimeFunction, String> {
         let expression = self.parse(text, Dependence::Time)?;
@@ -59,8 +71,11 @@ impl Scope<'_> {
         check_parentheses(text)?;
         check_operators(text)?;
         let ready = rewrite(text, &|name| self.parameters.get(name).copied());
-        let expression =
-            Expression::parse(&ready, &|name| self.measures.get(name).copied()).map_err(|e| describe(&e, text))?;
+        let resolve = |name: &str| match name.strip_prefix(COLUMN_PLACEHOLDER) {
+            Some(index) => index.parse().ok().map(Variable::OutputColumn),
+            None => self.measures.get(name).copied().map(Variable::Measure),
+        };
+        let expression = Expression::parse_with_columns(&ready, &resolve).map_err(|e| describe(&e, text))?;
         Ok(expression)
     }
 
@@ -73,6 +88,7 @@ impl Scope<'_> {
                 continue;
             }
             match dependence {
+                Dependence::TimeMeasuresAndColumns if is_time || is_measure || name.starts_with(COLUMN_PLACEHOLDER) => continue,
                 Dependence::TimeAndMeasures if is_time || is_measure => continue,
                 Dependence::Time if is_time => continue,
                 Dependence::Time if is_measure => {
@@ -93,6 +109,10 @@ impl Scope<'_> {
                     candidates.extend(self.measures.keys().map(String::as_str));
                     "`t`, a parameter or a measure"
                 }
+                Dependence::TimeMeasuresAndColumns => {
+                    candidates.extend(self.measures.keys().map(String::as_str));
+                    "`t`, a parameter, a measure or a column of an output before this one"
+                }
             };
             candidates.extend(BUILTIN_NAMES);
             let hint = did_you_mean(name, candidates);
@@ -100,6 +120,34 @@ impl Scope<'_> {
         }
         Ok(())
     }
+}
+
+/// `text` with every name of a column in `columns` replaced by its placeholder: a name with dots
+/// (`bob.position.x`) must be one of them; a plain name (`power`) is one if a column has it.
+fn substitute_columns(text: &str, columns: &[String]) -> Result<String, String> {
+    let mut out = String::with_capacity(text.len());
+    let mut rest = text;
+    while let Some(c) = rest.chars().next() {
+        if !(c.is_alphabetic() || c == '_') {
+            out.push(c);
+            rest = &rest[c.len_utf8()..];
+            continue;
+        }
+        let length = rest.find(|c: char| !(c.is_alphanumeric() || c == '_' || c == '.')).unwrap_or(rest.len());
+        let name = rest[..length].trim_end_matches('.');
+        match columns.iter().position(|column| column == name) {
+            Some(index) => out.push_str(&format!("{COLUMN_PLACEHOLDER}{index}")),
+            None if name.contains('.') => {
+                let hint = did_you_mean(name, columns.iter().map(String::as_str));
+                return Err(format!(
+                    "expression `{text}` names `{name}`, which is not a column of an output before this one{hint}"
+                ));
+            }
+            None => out.push_str(name),
+        }
+        rest = &rest[name.len()..];
+    }
+    Ok(out)
 }
 
 /// Deepest nesting of parentheses accepted (the parser recurses on each level).

@@ -247,6 +247,11 @@ pub(crate) struct OutputSection {
     pub measure: Option<Name>,
     pub body: Option<Name>,
     pub node: Option<Spanned<NodeRef>>,
+    pub sequence: Option<Name>,
+    pub axes: Option<Name>,
+    pub frame: Option<Name>,
+    pub expression: Option<Name>,
+    pub unit: Option<Name>,
 }
 
 /// The span of an optional value, if present.
@@ -288,13 +293,18 @@ impl ForceSection {
 
 impl OutputSection {
     /// The optional element keys present, for rejecting those an output type does not use.
-    pub(crate) fn optional_keys(&self) -> [(&'static str, Option<Range<usize>>); 5] {
+    pub(crate) fn optional_keys(&self) -> [(&'static str, Option<Range<usize>>); 10] {
         [
             ("marker", span_of(&self.marker)),
             ("joint", span_of(&self.joint)),
             ("measure", span_of(&self.measure)),
             ("body", span_of(&self.body)),
             ("node", span_of(&self.node)),
+            ("sequence", span_of(&self.sequence)),
+            ("axes", span_of(&self.axes)),
+            ("frame", span_of(&self.frame)),
+            ("expression", span_of(&self.expression)),
+            ("unit", span_of(&self.unit)),
         ]
     }
 }

@@ -24,7 +24,7 @@ pub use assembly::{assemble, AssemblyError, AssemblyReport, AssemblySettings, Mo
 pub use check::{check_model, CheckReport};
 pub use linearization::{displaced_positions, linearize, Linearization, OperatingPoint, SparseLinearization};
 pub(crate) use linearization::linearize_at;
-pub use outputs::{output_columns, OutputColumn};
+pub use outputs::{columns_of_output, output_columns, ColumnSources, OutputColumn};
 pub use memory::{analysis_bytes, format_bytes, MemoryLimit};
 pub(crate) use redundancy::{dependency_of, newly_dependent_rows, violated_rows};
 pub use redundancy::{RedundantConstraint, ViolatedEquation};

@@ -16,6 +16,10 @@ pub enum Variable {
     Time,
     /// The current value of a named measure.
     Measure(MeasureId),
+    /// The value of an output column at the same output time, by its index among the model's output
+    /// columns (time not counted); only a user output reads it
+    /// ([`eval_with_columns`](Expression::eval_with_columns)).
+    OutputColumn(usize),
 }
 
 /// Why an expression could not be used.
@@ -84,6 +88,12 @@ impl Expression {
         source: &str,
         resolve: &dyn Fn(&str) -> Option<MeasureId>,
     ) -> Result<Self, ExpressionError> {
+        Self::parse_with_columns(source, &|name| resolve(name).map(Variable::Measure))
+    }
+
+    /// Parses `source` as [`parse`](Self::parse) does, with `resolve` mapping every name other than
+    /// `t` to a measure or an output column.
+    pub fn parse_with_columns(source: &str, resolve: &dyn Fn(&str) -> Option<Variable>) -> Result<Self, ExpressionError> {
         // `exmex` cannot read exponent literals such as `1e-6`: they are written out in decimals first.
         let text = super::expression_text::rewrite(source, &|_| None);
         let flat = exmex::parse::<f64>(&text).map_err(|e| ExpressionError::Parse {
@@ -123,7 +133,7 @@ impl Expression {
     fn bind(
         source: &str,
         flat: FlatEx<f64>,
-        resolve: &dyn Fn(&str) -> Option<MeasureId>,
+        resolve: &dyn Fn(&str) -> Option<Variable>,
     ) -> Result<Self, ExpressionError> {
         let names = flat.var_names();
         if names.len() > MAX_VARIABLES {
@@ -136,8 +146,8 @@ impl Expression {
         for name in names {
             let v = if name == "t" {
                 Variable::Time
-            } else if let Some(id) = resolve(name) {
-                Variable::Measure(id)
+            } else if let Some(variable) = resolve(name) {
+                variable
             } else {
                 let hint = if name == "e" {
                     " (`e` is Euler's number here; name the measure differently)".to_string()
@@ -169,13 +179,28 @@ impl Expression {
     pub fn measures(&self) -> impl Iterator<Item = MeasureId> + '_ {
         self.variables.iter().filter_map(|v| match v {
             Variable::Measure(m) => Some(*m),
-            Variable::Time => None,
+            Variable::Time | Variable::OutputColumn(_) => None,
         })
     }
 
     /// Evaluates at time `t` with the current measure values; NaN if evaluation fails.
     #[inline]
     pub fn eval(&self, t: f64, measures: &[f64]) -> f64 {
+        self.eval_with_columns(t, measures, &[])
+    }
+
+    /// The output columns this expression reads, by index.
+    pub fn output_columns(&self) -> impl Iterator<Item = usize> + '_ {
+        self.variables.iter().filter_map(|v| match v {
+            Variable::OutputColumn(c) => Some(*c),
+            _ => None,
+        })
+    }
+
+    /// Evaluates at time `t` with the current measure values and the output columns computed so far;
+    /// NaN if evaluation fails or a column is missing.
+    #[inline]
+    pub fn eval_with_columns(&self, t: f64, measures: &[f64], columns: &[f64]) -> f64 {
         if let Some(user) = &self.user {
             return user.eval(t, measures);
         }
@@ -187,6 +212,7 @@ impl Expression {
             *slot = match v {
                 Variable::Time => t,
                 Variable::Measure(m) => measures.get(m.0).copied().unwrap_or(f64::NAN),
+                Variable::OutputColumn(c) => columns.get(*c).copied().unwrap_or(f64::NAN),
             };
         }
         flat.eval(&values[..self.variables.len()]).unwrap_or(f64::NAN)

@@ -1,6 +1,9 @@
 //! Small fixed-size 3D geometry: Euler parameters and the matrices built from them.
 
+pub(crate) mod euler_angles;
 pub(crate) mod euler_parameters;
+
+pub use euler_angles::{continue_angle, EulerSequence, GIMBAL_LOCK_TOLERANCE};
 
 pub use euler_parameters::{
     e_matrix, g_matrix, rotation_matrix, rotation_matrix_defect, EulerParameters, OrientationError, ROTATION_TOLERANCE,

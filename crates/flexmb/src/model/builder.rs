@@ -7,7 +7,7 @@ use super::references::{self, Counts, Reference};
 use super::rigid_checks::{check_body, check_frame};
 use super::{
     BodyId, BodyRef, ForceId, JointId, Layout, MarkerId, MeasureId, Model, ModelError, OutputKind,
-    OutputRequest, ParameterId,
+    OutputRequest, ParameterId, UserOutput,
 };
 use crate::body::{InitialState, Marker, ModalBody, RigidBody};
 use crate::force::{ForceElement, ForceKind};
@@ -78,6 +78,7 @@ pub struct ModelBuilder {
     measures: Vec<Measure>,
     parameters: Vec<Parameter>,
     outputs: Vec<OutputRequest>,
+    output_expressions: Vec<UserOutput>,
     /// `(kind, name)` of every element added, for unique names per kind.
     names: HashSet<(&'static str, String)>,
 }
@@ -251,9 +252,49 @@ impl ModelBuilder {
         self.check_new_name("output", &name)?;
         self.counts().check_all("output", &name, references::of_output(&kind))?;
         self.check_output_body(&name, &kind)?;
+        self.check_output_joint(&name, &kind)?;
+        if matches!(kind, OutputKind::UserExpression(_)) {
+            return Err(ModelError::BadValue {
+                element: "output",
+                name,
+                problem: "a user output is added with `add_output_expression`".into(),
+            });
+        }
         self.names.insert(("output", name.clone()));
         self.outputs.push(OutputRequest { name, kind });
         Ok(())
+    }
+
+    /// Adds a user output: one column `name` holding `expression` of `t`, measures and the columns of
+    /// the outputs added before it ([`Variable::OutputColumn`](crate::function::Variable::OutputColumn),
+    /// by index among the model's output columns), written in `unit`. A column the expression reads
+    /// that is not before its own is an error of [`build`](Self::build).
+    pub fn add_output_expression(
+        &mut self,
+        name: impl Into<String>,
+        expression: crate::function::Expression,
+        unit: impl Into<String>,
+    ) -> Result<(), ModelError> {
+        let name = name.into();
+        self.check_new_name("output", &name)?;
+        let measures: Vec<Reference> = expression.measures().map(Reference::Measure).collect();
+        self.counts().check_all("output", &name, measures)?;
+        self.names.insert(("output", name.clone()));
+        self.outputs.push(OutputRequest { name, kind: OutputKind::UserExpression(self.output_expressions.len()) });
+        self.output_expressions.push(UserOutput { expression, unit: unit.into() });
+        Ok(())
+    }
+
+    /// The columns of the outputs added so far, in order (time not included): those a user output
+    /// may read ([`add_output_expression`](Self::add_output_expression)).
+    pub fn output_columns(&self) -> Vec<crate::analysis::OutputColumn> {
+        let sources = crate::analysis::ColumnSources {
+            modal: &self.modal,
+            joints: &self.joints,
+            measures: &self.measures,
+            output_expressions: &self.output_expressions,
+        };
+        self.outputs.iter().flat_map(|o| crate::analysis::columns_of_output(&sources, o)).collect()
     }
 
     /// The body named `name`.
@@ -324,7 +365,7 @@ impl ModelBuilder {
         let equations: Vec<_> = self.joints.iter().map(|j| j.kind.equations()).collect();
         let modes: Vec<usize> = self.modal.iter().map(|m| m.as_ref().map_or(0, ModalBody::modes)).collect();
         let layout = Layout::new(&modes, &equations);
-        Ok(Model {
+        (Model {
             name: self.name,
             gravity: self.gravity,
             bodies: self.bodies,
@@ -336,8 +377,10 @@ impl ModelBuilder {
             measures: self.measures,
             parameters: self.parameters,
             outputs: self.outputs,
+            output_expressions: self.output_expressions,
             layout,
         })
+        .with_checked_output_expressions()
     }
 
     fn counts(&self) -> Counts {
@@ -421,6 +464,26 @@ impl ModelBuilder {
             }
             _ => Ok(()),
         }
+    }
+
+    fn check_output_joint(&self, name: &str, kind: &OutputKind) -> Result<(), ModelError> {
+        use super::JointCoordinateSet as Set;
+        let OutputKind::JointCoordinates(j, set) = *kind else { return Ok(()) };
+        let joint = &self.joints[j.0];
+        let fits = match set {
+            Set::Angle => joint.kind.has_rotation_about_z(),
+            Set::Displacement => joint.kind.has_translation_along_z(),
+            Set::AngleAndDisplacement => joint.kind.has_rotation_about_z() && joint.kind.has_translation_along_z(),
+            Set::RelativeRotation => true,
+        };
+        if fits {
+            return Ok(());
+        }
+        Err(ModelError::BadValue {
+            element: "output",
+            name: name.to_string(),
+            problem: format!("joint '{}' ({}) has no {set:?} coordinates", joint.name, joint.kind.keyword()),
+        })
     }
 
     fn require_rotation(&self, element: &'static str, name: &str, joint: JointId) -> Result<(), ModelError> {

@@ -21,7 +21,7 @@ pub(crate) use coupling::Coupling;
 pub use error::ModelError;
 pub use ids::{BodyId, BodyRef, ForceId, JointId, MarkerId, MeasureId, ParameterId};
 pub use layout::Layout;
-pub use output::OutputKind;
+pub use output::{JointCoordinateSet, OrientationForm, OutputAxes, OutputKind, RotatingFrame, UserOutput};
 pub use size_mismatch::SizeMismatch;
 pub use user_laws::UserLawError;
 pub(crate) use size_mismatch::SizeCheck;
@@ -60,6 +60,8 @@ pub struct Model {
     /// The parameters, with their initial values (their current values live in [`Data`](crate::Data)).
     pub(crate) parameters: Vec<Parameter>,
     pub(crate) outputs: Vec<OutputRequest>,
+    /// The expressions of the [`OutputKind::UserExpression`] outputs.
+    pub(crate) output_expressions: Vec<UserOutput>,
     pub(crate) layout: Layout,
 }
 
@@ -103,6 +105,10 @@ impl Model {
     /// The output requests, in the order of their columns.
     pub fn outputs(&self) -> &[OutputRequest] {
         &self.outputs
+    }
+    /// The expressions of the user outputs ([`OutputKind::UserExpression`]).
+    pub fn output_expressions(&self) -> &[UserOutput] {
+        &self.output_expressions
     }
     /// Where each body's coordinates and each joint's equations sit in the global vectors.
     pub fn layout(&self) -> &Layout {

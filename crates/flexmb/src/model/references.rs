@@ -1,7 +1,7 @@
 //! The ids an element refers to, checked against what the builder holds when it is added: an id the
 //! builder did not hand out is an error that names the element, never a panic later.
 
-use super::{BodyId, BodyRef, JointId, MarkerId, MeasureId, ModelError, OutputKind, ParameterId};
+use super::{BodyId, BodyRef, JointId, MarkerId, MeasureId, ModelError, OutputAxes, OutputKind, ParameterId, RotatingFrame};
 use crate::force::ForceKind;
 use crate::measure::MeasureKind;
 
@@ -105,6 +105,31 @@ pub(super) fn of_output(kind: &OutputKind) -> Vec<Reference> {
         | OutputKind::NodeAcceleration(b, _)
         | OutputKind::NodeDeformation(b, _)
         | OutputKind::StrainEnergy(b) => vec![Reference::Body(b)],
-        OutputKind::Energy | OutputKind::ConstraintResidual => Vec::new(),
+        OutputKind::JointReactionIn(j, m) => vec![Reference::Joint(j), Reference::Marker(m)],
+        OutputKind::JointMultipliers(j) | OutputKind::JointCoordinates(j, _) => vec![Reference::Joint(j)],
+        OutputKind::Orientation(frame, _) => of_frame(frame),
+        OutputKind::AngularVelocity(frame, axes) | OutputKind::AngularAcceleration(frame, axes) => {
+            let mut refs = of_frame(frame);
+            if let OutputAxes::Marker(m) = axes {
+                refs.push(Reference::Marker(m));
+            }
+            refs
+        }
+        OutputKind::KineticEnergy(b)
+        | OutputKind::LinearMomentum(b)
+        | OutputKind::AngularMomentum(b)
+        | OutputKind::EulerParameterNormError(Some(b)) => vec![Reference::Body(b)],
+        OutputKind::Energy
+        | OutputKind::ConstraintResidual
+        | OutputKind::SystemMomentum
+        | OutputKind::EulerParameterNormError(None)
+        | OutputKind::UserExpression(_) => Vec::new(),
+    }
+}
+
+fn of_frame(frame: RotatingFrame) -> Vec<Reference> {
+    match frame {
+        RotatingFrame::Body(b) => vec![Reference::Body(b)],
+        RotatingFrame::Marker(m) => vec![Reference::Marker(m)],
     }
 }

@@ -148,6 +148,11 @@ impl<'a> Context<'a> {
         self.scope().expression(&text).map_err(|message| self.invalid(&value.span(), key, message))
     }
 
+    /// A user output's expression of `t`, measures and the output columns `columns` before it.
+    pub(crate) fn output_expression(&self, text: &Spanned<String>, key: &KeyPath, columns: &[String]) -> Result<Expression, ModelFileError> {
+        self.scope().output_expression(text.get_ref(), columns).map_err(|message| self.invalid(&text.span(), key, message))
+    }
+
     /// A function of `t` alone.
     pub(crate) fn time_function(&self, value: &Number, key: &KeyPath) -> Result<TimeFunction, ModelFileError> {
         let text = self.expression_text(value, key)?;

@@ -50,4 +50,9 @@ pub struct SimulationCheckpoint {
     /// The counters of the integrators a [`set_state`](super::Simulation::set_state) replaced.
     #[serde(default)]
     pub restarted_stats: crate::integrate::Stats,
+    /// The output values of the last row reported: the Euler-angle outputs continue from them past
+    /// ±π (empty in a checkpoint from before they were kept: the angles then restart from their
+    /// principal values).
+    #[serde(default)]
+    pub last_output_row: Vec<f64>,
 }

@@ -239,6 +239,9 @@ impl Simulation {
         };
         simulation.end_reported = checkpoint.end_reported;
         simulation.restarted_stats = checkpoint.restarted_stats;
+        if checkpoint.last_output_row.len() == simulation.values.len() {
+            simulation.values.copy_from_slice(&checkpoint.last_output_row);
+        }
         Ok(simulation)
     }
 
@@ -265,6 +268,7 @@ impl Simulation {
             end_reported: self.end_reported,
             user_laws: self.model.user_laws().into_iter().map(str::to_string).collect(),
             restarted_stats: self.restarted_stats,
+            last_output_row: self.values.clone(),
         })
     }
 
@@ -559,7 +563,7 @@ impl Simulation {
             .solve_at(model, data, t, q, v, &self.active)
             .map_err(|_| accelerations_failure(model, data, t))?;
         let power = nonconservative_power(model, data, t, &acc.lambda);
-        evaluate_outputs(model, data, q, v, acc, &self.active, values);
+        evaluate_outputs(model, data, (t, q, v), acc, &self.active, values, report.output_frames > 0);
         let (p, vel) = constraint_residuals(model, data, &self.active);
         report.max_output_position_residual = report.max_output_position_residual.max(p);
         report.max_output_velocity_residual = report.max_output_velocity_residual.max(vel);

@@ -50,7 +50,7 @@ pub struct OutputTable {
 impl OutputTable {
     /// An empty table for the outputs of `model`: column `t` (s), then the model's output columns.
     pub fn new(model: &Model) -> Self {
-        let mut columns = vec![OutputColumn { name: "t".into(), unit: "s" }];
+        let mut columns = vec![OutputColumn { name: "t".into(), unit: "s".into() }];
         columns.extend(output_columns(model));
         Self { columns, nq: model.layout.nq, nv: model.layout.nv, ..Default::default() }
     }
