@@ -63,7 +63,7 @@ pub fn campbell_figure(
         let end = if s * last > top { top / s } else { last };
         let start = first.min(end);
         series.push(Series {
-            label: format!("1× ({} Hz per unit of {parameter})", significant(s)),
+            label: format!("1× line, f = {} × {parameter}", significant(s)),
             points: vec![(start, s * start), (end, s * end)],
             style: SeriesStyle::Reference,
         });
@@ -169,7 +169,10 @@ mod tests {
     fn a_constant_mode_crosses_the_one_per_rev_line_where_the_speed_equals_its_frequency() {
         let values: Vec<f64> = (0..=20).map(|k| k as f64).collect();
         let frequencies: Vec<Vec<f64>> = values.iter().map(|_| vec![10.0]).collect();
-        assert_eq!(critical_speeds(&values, &frequencies, 1.0), [CriticalSpeed { mode: 0, value: 10.0, frequency_hz: 10.0 }]);
+        assert_eq!(
+            critical_speeds(&values, &frequencies, 1.0),
+            [CriticalSpeed { mode: 0, value: 10.0, frequency_hz: 10.0 }]
+        );
         // Between computed values the crossing is where the straight pieces meet the line.
         let values = [0.0, 7.0, 13.0, 20.0];
         let frequencies = vec![vec![10.0, 15.0, 30.0]; 4];

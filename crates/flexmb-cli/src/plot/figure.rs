@@ -218,10 +218,10 @@ fn draw_figure<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, figure: &Figur
     let (x_range, y_range) = axis_ranges(figure)?;
     match figure.y_scale {
         YScale::Linear => {
-            draw_axes(&chart_area, figure, &metrics, x_range, linear_axis(y_range, Y_TICKS), y_range.0..y_range.1)?;
+            draw_axes(&chart_area, figure, &metrics, (x_range, y_range), linear_axis(y_range, Y_TICKS), y_range.0..y_range.1)?;
         }
         YScale::Log => {
-            draw_axes(&chart_area, figure, &metrics, x_range, log_axis(), (y_range.0..y_range.1).log_scale())?;
+            draw_axes(&chart_area, figure, &metrics, (x_range, y_range), log_axis(), (y_range.0..y_range.1).log_scale())?;
         }
     }
     draw_legend(&legend_area, figure, &metrics, &legend)
@@ -270,12 +270,13 @@ pub(super) fn drawable((lo, hi): (f64, f64)) -> bool {
     lo.is_finite() && hi.is_finite() && (hi - lo).is_finite()
 }
 
-/// The axes, grid, lines and annotations, on a y axis of type `Y` (linear or logarithmic).
+/// The axes, grid, lines and annotations over the x and y ranges, on a y axis of type `Y` (linear or
+/// logarithmic).
 fn draw_axes<DB, Y>(
     area: &DrawingArea<DB, Shift>,
     figure: &Figure,
     metrics: &Metrics,
-    (x0, x1): (f64, f64),
+    ((x0, x1), (y0, y1)): (AxisRange, AxisRange),
     y_axis: AxisScale,
     y_spec: Y,
 ) -> Result<(), String>
@@ -316,7 +317,8 @@ where
     for (series, colour) in figure.series.iter().zip(series_colours(figure)) {
         let style = colour.stroke_width(metrics.line_width);
         for segment in finite_segments(&series.points) {
-            let points = segment.iter().copied();
+            // Values beyond the y axis (below a logarithmic axis's floor) drawn at its end, inside the frame.
+            let points = segment.iter().map(|&(x, y)| (x, y.clamp(y0, y1)));
             match series.style {
                 SeriesStyle::Line => chart.draw_series(LineSeries::new(points, style)).map(|_| ()),
                 SeriesStyle::LineAndPoints => {
