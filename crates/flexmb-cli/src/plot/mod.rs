@@ -323,7 +323,7 @@ mod tests {
         let (x0, x1) = axis_ranges(&figure).unwrap().0;
         assert!((x0 - 1.01 * 1.01).abs() < 1e-12 && (x1 - 6.25).abs() < 1e-12, "{x0} to {x1}");
 
-        let e = compose(&[a.clone()], "t", &["x".into()], TimeWindow { from: Some(2.0), to: Some(1.0) }).unwrap_err();
+        let e = compose(std::slice::from_ref(&a), "t", &["x".into()], TimeWindow { from: Some(2.0), to: Some(1.0) }).unwrap_err();
         assert_eq!(e.to_string(), "--from 2 s is not before --to 1 s: the time window is empty");
         let e = compose(&[a, b], "t", &["t".into()], TimeWindow { from: Some(2.5), to: Some(3.0) }).unwrap_err();
         assert_eq!(e.to_string(), "out/b.csv: no row has 2.5 ≤ t ≤ 3 s; its times run from 0 to 2 s");

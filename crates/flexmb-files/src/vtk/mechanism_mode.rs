@@ -1,6 +1,6 @@
 //! The animation of one mode of the whole mechanism for ParaView: a `.pvd` series over one period,
 //! [`FRAMES_PER_PERIOD`] frames at the phases `φ_k = 2πk/N`, of every body and joint drawn as a run's
-//! series draws them ([`run_parts`](super::run_parts)), each frame at the positions
+//! series draws them (`run_parts`), each frame at the positions
 //!
 //! ```text
 //! q_k = q ⊕ c Re((ψ_re + i ψ_im) e^{iφ_k}) = displaced_positions(q, c (ψ_re cos φ_k − ψ_im sin φ_k))
@@ -8,7 +8,7 @@
 //!
 //! with `q` the operating point and `ψ` the mode in velocity coordinates (per body a translation, a
 //! rotation vector in body axes and the modal coordinates, as
-//! [`displaced_positions`](flexmb::analysis::displaced_positions) takes them). A real shape swings
+//! [`flexmb::analysis::displaced_positions`] takes them). A real shape swings
 //! through `q` and back; a complex one (a gyroscopic mode) carries each point round an ellipse, in the
 //! sense of its whirl. The series' time is the fraction of the period, `k/N`, as in
 //! [`write_mode_animations`](super::write_mode_animations), so that several modes play side by side.
