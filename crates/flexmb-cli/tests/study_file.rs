@@ -1,4 +1,4 @@
-//! The study file of docs/study-file.md (`models/pendulum_study.toml`) as a user runs it: its cases'
+//! The study file of docs/study-file.md (`models/studies/pendulum_lengths.toml`) as a user runs it: its cases'
 //! parameters, numbers and expressions of the model's parameters, reach the model, and the study
 //! writes a run, a table row and a curve for every case.
 
@@ -13,7 +13,7 @@ use program::{fail, scratch, succeed, workspace};
 
 #[test]
 fn a_case_parameter_is_a_number_or_an_expression_of_the_models_parameters() {
-    let study = load_study(&workspace().join("models/pendulum_study.toml")).unwrap();
+    let study = load_study(&workspace().join("models/studies/pendulum_lengths.toml")).unwrap();
     let names: Vec<&str> = study.cases.iter().map(|c| c.name.as_str()).collect();
     assert_eq!(names, ["L1", "L2", "half_hertz"]);
     let parameter = |case: usize, name: &str| {
@@ -32,7 +32,7 @@ fn a_case_parameter_is_a_number_or_an_expression_of_the_models_parameters() {
 fn the_example_study_runs_every_case_and_writes_its_table_and_plot() {
     let dir = scratch("example-study");
     let out = dir.to_str().unwrap();
-    let printed = succeed(&["study", "models/pendulum_study.toml", "--t-end", "0.5", "--out", out, "--jobs", "2"]);
+    let printed = succeed(&["study", "models/studies/pendulum_lengths.toml", "--t-end", "0.5", "--out", out, "--jobs", "2"]);
     for case in ["L1", "L2", "half_hertz"] {
         for integrator in ["bdf", "adams"] {
             assert!(dir.join(format!("{case}-{integrator}.csv")).is_file(), "{case}-{integrator}\n{printed}");
