@@ -49,7 +49,7 @@ pub(crate) fn load_options(parameters: Option<HashMap<String, f64>>, modes: Opti
     parameters.sort_by(|a, b| a.0.cmp(&b.0));
     let mut modes: Vec<(String, String)> = modes.unwrap_or_default().into_iter().collect();
     modes.sort();
-    LoadOptions { overrides: ModelOverrides { modes, parameters }, ..Default::default() }
+    LoadOptions { overrides: ModelOverrides { modes, parameters, ..Default::default() }, ..Default::default() }
 }
 
 #[pymethods]

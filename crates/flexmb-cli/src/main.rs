@@ -12,7 +12,7 @@ use flexmb_cli::check::{check_model, describe, describe_columns, describe_flexib
 use flexmb_cli::compare::{compare_model, CompareOptions};
 use flexmb_cli::modes::{run_modes, ModesOptions};
 use flexmb_cli::parameters::parse_parameter;
-use flexmb_cli::plot::{plot_run_outputs, run_plot, PlotOptions, YScale, DEFAULT_SIZE};
+use flexmb_cli::plot::{plot_run_outputs, run_plot, PlotOptions, TimeWindow, YScale, DEFAULT_SIZE};
 use flexmb_cli::run::{run_model, RunFiles, RunOptions};
 use flexmb_cli::spectrum::estimator::FrequencyBand;
 use flexmb_cli::spectrum::{run_spectrum, SpectrumOptions};
@@ -210,6 +210,12 @@ enum Command {
         /// Title (default: the columns and the files).
         #[arg(long)]
         title: Option<String>,
+        /// Draw only the rows at or after this time (s), whatever column is along x.
+        #[arg(long)]
+        from: Option<f64>,
+        /// Draw only the rows at or before this time (s).
+        #[arg(long)]
+        to: Option<f64>,
         /// Image width in pixels.
         #[arg(long, default_value_t = DEFAULT_SIZE.0)]
         width: u32,
@@ -385,8 +391,9 @@ fn main() -> ExitCode {
             let options = BenchOptions { cases: case, integrators: integrator, repeat: repeat.max(1), json, max_links };
             run_benchmarks(&options).map_err(flexmb_cli::run::CliError)
         }
-        Command::Plot { results, y, x, out, title, width, height } => {
-            let options = PlotOptions { files: results, y, x, out, title, size: (width, height) };
+        Command::Plot { results, y, x, out, title, from, to, width, height } => {
+            let window = TimeWindow { from, to };
+            let options = PlotOptions { files: results, y, x, out, title, size: (width, height), window };
             run_plot(&options).map(|image| println!("plot: {}", image.display()))
         }
         Command::Spectrum { results, y, from, to, peaks, min_frequency, max_frequency, out, scale, width, height } => {

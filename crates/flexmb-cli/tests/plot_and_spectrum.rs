@@ -216,3 +216,87 @@ fn errors_say_what_is_wrong() {
     let e = fail(&["spectrum", csv, "--y", "z"]);
     assert!(e.contains("has no column `z`"), "{e}");
 }
+
+#[test]
+fn every_reported_peak_lies_inside_the_spectrum_plot_and_above_its_floor() {
+    // A large 2 Hz swing and a small 112 Hz vibration, a thousandth of it: on a linear amplitude axis
+    // the small peak is a flat line under a pixel high, which is how a user's 112 Hz peak was hidden.
+    use flexmb_cli::plot::{axis_ranges, ResultTable, YScale};
+    use flexmb_cli::spectrum::{analyse, spectrum_figure, SpectrumOptions};
+    let dir = scratch("spectrum-small-peak");
+    let csv = dir.join("arm.csv");
+    let y = |t: f64| 0.3 * (TAU * 2.0 * t).sin() + 3e-4 * (TAU * 112.0 * t).sin();
+    write_results(&csv, 4.0, 1e-3, &[("tip.x", "m", &y)]);
+    let table = ResultTable::read(&csv).unwrap();
+    let options = SpectrumOptions {
+        file: csv.clone(),
+        y: "tip.x".into(),
+        from: None,
+        to: None,
+        peaks: 5,
+        band: Default::default(),
+        out: None,
+        y_scale: YScale::Log,
+        size: (1200, 750),
+    };
+    let report = analyse(table.column("t").unwrap(), table.column("tip.x").unwrap(), &options).unwrap();
+    let frequencies: Vec<f64> = report.peaks.iter().map(|p| p.frequency).collect();
+    assert_eq!(frequencies.len(), 2, "{frequencies:?}");
+    assert!((frequencies[0] - 2.0).abs() < 1e-4 && (frequencies[1] - 112.0).abs() < 1e-3, "{frequencies:?}");
+    for scale in [YScale::Log, YScale::Linear] {
+        let figure = spectrum_figure(&table, "tip.x", Some("m".into()), &report, scale);
+        let ((f0, f1), (a0, a1)) = axis_ranges(&figure).unwrap();
+        assert!(f0 <= 0.0 && f1 >= 1.5 * 112.0, "{scale:?}: the frequency axis {f0} to {f1} Hz");
+        assert_eq!(figure.annotations.len(), 2, "{scale:?}: both peaks marked");
+        for peak in &report.peaks {
+            assert!(peak.amplitude < a1, "{scale:?}: {peak:?} under the top {a1}");
+            match scale {
+                YScale::Log => assert!(peak.amplitude >= 10.0 * a0, "a decade above the floor {a0}: {peak:?}"),
+                YScale::Linear => assert!(peak.amplitude > a0, "above the floor {a0}: {peak:?}"),
+            }
+        }
+    }
+    // On the linear axis the report says which peak shows only as its marker.
+    let image = dir.join("linear.png");
+    let printed =
+        succeed(&["spectrum", csv.to_str().unwrap(), "--y", "tip.x", "--scale", "linear", "--out", image.to_str().unwrap()]);
+    assert!(printed.contains("the peaks at 112.00 Hz are below 1 % of its height"), "{printed}");
+    let printed = succeed(&["spectrum", csv.to_str().unwrap(), "--y", "tip.x", "--out", image.to_str().unwrap()]);
+    assert!(!printed.contains("below 1 %"), "the log axis shows both: {printed}");
+}
+
+#[test]
+fn campbell_diagram_is_written_at_its_size_with_the_critical_speed_of_a_constant_mode() {
+    use flexmb_cli::plot::campbell::{critical_speeds, write_campbell, CriticalSpeed};
+    let dir = scratch("campbell");
+    let values: Vec<f64> = (0..=20).map(|k| k as f64).collect();
+    let frequencies: Vec<Vec<f64>> = values.iter().map(|x| vec![10.0, 12.0 + 0.5 * x]).collect();
+    let image = dir.join("campbell.png");
+    write_campbell(&image, "spin [rev/s]", &values, &frequencies, Some(1.0)).unwrap();
+    assert_eq!(png_size(&std::fs::read(&image).unwrap()), (1200, 750));
+    assert!(drawn_fraction(&image) > 0.01);
+    let found = critical_speeds(&values, &frequencies, 1.0);
+    assert_eq!(found[0], CriticalSpeed { mode: 0, value: 10.0, frequency_hz: 10.0 });
+    assert_eq!(found.len(), 1, "mode 2 meets the 1× line at 24 rev/s, past the sweep: {found:?}");
+    let svg = dir.join("campbell.svg");
+    write_campbell(&svg, "spin [rev/s]", &values, &frequencies, None).unwrap();
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.contains("Campbell diagram") && text.contains("mode 2") && !text.contains("1×"), "no 1× line asked");
+    let e = write_campbell(&dir.join("campbell.jpg"), "spin", &values, &frequencies, None).unwrap_err();
+    assert!(e.contains("use a .png or .svg"), "{e}");
+}
+
+#[test]
+fn plot_draws_a_time_window_and_refuses_an_empty_one() {
+    let dir = scratch("plot-window");
+    let csv = dir.join("swing.csv");
+    write_results(&csv, 5.0, 0.01, &[("x", "m", &|t: f64| t.sin())]);
+    let image = dir.join("window.svg");
+    let csv_arg = csv.to_str().unwrap();
+    succeed(&["plot", csv_arg, "--y", "x", "--from", "1", "--to", "2", "--out", image.to_str().unwrap()]);
+    assert!(std::fs::read_to_string(&image).unwrap().contains("<svg"));
+    let e = fail(&["plot", csv_arg, "--y", "x", "--from", "2", "--to", "1"]);
+    assert!(e.contains("--from 2 s is not before --to 1 s"), "{e}");
+    let e = fail(&["plot", csv_arg, "--y", "x", "--from", "6"]);
+    assert!(e.contains("no row has 6 ≤ t ≤ ∞ s; its times run from 0 to 5 s"), "{e}");
+}

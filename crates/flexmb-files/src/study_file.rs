@@ -9,6 +9,7 @@ use toml::Spanned;
 
 use crate::model_file::key_path::KeyPath;
 use crate::model_file::source::{read_text_file, Source};
+use crate::model_file::value::NumberOrExpression;
 use crate::model_file::{toml_errors, ModelFileError, ModelOverrides};
 
 #[derive(Deserialize)]
@@ -38,7 +39,7 @@ struct CaseSection {
     #[serde(default)]
     modes: BTreeMap<String, Spanned<String>>,
     #[serde(default)]
-    parameters: BTreeMap<String, Spanned<f64>>,
+    parameters: BTreeMap<String, Spanned<NumberOrExpression>>,
     published: Option<Spanned<PublishedSection>>,
 }
 
@@ -202,15 +203,17 @@ fn cases(source: &Source, sections: Vec<Spanned<CaseSection>>) -> Result<Vec<Cas
             Some(p) => Some(published(source, p, &key.key("published"))?),
             None => None,
         };
-        cases.push(Case {
-            name,
-            location,
-            overrides: ModelOverrides {
-                modes: c.modes.into_iter().map(|(body, set)| (body, set.into_inner())).collect(),
-                parameters: c.parameters.into_iter().map(|(name, v)| (name, v.into_inner())).collect(),
-            },
-            published,
-        });
+        let mut overrides = ModelOverrides {
+            modes: c.modes.into_iter().map(|(body, set)| (body, set.into_inner())).collect(),
+            ..Default::default()
+        };
+        for (parameter, value) in c.parameters {
+            match value.into_inner() {
+                NumberOrExpression::Number(x) => overrides.parameters.push((parameter, x)),
+                NumberOrExpression::Expression(text) => overrides.parameter_expressions.push((parameter, text)),
+            }
+        }
+        cases.push(Case { name, location, overrides, published });
     }
     Ok(cases)
 }

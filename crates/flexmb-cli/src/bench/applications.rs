@@ -26,7 +26,7 @@ fn load(path: &str, overrides: &ModelOverrides, t_end: f64) -> Result<(Model, Si
 
 /// models/door/door.toml with mode set 4N5S, 2 s.
 pub fn door_4n5s() -> Result<(Model, SimulationSettings), String> {
-    let overrides = ModelOverrides { modes: vec![("door".into(), "4N5S".into())], parameters: Vec::new() };
+    let overrides = ModelOverrides { modes: vec![("door".into(), "4N5S".into())], ..Default::default() };
     load("door/door.toml", &overrides, 2.0)
 }
 

@@ -17,6 +17,21 @@ use crate::run::CliError;
 pub struct Series {
     pub label: String,
     pub points: Vec<(f64, f64)>,
+    pub style: SeriesStyle,
+}
+
+/// How a series is drawn.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SeriesStyle {
+    /// A line in the next colour of the palette.
+    #[default]
+    Line,
+    /// A line in the next colour of the palette with a dot at each point (values computed at a few
+    /// points, e.g. frequencies against a swept parameter).
+    LineAndPoints,
+    /// A dashed black line that takes no colour of the palette (a reference, e.g. a Campbell
+    /// diagram's 1× line).
+    Reference,
 }
 
 /// A point marked with a circle and a short text (e.g. a spectral peak and its frequency).
@@ -44,8 +59,11 @@ pub struct Figure {
     pub series: Vec<Series>,
     pub annotations: Vec<Annotation>,
     pub y_scale: YScale,
-    /// The x range to show; by default that of the data.
+    /// The x range to show; by default that of the data and the annotations.
     pub x_range: Option<(f64, f64)>,
+    /// The y range to show; by default that of the data and the annotations, with room (see
+    /// [`axis_ranges`]).
+    pub y_range: Option<(f64, f64)>,
 }
 
 /// The image formats plots are written in, from the file's extension.
@@ -200,24 +218,32 @@ fn draw_figure<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, figure: &Figur
     let (x_range, y_range) = axis_ranges(figure)?;
     match figure.y_scale {
         YScale::Linear => {
-            draw_axes(&chart_area, figure, &metrics, x_range, linear_axis(y_range, Y_TICKS), y_range.0..y_range.1)?;
+            draw_axes(&chart_area, figure, &metrics, (x_range, y_range), linear_axis(y_range, Y_TICKS), y_range.0..y_range.1)?;
         }
         YScale::Log => {
-            draw_axes(&chart_area, figure, &metrics, x_range, log_axis(), (y_range.0..y_range.1).log_scale())?;
+            draw_axes(&chart_area, figure, &metrics, (x_range, y_range), log_axis(), (y_range.0..y_range.1).log_scale())?;
         }
     }
     draw_legend(&legend_area, figure, &metrics, &legend)
 }
 
-/// The x and y ranges the axes show: the data's (the y axis with room above and below), or an error
-/// if one cannot be drawn.
-fn axis_ranges(figure: &Figure) -> Result<(AxisRange, AxisRange), String> {
-    let x_range =
-        figure.x_range.unwrap_or_else(|| data_range(figure.series.iter().flat_map(|s| &s.points).map(|p| p.0)));
-    let y_values = || figure.series.iter().flat_map(|s| &s.points).map(|p| p.1).filter(|v| v.is_finite());
-    let y_range = match figure.y_scale {
-        YScale::Linear => padded(data_range(y_values())),
-        YScale::Log => log_range(y_values()),
+/// The x and y ranges the axes show, or an error if one cannot be drawn: those the figure gives, else
+/// the data's and the annotations' (every annotated point is inside the axes): the y axis with 5 %
+/// room above and below, or on a logarithmic axis from 2 to 7 decades below the largest value (at
+/// least a decade below the smallest annotation) to 4 times above it.
+pub fn axis_ranges(figure: &Figure) -> Result<(AxisRange, AxisRange), String> {
+    let points = || figure.series.iter().flat_map(|s| &s.points).copied();
+    let annotated = || figure.annotations.iter().map(|a| (a.x, a.y));
+    let x_range = figure.x_range.unwrap_or_else(|| data_range(points().chain(annotated()).map(|p| p.0)));
+    let y_values = || points().chain(annotated()).map(|p| p.1).filter(|v| v.is_finite());
+    let y_range = match (figure.y_range, figure.y_scale) {
+        (Some(range), _) => range,
+        (None, YScale::Linear) => padded(data_range(y_values())),
+        (None, YScale::Log) => {
+            let (lo, hi) = log_range(y_values());
+            let smallest_annotation = annotated().map(|p| p.1).filter(|y| *y > 0.0).fold(f64::INFINITY, f64::min);
+            (lo.min(smallest_annotation / 10.0), hi)
+        }
     };
     let axes = [
         ("x", &figure.x_quantity, x_range, x_range),
@@ -232,7 +258,7 @@ fn axis_ranges(figure: &Figure) -> Result<(AxisRange, AxisRange), String> {
 }
 
 /// The lowest and highest value an axis shows.
-type AxisRange = (f64, f64);
+pub type AxisRange = (f64, f64);
 
 /// Why an axis cannot be drawn.
 pub(super) const SPAN_TOO_LARGE: &str =
@@ -244,12 +270,13 @@ pub(super) fn drawable((lo, hi): (f64, f64)) -> bool {
     lo.is_finite() && hi.is_finite() && (hi - lo).is_finite()
 }
 
-/// The axes, grid, lines and annotations, on a y axis of type `Y` (linear or logarithmic).
+/// The axes, grid, lines and annotations over the x and y ranges, on a y axis of type `Y` (linear or
+/// logarithmic).
 fn draw_axes<DB, Y>(
     area: &DrawingArea<DB, Shift>,
     figure: &Figure,
     metrics: &Metrics,
-    (x0, x1): (f64, f64),
+    ((x0, x1), (y0, y1)): (AxisRange, AxisRange),
     y_axis: AxisScale,
     y_spec: Y,
 ) -> Result<(), String>
@@ -287,13 +314,40 @@ where
         .light_line_style(RGBColor(0, 0, 0).mix(0.06))
         .draw()
         .map_err(|e| e.to_string())?;
-    for (k, series) in figure.series.iter().enumerate() {
-        let style = PALETTE[k % PALETTE.len()].stroke_width(metrics.line_width);
+    for (series, colour) in figure.series.iter().zip(series_colours(figure)) {
+        let style = colour.stroke_width(metrics.line_width);
         for segment in finite_segments(&series.points) {
-            chart.draw_series(LineSeries::new(segment.iter().copied(), style)).map_err(|e| e.to_string())?;
+            // Values beyond the y axis (below a logarithmic axis's floor) drawn at its end, inside the frame.
+            let points = segment.iter().map(|&(x, y)| (x, y.clamp(y0, y1)));
+            match series.style {
+                SeriesStyle::Line => chart.draw_series(LineSeries::new(points, style)).map(|_| ()),
+                SeriesStyle::LineAndPoints => {
+                    let radius = (metrics.line_width * 2 + 1) as i32;
+                    chart.draw_series(LineSeries::new(points.clone(), style)).map_err(|e| e.to_string())?;
+                    chart.draw_series(points.map(|p| Circle::new(p, radius, colour.filled()))).map(|_| ())
+                }
+                SeriesStyle::Reference => {
+                    let dash = (metrics.legend * 0.6) as u32;
+                    chart.draw_series(DashedLineSeries::new(points, dash, dash / 2, style)).map(|_| ())
+                }
+            }
+            .map_err(|e| e.to_string())?;
         }
     }
     draw_annotations(&mut chart, figure, metrics)
+}
+
+/// Each series' colour: the palette's in turn, black for a reference line.
+pub(super) fn series_colours(figure: &Figure) -> Vec<RGBColor> {
+    let mut next = 0;
+    let mut colour = |style| match style {
+        SeriesStyle::Reference => BLACK,
+        _ => {
+            next += 1;
+            PALETTE[(next - 1) % PALETTE.len()]
+        }
+    };
+    figure.series.iter().map(|s| colour(s.style)).collect()
 }
 
 /// Width of the y label area: the widest tick label and the rotated axis label beside it.
@@ -379,11 +433,13 @@ mod tests {
                 .map(|k| Series {
                     label: format!("run{k} x"),
                     points: (0..200).map(|i| (i as f64 * 0.01, (i as f64 * 0.05 + k as f64).sin())).collect(),
+                    style: SeriesStyle::Line,
                 })
                 .collect(),
             annotations: Vec::new(),
             y_scale: YScale::Linear,
             x_range: None,
+            y_range: None,
         }
     }
 
@@ -418,6 +474,20 @@ mod tests {
         assert!(render_rgb(&figure, (640, 400)).is_ok());
         figure.y_scale = YScale::Log;
         assert!(render_rgb(&figure, (640, 400)).unwrap_err().to_string().starts_with("cannot draw the y axis (x)"));
+    }
+
+    #[test]
+    fn the_axes_hold_every_annotated_point() {
+        let mut figure = sine_figure(1);
+        figure.y_scale = YScale::Log;
+        figure.series[0].points = (0..100).map(|i| (i as f64, 10f64.powi(9 - i % 10))).collect();
+        figure.annotations = vec![Annotation { x: 120.0, y: 0.1, text: "small".into() }];
+        let ((x0, x1), (y0, y1)) = axis_ranges(&figure).unwrap();
+        assert_eq!((x0, x1), (0.0, 120.0));
+        assert!(y0 <= 0.01 && y1 >= 4e9, "{y0} to {y1}: a decade below the annotation, room above the data");
+        figure.y_scale = YScale::Linear;
+        figure.annotations[0].y = -5.0;
+        assert!(axis_ranges(&figure).unwrap().1 .0 < -5.0);
     }
 
     #[test]

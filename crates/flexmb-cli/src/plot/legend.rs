@@ -5,7 +5,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::figure::{Figure, Metrics, PALETTE};
+use super::figure::{series_colours, Figure, Metrics};
 use super::font::FAMILY;
 
 /// How the legend is laid out: entries flow left to right in rows below the axes.
@@ -58,9 +58,10 @@ pub(super) fn draw_legend<DB: DrawingBackend>(
 ) -> Result<(), String> {
     let font = (FAMILY, metrics.legend).into_font().color(&BLACK);
     let swatch = (metrics.legend * 2.0) as i32;
-    for (k, (series, &(x, row))) in figure.series.iter().zip(&layout.positions).enumerate() {
+    let colours = series_colours(figure);
+    for ((series, &(x, row)), colour) in figure.series.iter().zip(&layout.positions).zip(colours) {
         let y = row * layout.row_height as i32 + layout.row_height as i32 / 2;
-        let style = PALETTE[k % PALETTE.len()].stroke_width(metrics.line_width + 1);
+        let style = colour.stroke_width(metrics.line_width + 1);
         area.draw(&PathElement::new(vec![(x, y), (x + swatch, y)], style)).map_err(|e| e.to_string())?;
         let text_style = font.clone().pos(Pos::new(HPos::Left, VPos::Center));
         area.draw(&Text::new(series.label.clone(), (x + swatch + (metrics.legend * 0.5) as i32, y), text_style))

@@ -7,7 +7,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::{compose, default_image_path, render, ResultTable, DEFAULT_SIZE};
+use super::{compose, default_image_path, render, ResultTable, TimeWindow, DEFAULT_SIZE};
 use crate::run::CliError;
 
 /// Columns plotted together: one output's columns of one unit.
@@ -28,7 +28,7 @@ pub fn plot_run_outputs(csv: &Path, columns: &[String]) -> Result<Vec<PathBuf>, 
     };
     let mut images = Vec::new();
     for group in groups {
-        let mut figure = compose(std::slice::from_ref(&table), "t", &group.columns)?;
+        let mut figure = compose(std::slice::from_ref(&table), "t", &group.columns, TimeWindow::default())?;
         figure.title = format!("{} — {}", group.name, table.stem());
         figure.y_quantity.0.clone_from(&group.name);
         let path = default_image_path(csv, std::slice::from_ref(&group.name));

@@ -12,7 +12,7 @@ use std::path::PathBuf;
 use estimator::{dominant_peaks, AmplitudeSpectrum, FrequencyBand, Peak, WindowedRecord};
 use samples::UniformSamples;
 
-use crate::plot::{render, Annotation, Figure, ImageFormat, ResultTable, Series, YScale};
+use crate::plot::{render, Annotation, Figure, ImageFormat, ResultTable, Series, SeriesStyle, YScale};
 use crate::run::CliError;
 
 /// What `flexmb spectrum` analyses.
@@ -65,8 +65,12 @@ pub fn run_spectrum(options: &SpectrumOptions) -> Result<String, CliError> {
     let unit = table.unit(&options.y).map(str::to_string);
     let mut text = describe(&table, &options.y, unit.as_deref(), &report);
     if let Some(out) = &options.out {
-        render(&spectrum_figure(&table, &options.y, unit, &report, options.y_scale), out, options.size)?;
+        let figure = spectrum_figure(&table, &options.y, unit, &report, options.y_scale);
+        render(&figure, out, options.size)?;
         writeln!(text, "\nspectrum plot: {}", out.display()).ok();
+        if let Some(note) = hidden_peaks_note(&figure, &report) {
+            writeln!(text, "  {note}").ok();
+        }
     }
     Ok(text)
 }
@@ -141,8 +145,11 @@ fn significant(x: f64) -> String {
     }
 }
 
-/// The amplitude spectrum from 0 to a little beyond the highest peak, with the peaks marked.
-fn spectrum_figure(
+/// The amplitude spectrum with every reported peak marked and labelled with its frequency: from 0 to
+/// twice the highest peak (at least 20/T, at most the Nyquist frequency), so that every peak lies
+/// inside the frequency axis with room after it; the amplitude axis holds every peak (on a log axis
+/// at least a decade above its floor: [`axis_ranges`](crate::plot::axis_ranges)).
+pub fn spectrum_figure(
     table: &ResultTable,
     column: &str,
     unit: Option<String>,
@@ -161,14 +168,40 @@ fn spectrum_figure(
         series: vec![Series {
             label: format!("{column}, t = {} to {} s, Hann window", report.samples.t0, report.samples.t_end()),
             points: (0..shown).map(|k| (spectrum.frequency(k), spectrum.amplitudes[k])).collect(),
+            style: SeriesStyle::Line,
         }],
         annotations: report
             .peaks
             .iter()
-            .filter(|p| p.frequency <= f_max)
             .map(|p| Annotation { x: p.frequency, y: p.amplitude, text: format!("{:.decimals$} Hz", p.frequency) })
             .collect(),
         y_scale,
         x_range: Some((0.0, f_max)),
+        y_range: None,
     }
+}
+
+/// On a linear amplitude axis a peak below this fraction of the axis's height is a flat line at the
+/// bottom: only its marker shows it.
+const LINEAR_VISIBLE: f64 = 0.01;
+
+/// A note for the report if some peaks are too small to see on the figure's linear amplitude axis.
+fn hidden_peaks_note(figure: &Figure, report: &SpectrumReport) -> Option<String> {
+    let (_, (lo, hi)) = crate::plot::axis_ranges(figure).ok()?;
+    if figure.y_scale != YScale::Linear {
+        return None;
+    }
+    let small: Vec<String> = report
+        .peaks
+        .iter()
+        .filter(|p| p.amplitude - lo.max(0.0) < LINEAR_VISIBLE * (hi - lo))
+        .map(|p| format!("{} Hz", significant(p.frequency)))
+        .collect();
+    (!small.is_empty()).then(|| {
+        format!(
+            "on the linear amplitude axis the peaks at {} are below 1 % of its height and show only as their \
+             markers; --scale log shows them",
+            small.join(", ")
+        )
+    })
 }

@@ -192,6 +192,7 @@ fn plot_cases(study: &Study, runs: &[StudyRun], out_dir: &Path) -> Result<Vec<Pa
             out: Some(out_dir.join(format!("{column}-{first}.png"))),
             title: Some(format!("{}: {column} ({first})", study.name)),
             size: crate::plot::DEFAULT_SIZE,
+            window: crate::plot::TimeWindow::default(),
         };
         files.push(crate::plot::run_plot(&options)?);
     }

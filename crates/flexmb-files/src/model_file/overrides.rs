@@ -14,6 +14,9 @@ pub struct ModelOverrides {
     pub modes: Vec<(String, String)>,
     /// `(name, value)`: the value of that `[parameters]` entry.
     pub parameters: Vec<(String, f64)>,
+    /// `(name, expression)`: that `[parameters]` entry replaced by a constant expression of the file's
+    /// parameters (a study's `[[case]] parameters = { w = "2*PI*f" }`), applied after `parameters`.
+    pub parameter_expressions: Vec<(String, String)>,
 }
 
 impl ModelOverrides {
@@ -32,13 +35,16 @@ impl ModelOverrides {
             let at = f.modes.as_ref().map_or(span, |m| m.span());
             f.modes = Some(Spanned::new(at, set.clone()));
         }
-        for (name, value) in &self.parameters {
+        let numbers = self.parameters.iter().map(|(name, value)| (name, NumberOrExpression::Number(*value)));
+        let expressions =
+            self.parameter_expressions.iter().map(|(name, text)| (name, NumberOrExpression::Expression(text.clone())));
+        for (name, value) in numbers.chain(expressions) {
             let Some(entry) = file.parameters.iter_mut().find(|(k, _)| k.get_ref() == name) else {
                 let names: Vec<&str> = file.parameters.keys().map(|k| k.get_ref().as_str()).collect();
                 let hint = did_you_mean(name, names.iter().copied());
                 return Err(format!("the model has no parameter '{name}' (it has: {}){hint}", list(&names)));
             };
-            *entry.1 = Spanned::new(entry.1.span(), NumberOrExpression::Number(*value));
+            *entry.1 = Spanned::new(entry.1.span(), value);
         }
         Ok(())
     }

@@ -1,8 +1,10 @@
 //! ParaView output: VTK XML unstructured grids (`.vtu`) written with `vtkio`, and `.pvd` time series of
 //! them: the mode shapes of a flexible body and their animations (`flexmb modes --vtk`), and the
-//! bodies and joints of a simulation run as it proceeds (`flexmb run --vtk`).
+//! bodies and joints of a simulation run as it proceeds (`flexmb run --vtk`), and the modes of the
+//! whole mechanism (`mechanism_mode`).
 
 mod body_motion;
+pub mod mechanism_mode;
 mod mode_animation;
 mod mode_shapes;
 mod pvd;

@@ -18,7 +18,7 @@ use super::body_motion::{marker_motion, BodyMotion, PointMotion};
 use super::pvd::file_safe;
 use super::{cells, element_cells, piece};
 use crate::model_file::LoadedModel;
-use crate::shape::Shape;
+use crate::shape::{frame_size, Shape};
 
 /// One block of the series.
 pub(crate) struct Part {
@@ -53,14 +53,44 @@ pub(crate) fn parts(loaded: &LoadedModel) -> Vec<Part> {
         let kind = PartKind::Flexible { body: f.body, labels, cells: element_cells(&f.elements) };
         parts.push(Part::new(&f.name, "body", kind, &parts));
     }
+    push_joints(model, &mut parts);
+    parts
+}
+
+/// The parts of a model alone, without its file's drawing (for a [`Model`] built in code): each rigid
+/// body as the glyph of its frame (sized by its inertia, as a `[[body]]` without `shape` is drawn), each
+/// flexible body as a vertex at each of its nodes (the elements are the file's), then the joints.
+pub(crate) fn model_parts(model: &Model) -> Vec<Part> {
+    let mut parts = Vec::new();
+    for (k, body) in model.bodies().iter().enumerate() {
+        let id = BodyId(k);
+        let kind = match model.modal_body(id) {
+            Some(modal) => {
+                let labels = modal.nodes.iter().map(|n| n.label).collect();
+                let vertices: Vec<[usize; 1]> = (0..modal.nodes.len()).map(|n| [n]).collect();
+                PartKind::Flexible { body: id, labels, cells: cells(vertices.iter().map(|v| v.as_slice())) }
+            }
+            None => {
+                let mesh = Shape::Frame { size: frame_size(body.mass, &body.inertia) }.mesh();
+                let cells = cells(mesh.cells.iter().map(Vec::as_slice));
+                PartKind::Rigid { body: id, points: mesh.points, cells, frame_glyph: true }
+            }
+        };
+        parts.push(Part::new(&body.name, "body", kind, &parts));
+    }
+    push_joints(model, &mut parts);
+    parts
+}
+
+/// A part for each joint that is not a driver (a driver repeats its joint's markers).
+fn push_joints(model: &Model, parts: &mut Vec<Part>) {
     for joint in model.joints() {
         if matches!(joint.kind, JointKind::AngleDriver { .. } | JointKind::DisplacementDriver { .. }) {
             continue;
         }
         let kind = PartKind::Joint { markers: [joint.marker_i, joint.marker_j] };
-        parts.push(Part::new(&joint.name, "joint", kind, &parts));
+        parts.push(Part::new(&joint.name, "joint", kind, parts));
     }
-    parts
 }
 
 impl Part {
@@ -75,23 +105,35 @@ impl Part {
 
     /// The block at the state `q`, `v`.
     pub(crate) fn piece(&mut self, model: &Model, q: &[f64], v: &[f64]) -> UnstructuredGridPiece {
+        let points = self.motions(model, q, v);
         let Part { kind, initial, .. } = self;
         match kind {
-            PartKind::Flexible { body, labels, cells } => {
+            PartKind::Flexible { labels, cells, .. } => flexible_piece(&points, labels, cells, initial),
+            PartKind::Rigid { cells, frame_glyph, .. } => rigid_piece(&points, cells, *frame_glyph, initial),
+            PartKind::Joint { .. } => joint_piece(&points),
+        }
+    }
+
+    /// `displacement` measured from the block's points at `q` from now on (instead of from its first
+    /// frame).
+    pub(crate) fn measure_displacement_from(&mut self, model: &Model, q: &[f64]) {
+        let v = vec![0.0; model.layout().nv];
+        self.initial = Some(positions(&self.motions(model, q, &v)));
+    }
+
+    /// Where the block's points are and how they move at the state `q`, `v`.
+    pub(crate) fn motions(&self, model: &Model, q: &[f64], v: &[f64]) -> Vec<PointMotion> {
+        match &self.kind {
+            PartKind::Flexible { body, .. } => {
                 let motion = BodyMotion::of(model, *body, q, v);
                 let nodes = model.modal_body(*body).map_or(&[][..], |m| m.nodes.as_slice());
-                let points: Vec<PointMotion> = nodes.iter().map(|n| motion.node(n)).collect();
-                flexible_piece(&points, labels, cells, initial)
+                nodes.iter().map(|n| motion.node(n)).collect()
             }
-            PartKind::Rigid { body, points, cells, frame_glyph } => {
+            PartKind::Rigid { body, points, .. } => {
                 let motion = BodyMotion::of(model, *body, q, v);
-                let points: Vec<PointMotion> = points.iter().map(|p| motion.point(p)).collect();
-                rigid_piece(&points, cells, *frame_glyph, initial)
+                points.iter().map(|p| motion.point(p)).collect()
             }
-            PartKind::Joint { markers } => {
-                let points: Vec<PointMotion> = markers.iter().map(|&m| marker_motion(model, m, q, v)).collect();
-                joint_piece(&points)
-            }
+            PartKind::Joint { markers } => markers.iter().map(|&m| marker_motion(model, m, q, v)).collect(),
         }
     }
 }

@@ -152,7 +152,7 @@ fn frame_step(step: Option<f64>, output_step: f64) -> Result<f64, String> {
 }
 
 /// Removes the `.vtu` files in `folder`.
-fn remove_old_frames(folder: &Path) -> Result<(), String> {
+pub(super) fn remove_old_frames(folder: &Path) -> Result<(), String> {
     let entries = std::fs::read_dir(folder).map_err(|e| format!("cannot read {}: {e}", folder.display()))?;
     for entry in entries.flatten() {
         let path = entry.path();
