@@ -4,6 +4,7 @@
 mod accelerations;
 mod assembly;
 mod check;
+mod equilibrium;
 mod linearization;
 mod memory;
 mod outputs;
@@ -22,6 +23,10 @@ pub mod test_models;
 pub use accelerations::{AccelerationError, AccelerationSolver, Accelerations};
 pub use assembly::{assemble, AssemblyError, AssemblyReport, AssemblySettings, ModalAssembly};
 pub use check::{check_model, CheckReport};
+pub use equilibrium::{
+    joint_reactions, static_equilibrium, BodyMotion, EquilibriumError, EquilibriumFallback, EquilibriumIteration, EquilibriumMethod,
+    EquilibriumReport, EquilibriumSettings, FreeMotion, JointReaction, ReactionSide,
+};
 pub use linearization::{displaced_positions, linearize, Linearization, OperatingPoint, SparseLinearization};
 pub(crate) use linearization::linearize_at;
 pub use outputs::{output_columns, OutputColumn};
