@@ -39,7 +39,7 @@ pub use redundancy::redundant_rows;
 pub use redundancy_reference::gram_schmidt_redundant_rows;
 pub use simulation::{
     simulate, simulate_interruptible, Interruption, OutputFrame, OutputSink, OutputTable, Simulation, SimulationCheckpoint,
-    SimulationError, SimulationFailure, SimulationReport, SimulationSettings, StateProjection, WorkAtStep, CHECKPOINT_VERSION,
+    SimulationError, SimulationFailure, SimulationReport, SimulationSettings, Start, StateProjection, WorkAtStep, CHECKPOINT_VERSION,
 };
 pub use state::State;
 pub use velocity::{velocity_analysis, VelocityReport};

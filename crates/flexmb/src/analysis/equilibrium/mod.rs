@@ -68,7 +68,7 @@ const FIRST_RELAXATION_STEP: f64 = 0.1;
 const STALLED_STEPS: usize = 5;
 
 /// What the equilibrium iteration may do.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EquilibriumSettings {
     /// Largest force residual `|f + Bᵀλ|` accepted, relative to the largest applied generalized force at
     /// the start (N, N m, modal force). Default 10⁻¹⁰.
