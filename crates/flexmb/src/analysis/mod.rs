@@ -24,7 +24,7 @@ pub use accelerations::{AccelerationError, AccelerationSolver, Accelerations};
 pub use assembly::{assemble, AssemblyError, AssemblyReport, AssemblySettings, ModalAssembly};
 pub use check::{check_model, CheckReport};
 pub use equilibrium::{
-    joint_reactions, static_equilibrium, BodyMotion, EquilibriumError, EquilibriumFallback, EquilibriumIteration, EquilibriumMethod,
+    equilibrium_outputs, joint_reactions, static_equilibrium, BodyMotion, EquilibriumError, EquilibriumFallback, EquilibriumIteration, EquilibriumMethod,
     EquilibriumReport, EquilibriumSettings, FreeMotion, JointReaction, ReactionSide,
 };
 pub use linearization::{displaced_positions, linearize, Linearization, OperatingPoint, SparseLinearization};

@@ -63,6 +63,10 @@ const NEUTRAL_TOLERANCE: f64 = 1e-9;
 const NEUTRAL_LOAD_FRACTION: f64 = 1e-8;
 /// The first relaxation step moves about this far (m or rad) along the load.
 const FIRST_RELAXATION_STEP: f64 = 0.1;
+/// A direction along which the load would have to move the mechanism further than this (m or rad, at
+/// the rate of the stiffness there) to be balanced, when the iterations have run out, is a free motion:
+/// a crank driven round by a motor, whose stiffness comes only from the small change of geometry.
+const FREE_MOTION_LENGTH: f64 = 1.0;
 /// Relaxation steps in a row that leave the residual (to 10⁻⁶) where it was before the motion is
 /// declared free.
 const STALLED_STEPS: usize = 5;
@@ -77,7 +81,7 @@ pub struct EquilibriumSettings {
     pub max_iterations: usize,
     /// What to do when Newton's method cannot go on. Default [`EquilibriumFallback::Relaxation`].
     pub fallback: EquilibriumFallback,
-    /// Most iterations of the fallback. Default 500.
+    /// Most iterations of the fallback. Default 200.
     pub max_relaxation_iterations: usize,
     /// The assembly of the starting configuration and the projection of each iterate onto the
     /// constraints (its tolerance is the constraint residual accepted).
@@ -90,7 +94,7 @@ impl Default for EquilibriumSettings {
             force_tolerance: 1e-10,
             max_iterations: 50,
             fallback: EquilibriumFallback::Relaxation,
-            max_relaxation_iterations: 500,
+            max_relaxation_iterations: 200,
             assembly: AssemblySettings::default(),
         }
     }
@@ -377,8 +381,13 @@ impl<'a> Iteration<'a> {
     }
 
     /// One Newton step with a backtracking line search (Armijo on the merit, halving to 1/64); `None`
-    /// when a load acts along a direction of zero stiffness or no step reduces the merit.
+    /// when a load acts along a direction of zero stiffness, the reduced stiffness has a negative
+    /// direction (Newton's step would head for an unstable equilibrium, where the relaxation goes
+    /// downhill) or no step reduces the merit.
     fn newton_step(&self, data: &mut Data, state: &mut State, point: &StaticPoint, tangent: &Tangent) -> Option<StaticPoint> {
+        if stiffness_signature(&tangent.stiffness, self.neutral_stiffness).1 > 0 {
+            return None;
+        }
         let z = match self.truncated_solve(tangent) {
             ReducedStep::Step(z) => z,
             ReducedStep::LoadOnNeutral { .. } => return None,
@@ -402,12 +411,14 @@ impl<'a> Iteration<'a> {
     /// of zero stiffness at the last iterate, else the residuals left.
     fn failure(&mut self, data: &mut Data, state: &State, point: &StaticPoint) -> EquilibriumError {
         let tangent = self.tangent(data, state, point);
-        if let ReducedStep::LoadOnNeutral { direction, load } = self.truncated_solve(&tangent) {
-            if load > self.force_tolerance {
-                let d = &point.null_space * &direction;
-                let motion = free_motion::free_motion(self.model, data, state.t, &state.q, &d, load);
-                return EquilibriumError::FreeMotion { t: state.t, motion };
-            }
+        let free = match self.truncated_solve(&tangent) {
+            ReducedStep::LoadOnNeutral { direction, load } if load > self.force_tolerance => Some((direction, load)),
+            _ => self.far_direction(&tangent),
+        };
+        if let Some((direction, load)) = free {
+            let d = &point.null_space * &direction;
+            let motion = free_motion::free_motion(self.model, data, state.t, &state.q, &d, load);
+            return EquilibriumError::FreeMotion { t: state.t, motion };
         }
         EquilibriumError::NotConverged {
             iterations: self.history.len() - 1,
@@ -447,7 +458,7 @@ impl Relaxation {
             if let Some((next, next_point)) = iteration.trial(data, state, &d, 1.0) {
                 if next_point.merit() <= 2.0 * merit {
                     let ratio = next_point.merit() / merit;
-                    self.stalled = if ratio > 1.0 - 1e-6 { self.stalled + 1 } else { 0 };
+                    self.stalled = if (ratio - 1.0).abs() < 1e-6 { self.stalled + 1 } else { 0 };
                     self.sigma = Some((sigma * ratio).max(floor));
                     *state = next;
                     if self.stalled >= STALLED_STEPS {
@@ -473,6 +484,24 @@ enum ReducedStep {
 }
 
 impl Iteration<'_> {
+    /// The singular direction of the reduced stiffness along which the load would move the mechanism
+    /// furthest, `|u_kᵀ Nᵀ f| / s_k`, with its load, if that is more than [`FREE_MOTION_LENGTH`].
+    fn far_direction(&self, tangent: &Tangent) -> Option<(Mat<f64>, f64)> {
+        let (k, rhs) = (&tangent.stiffness, &tangent.rhs);
+        let n = k.nrows();
+        let svd = k.svd().ok()?;
+        let (u, s) = (svd.U(), svd.S().column_vector());
+        let mut far: Option<(usize, f64, f64)> = None;
+        for i in 0..n {
+            let c = (0..n).map(|r| u[(r, i)] * rhs[(r, 0)]).sum::<f64>();
+            let reach = c.abs() / s[i];
+            if c.abs() > self.force_tolerance && reach > FREE_MOTION_LENGTH && far.is_none_or(|(_, r, _)| reach > r) {
+                far = Some((i, reach, c));
+            }
+        }
+        far.map(|(i, _, c)| (Mat::from_fn(n, 1, |r, _| u[(r, i)] * c), c.abs()))
+    }
+
     /// `z = −(Nᵀ K N)⁺ Nᵀ f` over the singular values above [`NEUTRAL_TOLERANCE`] of the largest and
     /// above the neutral stiffness; when the right side has a component along the others (larger than
     /// 10⁻¹² of its norm and a tenth of the force tolerance), that component.
@@ -522,4 +551,17 @@ fn stiffness_signature(k: &Mat<f64>, neutral_stiffness: f64) -> (usize, usize) {
     let neutral = values.iter().filter(|x| x.abs() <= floor).count();
     let unstable = values.iter().filter(|x| **x < -floor).count();
     (neutral, unstable)
+}
+
+/// The values of the model's outputs ([`output_columns`](super::output_columns)) at the static
+/// equilibrium `state` with its `multipliers` (accelerations zero): positions, deformations, reactions,
+/// measures, energies, one value per column. Leaves the stages evaluated there in `data`.
+pub fn equilibrium_outputs(model: &Model, data: &mut Data, state: &State, multipliers: &[f64]) -> Result<Vec<f64>, SizeMismatch> {
+    SizeCheck::new(model).data(data)?.state(state)?.rows("the multipliers", multipliers.len())?;
+    let zero = vec![0.0; model.layout.nv];
+    crate::stage::run_forward(model, data, state.t, &state.q, &zero, &zero);
+    let at_rest = super::Accelerations { vdot: zero.clone(), lambda: multipliers.to_vec() };
+    let mut values = vec![0.0; super::output_columns(model).len()];
+    super::outputs::evaluate_outputs(model, data, &state.q, &zero, &at_rest, &state.active, &mut values);
+    Ok(values)
 }
