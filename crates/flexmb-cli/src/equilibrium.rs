@@ -67,7 +67,7 @@ pub fn run_equilibrium(path: &Path, options: &EquilibriumOptions) -> Result<Equi
     write_csv().map_err(|e| CliError(format!("cannot write {}: {e}", csv_path.display())))?;
     let pvd = if options.vtk {
         let times = SeriesTimes { step: None, output_step: 1.0, t_end: 1.0 };
-        let mut series = RunSeries::create(&options.out_dir, "equilibrium", &loaded, times, 1).map_err(CliError)?;
+        let mut series = RunSeries::create(&options.out_dir, "equilibrium", &loaded, times, 2).map_err(CliError)?;
         series.observe(&OutputFrame { t: 0.0, values: &values, q: &state.q, v: &state.v });
         Some(series.finish().map_err(CliError)?.pvd)
     } else {
