@@ -5,6 +5,7 @@
 pub mod bench;
 pub mod check;
 pub mod compare;
+pub mod equilibrium;
 pub mod interrupt;
 pub mod limits;
 pub mod modes;

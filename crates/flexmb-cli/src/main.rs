@@ -10,6 +10,7 @@ use clap::{Parser, Subcommand};
 use flexmb_cli::bench::{run_benchmarks, BenchCase, BenchIntegrator, BenchOptions};
 use flexmb_cli::check::{check_model, describe, describe_columns, describe_flexible_bodies};
 use flexmb_cli::compare::{compare_model, CompareOptions};
+use flexmb_cli::equilibrium::{run_equilibrium, EquilibriumOptions};
 use flexmb_cli::modes::{run_modes, ModesOptions};
 use flexmb_cli::parameters::parse_parameter;
 use flexmb_cli::plot::{plot_run_outputs, run_plot, PlotOptions, TimeWindow, YScale, DEFAULT_SIZE};
@@ -123,6 +124,25 @@ enum Command {
         /// Replace the value of a parameter of the model's [parameters] table: NAME=VALUE (repeatable).
         #[arg(long = "parameter", short = 'p', value_name = "NAME=VALUE", value_parser = parse_parameter)]
         parameter: Vec<(String, f64)>,
+    },
+    /// Find the static equilibrium at t = 0 (gravity, springs, loads, drivers held there): print the
+    /// iterations and residuals, write equilibrium.json (poses, modal coordinates, multipliers, joint
+    /// reactions) and equilibrium.csv (the model's outputs there) into --out.
+    Equilibrium {
+        /// Model file (TOML).
+        model: PathBuf,
+        /// Replace the value of a parameter of the model's [parameters] table: NAME=VALUE (repeatable).
+        #[arg(long = "parameter", short = 'p', value_name = "NAME=VALUE", value_parser = parse_parameter)]
+        parameter: Vec<(String, f64)>,
+        /// Directory for the result files.
+        #[arg(long, default_value = "out")]
+        out: PathBuf,
+        /// Also write the equilibrium (deformed flexible bodies, joints) for ParaView: OUT/equilibrium.pvd.
+        #[arg(long)]
+        vtk: bool,
+        /// Print nothing but errors.
+        #[arg(long, short)]
+        quiet: bool,
     },
     /// Reduce a flexible body's FE model to a mode set: frequencies, mass properties, and the
     /// flexible-body file (JSON) that mechanism models use.
@@ -362,6 +382,10 @@ fn main() -> ExitCode {
                     .map_err(|e| format!("{}: {e}", model.display()))
             })
             .map_err(flexmb_cli::run::CliError),
+        Command::Equilibrium { model, parameter, out, vtk, quiet } => {
+            let options = EquilibriumOptions { out_dir: out, vtk, parameters: parameter, quiet };
+            run_equilibrium(&model, &options).map(|_| ())
+        }
         Command::Modes { fe_model, modes, basis, mass, out, vtk, solver } => {
             let options = ModesOptions {
                 mode_set: modes,

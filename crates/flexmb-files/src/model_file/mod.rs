@@ -60,6 +60,9 @@ pub struct SimulationDefaults {
     /// What the assembly may change in flexible bodies (`modal_assembly`). Default held: the modal
     /// coordinates stay at their initial values and only the reference frames move.
     pub modal_assembly: flexmb::analysis::ModalAssembly,
+    /// Where a run starts (`start`): `"assembly"`, the assembled initial configuration (the default), or
+    /// `"equilibrium"`, the static equilibrium there ([`Start::Equilibrium`](flexmb::analysis::Start)).
+    pub start: flexmb::analysis::Start,
     /// The integration method (`integrator`, with `spectral_radius` for the generalized-α method).
     /// Default BDF.
     pub method: flexmb::integrate::Method,
@@ -96,6 +99,7 @@ impl Default for SimulationDefaults {
             atol: 1e-6,
             tolerance_span: flexmb::integrate::ToleranceSpan::Step,
             modal_assembly: flexmb::analysis::ModalAssembly::Held,
+            start: flexmb::analysis::Start::Assembly,
             method: flexmb::integrate::Method::default(),
             max_order: None,
             max_step: None,
@@ -169,6 +173,7 @@ impl SimulationDefaults {
             output_step: self.output_step,
             tolerances: self.tolerances(),
             assembly,
+            start: self.start,
             method: self.method_for(model),
             physics_limits: self.physics_limits,
         }

@@ -61,6 +61,7 @@ pub(crate) struct SimulationSection {
     pub atol: Option<Number>,
     pub tolerance_span: Option<Number>,
     pub modal_assembly: Option<Name>,
+    pub start: Option<Name>,
     pub integrator: Option<Name>,
     pub spectral_radius: Option<Number>,
     pub max_order: Option<Number>,

@@ -18,7 +18,7 @@ use crate::model::{Model, SizeCheck, SizeMismatch};
 use crate::stage::{jacobian_entries, run_kinematic_stages};
 
 /// Settings of the assembly.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AssemblySettings {
     /// Largest absolute constraint residual accepted (m for point equations, dimensionless for dot-1).
     pub tolerance: f64,

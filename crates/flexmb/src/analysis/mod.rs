@@ -4,6 +4,7 @@
 mod accelerations;
 mod assembly;
 mod check;
+mod equilibrium;
 mod linearization;
 mod memory;
 mod outputs;
@@ -22,6 +23,10 @@ pub mod test_models;
 pub use accelerations::{AccelerationError, AccelerationSolver, Accelerations};
 pub use assembly::{assemble, AssemblyError, AssemblyReport, AssemblySettings, ModalAssembly};
 pub use check::{check_model, CheckReport};
+pub use equilibrium::{
+    equilibrium_outputs, joint_reactions, static_equilibrium, BodyMotion, EquilibriumError, EquilibriumFallback, EquilibriumIteration, EquilibriumMethod,
+    EquilibriumReport, EquilibriumSettings, FreeMotion, JointReaction, ReactionSide,
+};
 pub use linearization::{displaced_positions, linearize, Linearization, OperatingPoint, SparseLinearization};
 pub(crate) use linearization::linearize_at;
 pub use outputs::{columns_of_output, output_columns, ColumnSources, OutputColumn};
@@ -34,7 +39,7 @@ pub use redundancy::redundant_rows;
 pub use redundancy_reference::gram_schmidt_redundant_rows;
 pub use simulation::{
     simulate, simulate_interruptible, Interruption, OutputFrame, OutputSink, OutputTable, Simulation, SimulationCheckpoint,
-    SimulationError, SimulationFailure, SimulationReport, SimulationSettings, StateProjection, WorkAtStep, CHECKPOINT_VERSION,
+    SimulationError, SimulationFailure, SimulationReport, SimulationSettings, Start, StateProjection, WorkAtStep, CHECKPOINT_VERSION,
 };
 pub use state::State;
 pub use velocity::{velocity_analysis, VelocityReport};

@@ -1,6 +1,6 @@
 //! `[model]` and `[simulation]`: the model's name and gravity, and the defaults of a simulation run.
 
-use flexmb::analysis::{ModalAssembly, PhysicsLimits};
+use flexmb::analysis::{ModalAssembly, PhysicsLimits, Start};
 use flexmb::integrate::ToleranceSpan;
 use flexmb::math::Vec3;
 use flexmb_fem::input::Quantity;
@@ -124,9 +124,14 @@ pub(crate) fn simulation_defaults(
         Some(name) => parse_modal_assembly(name.get_ref()).map_err(|e| ctx.invalid(&name.span(), &table.key("modal_assembly"), e))?,
         None => defaults.modal_assembly,
     };
+    let start = match &s.start {
+        Some(name) => parse_start(name.get_ref()).map_err(|e| ctx.invalid(&name.span(), &table.key("start"), e))?,
+        None => defaults.start,
+    };
     Ok(SimulationDefaults {
         method,
         modal_assembly,
+        start,
         max_order,
         max_step: step(&s.max_step, "max_step")?,
         fixed_step,
@@ -184,6 +189,15 @@ fn physics_limits(
         (d.energy_balance_warning, d.energy_balance_limit),
     )?;
     Ok(PhysicsLimits { elastic_deflection_warning, elastic_deflection_limit, energy_balance_warning, energy_balance_limit })
+}
+
+/// `start = "assembly" | "equilibrium"`.
+fn parse_start(name: &str) -> Result<Start, String> {
+    match name {
+        "assembly" => Ok(Start::Assembly),
+        "equilibrium" => Ok(Start::Equilibrium(Default::default())),
+        other => Err(format!("unknown start '{other}': expected \"assembly\" or \"equilibrium\"")),
+    }
 }
 
 /// `modal_assembly = "held" | "free" | "static"`.

@@ -19,11 +19,12 @@ pub use checkpoint::{SimulationCheckpoint, CHECKPOINT_VERSION};
 pub use output::{OutputFrame, OutputSink, OutputTable};
 pub use report::{Interruption, SimulationError, SimulationFailure, SimulationReport, WorkAtStep};
 pub use set_state::StateProjection;
-pub use settings::SimulationSettings;
+pub use settings::{SimulationSettings, Start};
 
 use super::outputs::{constraint_residuals, evaluate_outputs, output_columns};
 use super::watchdog::{SimulationWarning, WarningKind, Watchdog};
-use super::{assemble, linearize_at, velocity_analysis, AccelerationSolver, Accelerations, Linearization, State};
+use super::{assemble, linearize_at, static_equilibrium, velocity_analysis, AccelerationSolver, Accelerations, Linearization, State};
+use crate::analysis::EquilibriumSettings;
 use crate::data::Data;
 use crate::integrate::Adams;
 use crate::integrate::{Bdf, Integrator, Method};
@@ -128,7 +129,18 @@ impl Simulation {
         let settings = attainable_tolerances(settings, &mut report.warnings);
         let mut data = Data::new(&model);
         let mut state = State::initial(&model);
-        report.assembly = Some(assemble(&model, &mut data, &mut state, settings.assembly)?);
+        match settings.start {
+            Start::Assembly => report.assembly = Some(assemble(&model, &mut data, &mut state, settings.assembly)?),
+            Start::Equilibrium(equilibrium) => {
+                let given = state.v.clone();
+                let equilibrium = EquilibriumSettings { assembly: settings.assembly, ..equilibrium };
+                let t0 = state.t;
+                let found = static_equilibrium(&model, &mut data, &mut state, t0, &equilibrium)?;
+                state.v = given;
+                report.assembly = Some(found.assembly.clone());
+                report.equilibrium = Some(Box::new(found));
+            }
+        }
         report.velocity = Some(velocity_analysis(&model, &mut data, &mut state)?);
         let mut accelerations = AccelerationSolver::new(&model);
         let acc = accelerations

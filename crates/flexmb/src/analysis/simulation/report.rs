@@ -2,7 +2,9 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::analysis::{AssemblyError, AssemblyReport, PhysicsMeasures, SimulationWarning, Unphysical, VelocityReport};
+use crate::analysis::{
+    AssemblyError, AssemblyReport, EquilibriumError, EquilibriumReport, PhysicsMeasures, SimulationWarning, Unphysical, VelocityReport,
+};
 use crate::integrate::{CheckpointError, IntegrationError, Stats};
 
 /// Everything a run reports, also for a run that failed midway.
@@ -13,6 +15,9 @@ pub struct SimulationReport {
     pub method: &'static str,
     /// What the assembly of the initial positions did.
     pub assembly: Option<AssemblyReport>,
+    /// What the static equilibrium did, for a run started from it.
+    #[serde(default)]
+    pub equilibrium: Option<Box<EquilibriumReport>>,
     /// What the velocity analysis of the initial velocities did.
     pub velocity: Option<VelocityReport>,
     /// The integrator's counters.
@@ -113,6 +118,9 @@ pub enum SimulationFailure {
     /// The initial positions or velocities could not be made consistent.
     #[error(transparent)]
     Assembly(#[from] AssemblyError),
+    /// The static equilibrium to start from was not found.
+    #[error(transparent)]
+    Equilibrium(#[from] EquilibriumError),
     /// The integrator failed.
     #[error(transparent)]
     Integration(#[from] IntegrationError),

@@ -1,7 +1,7 @@
 //! What to simulate and how: end time, output step, integration method and tolerances, assembly and
 //! the physics watchdog's limits.
 
-use crate::analysis::{AssemblySettings, PhysicsLimits};
+use crate::analysis::{AssemblySettings, EquilibriumSettings, PhysicsLimits};
 use crate::integrate::{Method, Tolerances};
 
 /// What to simulate and how.
@@ -15,6 +15,9 @@ pub struct SimulationSettings {
     pub tolerances: Tolerances,
     /// How the initial positions are assembled onto the constraints.
     pub assembly: AssemblySettings,
+    /// Where the run starts: the assembled initial configuration, or the static equilibrium there.
+    /// Default [`Start::Assembly`].
+    pub start: Start,
     /// The integration method with its own settings. Default [`Method::Bdf`] with
     /// [`BdfConfig::default`](crate::integrate::BdfConfig::default).
     pub method: Method,
@@ -29,10 +32,23 @@ impl Default for SimulationSettings {
             output_step: 0.01,
             tolerances: Tolerances::default(),
             assembly: AssemblySettings::default(),
+            start: Start::Assembly,
             method: Method::default(),
             physics_limits: PhysicsLimits::default(),
         }
     }
+}
+
+/// The initial positions of a run.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Start {
+    /// The model's initial configuration, assembled onto the constraints.
+    #[default]
+    Assembly,
+    /// The static equilibrium at the start time ([`static_equilibrium`](crate::analysis::static_equilibrium),
+    /// its assembly that of [`SimulationSettings::assembly`]); the velocities are the model's initial
+    /// velocities (zero unless it gives some), made consistent by the velocity analysis.
+    Equilibrium(EquilibriumSettings),
 }
 
 impl SimulationSettings {

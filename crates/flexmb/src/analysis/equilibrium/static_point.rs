@@ -1,0 +1,107 @@
+//! The static equations at one configuration: the generalized forces `f = h(q, 0) − Q(q, 0, t)` (no
+//! inertia, `v = 0`, `v̇ = 0`), the constraint Jacobian `B` of the rows in force, the basis `N` of its
+//! null space (the motions the constraints allow), the multipliers that balance `f` best,
+//! `λ = argmin ‖f + Bᵀλ‖`, and the residual `f + Bᵀλ` that is left: zero at a static equilibrium.
+
+use faer::Mat;
+
+use crate::analysis::State;
+use crate::data::Data;
+use crate::model::Model;
+use crate::stage::{jacobian_entries, run_force_stages, run_kinematic_stages};
+
+/// Singular values of `B` below this fraction of the largest are taken as zero (the rows in force are
+/// independent after the assembly; this only guards the least-squares multipliers).
+const RANK_TOLERANCE: f64 = 1e-10;
+
+/// The static equations at one configuration.
+pub(super) struct StaticPoint {
+    /// `f = h − Q` at `v = 0`, `v̇ = 0` (length `nv`).
+    pub force: Vec<f64>,
+    /// `N`: orthonormal basis of the null space of `B`, `nv × dof`.
+    pub null_space: Mat<f64>,
+    /// `B⁺`, `nv ×` rows in force: the least change of the positions that closes a constraint residual.
+    pub pseudo_inverse: Mat<f64>,
+    /// `Φ` of the rows in force.
+    pub phi: Vec<f64>,
+    /// Multipliers, one per constraint row (zero for the rows switched off).
+    pub lambda: Vec<f64>,
+    /// `f + Bᵀλ` (length `nv`).
+    pub residual: Vec<f64>,
+}
+
+impl StaticPoint {
+    /// The static equations at `state.q`, `state.t` with the rows in force of `state.active`; leaves
+    /// the stages evaluated there (at `v = 0`) in `data`.
+    pub fn evaluate(model: &Model, data: &mut Data, state: &State) -> Self {
+        let l = &model.layout;
+        let zero = vec![0.0; l.nv];
+        run_kinematic_stages(model, data, state.t, &state.q, &zero);
+        let rows: Vec<usize> = (0..l.nc).filter(|&r| state.active[r]).collect();
+        let mut index = vec![usize::MAX; l.nc];
+        rows.iter().enumerate().for_each(|(k, &r)| index[r] = k);
+        let mut jacobian = Mat::<f64>::zeros(rows.len(), l.nv);
+        jacobian_entries(model, data, |r, c, x| {
+            if index[r] != usize::MAX {
+                jacobian[(index[r], c)] += x;
+            }
+        });
+        let phi: Vec<f64> = rows.iter().map(|&r| data.equations[r].phi).collect();
+        run_force_stages(model, data, state.t, &zero);
+        let force: Vec<f64> = (0..l.nv).map(|k| data.inertia[k] - data.applied[k]).collect();
+        let (null_space, pseudo_inverse) = null_space_and_pseudo_inverse(&jacobian);
+        // λ = −(B⁺)ᵀ f minimizes ‖f + Bᵀλ‖.
+        let mut lambda = vec![0.0; l.nc];
+        for (k, &r) in rows.iter().enumerate() {
+            lambda[r] = -(0..l.nv).map(|c| pseudo_inverse[(c, k)] * force[c]).sum::<f64>();
+        }
+        let mut residual = force.clone();
+        for (k, &r) in rows.iter().enumerate() {
+            for c in 0..l.nv {
+                residual[c] += jacobian[(k, c)] * lambda[r];
+            }
+        }
+        Self { force, null_space, pseudo_inverse, phi, lambda, residual }
+    }
+
+    /// Largest `|f + Bᵀλ|`.
+    pub fn force_residual(&self) -> f64 {
+        self.residual.iter().fold(0.0, |m, x| m.max(x.abs()))
+    }
+
+    /// Largest `|Φ|` of the rows in force.
+    pub fn constraint_residual(&self) -> f64 {
+        self.phi.iter().fold(0.0, |m, x| m.max(x.abs()))
+    }
+
+    /// `‖f + Bᵀλ‖₂`, the merit function of the line search.
+    pub fn merit(&self) -> f64 {
+        self.residual.iter().map(|x| x * x).sum::<f64>().sqrt()
+    }
+}
+
+/// `N` (orthonormal null-space basis of `b`) and `B⁺`, from the full singular value decomposition.
+fn null_space_and_pseudo_inverse(b: &Mat<f64>) -> (Mat<f64>, Mat<f64>) {
+    let (m, n) = (b.nrows(), b.ncols());
+    if m == 0 {
+        return (Mat::identity(n, n), Mat::zeros(n, 0));
+    }
+    let Ok(svd) = b.svd() else {
+        // Never seen for a finite matrix; leave every motion free and no multipliers.
+        return (Mat::identity(n, n), Mat::zeros(n, m));
+    };
+    let (u, s, v) = (svd.U(), svd.S().column_vector(), svd.V());
+    let largest = (0..m.min(n)).map(|k| s[k]).fold(0.0, f64::max);
+    let rank = (0..m.min(n)).filter(|&k| s[k] > RANK_TOLERANCE * largest).count();
+    let null_space = Mat::from_fn(n, n - rank, |i, k| v[(i, rank + k)]);
+    let mut pseudo_inverse = Mat::<f64>::zeros(n, m);
+    for k in 0..rank {
+        for i in 0..n {
+            let vi = v[(i, k)] / s[k];
+            for j in 0..m {
+                pseudo_inverse[(i, j)] += vi * u[(j, k)];
+            }
+        }
+    }
+    (null_space, pseudo_inverse)
+}
