@@ -1,11 +1,14 @@
 //! Analyses of a model: the check before a run (`check_model`), redundancy check, assembly (position analysis), velocity analysis,
-//! accelerations and reaction forces, the linearized equations of motion, and the dynamic simulation.
+//! accelerations and reaction forces, the linearized equations of motion (also in independent
+//! coordinates, at an operating point), eigen-analysis, and the dynamic simulation.
 
 mod accelerations;
 mod assembly;
 mod check;
+mod eigen_analysis;
 mod linearization;
 mod memory;
+mod operating_point;
 mod outputs;
 mod redundancy;
 mod redundancy_reference;
@@ -22,7 +25,12 @@ pub mod test_models;
 pub use accelerations::{AccelerationError, AccelerationSolver, Accelerations};
 pub use assembly::{assemble, AssemblyError, AssemblyReport, AssemblySettings, ModalAssembly};
 pub use check::{check_model, CheckReport};
-pub use linearization::{displaced_positions, linearize, Linearization, OperatingPoint, SparseLinearization};
+pub use eigen_analysis::{eigen_analysis, state_matrix, EigenAnalysis, EigenAnalysisError, Mode, Spin, Whirl};
+pub use linearization::{
+    displaced_positions, linearize, reduce_to_independent, IndependentCoordinates, Linearization, OperatingPoint, ReducedLinearization,
+    SparseLinearization,
+};
+pub use operating_point::{operating_point, LinearizationPoint, OperatingPointChoice, OperatingPointError};
 pub(crate) use linearization::linearize_at;
 pub use outputs::{output_columns, OutputColumn};
 pub use memory::{analysis_bytes, format_bytes, MemoryLimit};
