@@ -25,6 +25,7 @@
 //! with `Ṅ`, `N̈` by central differences of `N` along the motion, `q(t₀ ± h) = q₀ ⊕ (±h v₀ + ½h² v̇₀)` with
 //! the partition of `t₀` held. At rest `Ṅ = N̈ = W = 0` and the matrices are `NᵀMN`, `NᵀCN`, `NᵀKN`.
 
+use faer::linalg::solvers::Solve;
 use faer::Mat;
 
 use super::Linearization;
@@ -152,8 +153,8 @@ fn partition(jac: &Mat<f64>) -> Partition {
     Partition { rows, dependent, independent }
 }
 
-/// `N = G N_g` at `q` with the partition held.
-fn basis_at(model: &Model, data: &mut Data, t: f64, q: &[f64], active: &[bool], p: &Partition) -> Mat<f64> {
+/// `N_g` at `q` with the partition held (rotations about global axes).
+fn global_basis_at(model: &Model, data: &mut Data, t: f64, q: &[f64], active: &[bool], p: &Partition) -> Mat<f64> {
     let jac = global_jacobian(model, data, t, q, active);
     let nv = model.layout.nv;
     let (r, n) = (p.dependent.len(), p.independent.len());
@@ -164,24 +165,43 @@ fn basis_at(model: &Model, data: &mut Data, t: f64, q: &[f64], active: &[bool], 
     if r > 0 {
         let bd = Mat::from_fn(r, r, |i, j| jac[(p.rows[i], p.dependent[j])]);
         let bi = Mat::from_fn(r, n, |i, j| -jac[(p.rows[i], p.independent[j])]);
-        let x = faer::linalg::solvers::Solve::solve(&bd.partial_piv_lu(), &bi);
+        let x = bd.partial_piv_lu().solve(&bi);
         for (i, &c) in p.dependent.iter().enumerate() {
             for k in 0..n {
                 ng[(c, k)] = x[(i, k)];
             }
         }
     }
+    ng
+}
+
+/// `G x`: the global rotation vectors of `x` turned into body axes, body by body, at `q`.
+fn to_body_axes(model: &Model, q: &[f64], x: &Mat<f64>) -> Mat<f64> {
     let l = &model.layout;
+    let mut out = x.clone();
     for (b, g) in body_rotations(model, q).iter().enumerate() {
         let c = l.v_offset[b] + 3;
-        for k in 0..n {
-            let theta = [ng[(c, k)], ng[(c + 1, k)], ng[(c + 2, k)]];
+        for k in 0..x.ncols() {
+            let theta = [x[(c, k)], x[(c + 1, k)], x[(c + 2, k)]];
             for i in 0..3 {
-                ng[(c + i, k)] = (0..3).map(|j| g[(i, j)] * theta[j]).sum();
+                out[(c + i, k)] = (0..3).map(|j| g[(i, j)] * theta[j]).sum();
             }
         }
     }
-    ng
+    out
+}
+
+/// `x` with the entries at or below `floor` (the rounding of a difference quotient) set to zero, so
+/// that a basis that does not change along the motion has exactly zero rates.
+fn without_rounding(mut x: Mat<f64>, floor: f64) -> Mat<f64> {
+    for j in 0..x.ncols() {
+        for i in 0..x.nrows() {
+            if x[(i, j)].abs() <= floor {
+                x[(i, j)] = 0.0;
+            }
+        }
+    }
+    x
 }
 
 /// The names of the velocity coordinates as independent coordinates (rotations about global axes).
@@ -222,12 +242,16 @@ fn motion_step(state: &State, acc: &Accelerations) -> Option<f64> {
 
 /// Reduces `lin` (taken at `state` with `acc`) to independent coordinates. `data` is used to evaluate
 /// the constraint Jacobian along the motion and is left evaluated at some nearby state.
+///
+/// With `N = G N_g` and `Ġ = −W G` (the body axes turn with `ω̄₀`) the rates of `N` in the equations
+/// are those of the global basis alone, `Ṅ + W N = G Ṅ_g` and `N̈ + W Ṅ + Ẇ N = G N̈_g − W G Ṅ_g`, so
+/// that a spin about a symmetry axis, which leaves `N_g` unchanged, adds no differencing error.
 pub fn reduce_to_independent(model: &Model, data: &mut Data, state: &State, acc: &Accelerations, lin: &Linearization) -> ReducedLinearization {
     let jac = global_jacobian(model, data, state.t, &state.q, &state.active);
     let p = partition(&jac);
-    let n = basis_at(model, data, state.t, &state.q, &state.active, &p);
+    let ng = global_basis_at(model, data, state.t, &state.q, &state.active, &p);
     let nv = model.layout.nv;
-    let (mut n_dot, mut n_ddot) = (Mat::<f64>::zeros(nv, n.ncols()), Mat::<f64>::zeros(nv, n.ncols()));
+    let (mut ng_dot, mut ng_ddot) = (Mat::<f64>::zeros(nv, ng.ncols()), Mat::<f64>::zeros(nv, ng.ncols()));
     if let Some(h) = motion_step(state, acc) {
         let along = |sign: f64| -> Vec<f64> {
             let d: Vec<f64> = state.v.iter().zip(&acc.vdot).map(|(v, a)| sign * h * v + 0.5 * h * h * a).collect();
@@ -236,19 +260,23 @@ pub fn reduce_to_independent(model: &Model, data: &mut Data, state: &State, acc:
             q
         };
         let (q_plus, q_minus) = (along(1.0), along(-1.0));
-        let plus = basis_at(model, data, state.t + h, &q_plus, &state.active, &p);
-        let minus = basis_at(model, data, state.t - h, &q_minus, &state.active, &p);
-        n_dot = (&plus - &minus) * (0.5 / h);
-        n_ddot = (&plus - &n * 2.0 + &minus) * (1.0 / (h * h));
+        let plus = global_basis_at(model, data, state.t + h, &q_plus, &state.active, &p);
+        let minus = global_basis_at(model, data, state.t - h, &q_minus, &state.active, &p);
+        let size = (0..nv).flat_map(|i| (0..ng.ncols()).map(move |j| (i, j))).map(|(i, j)| ng[(i, j)].abs()).fold(0.0, f64::max);
+        let eps = 64.0 * f64::EPSILON * size;
+        ng_dot = without_rounding((&plus - &minus) * (0.5 / h), eps / h);
+        ng_ddot = without_rounding((&plus - &ng * 2.0 + &minus) * (1.0 / (h * h)), 4.0 * eps / (h * h));
     }
+    let n = to_body_axes(model, &state.q, &ng);
+    let g_ng_dot = to_body_axes(model, &state.q, &ng_dot);
+    let g_ng_ddot = to_body_axes(model, &state.q, &ng_ddot);
     let wn = apply_spin(model, &state.v, &n);
-    let w_n_dot = apply_spin(model, &state.v, &n_dot);
-    let w_dot_n = apply_spin(model, &acc.vdot, &n);
     let nt = n.transpose();
     let (m, c, k) = (&lin.mass, &lin.damping, &lin.stiffness);
+    // 2Ṅ + W N = 2 G Ṅ_g − W N;  Ṅ + W N = G Ṅ_g;  N̈ + W Ṅ + Ẇ N = G N̈_g − W G Ṅ_g.
     let mass = nt * m * &n;
-    let damping = nt * (c * &n + m * (&n_dot * 2.0 + &wn));
-    let stiffness = nt * (k * &n + c * (&n_dot + &wn) + m * (&n_ddot + &w_n_dot + &w_dot_n));
+    let damping = nt * (c * &n + m * (&g_ng_dot * 2.0 - &wn));
+    let stiffness = nt * (k * &n + c * &g_ng_dot + m * (&g_ng_ddot - apply_spin(model, &state.v, &g_ng_dot)));
     let names = coordinate_names(model);
     let independent = IndependentCoordinates {
         names: p.independent.iter().map(|&i| names[i].clone()).collect(),
