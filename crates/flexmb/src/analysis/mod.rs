@@ -15,6 +15,7 @@ mod redundancy_reference;
 mod simulation;
 mod static_deformation;
 mod state;
+mod state_space;
 mod velocity;
 mod watchdog;
 #[cfg(test)]
@@ -30,7 +31,7 @@ pub use linearization::{
     displaced_positions, linearize, reduce_to_independent, IndependentCoordinates, Linearization, OperatingPoint, ReducedLinearization,
     SparseLinearization,
 };
-pub use operating_point::{operating_point, LinearizationPoint, OperatingPointChoice, OperatingPointError};
+pub use operating_point::{linear_model, operating_point, LinearModel, LinearizationPoint, OperatingPointChoice, OperatingPointError};
 pub(crate) use linearization::linearize_at;
 pub use outputs::{output_columns, OutputColumn};
 pub use memory::{analysis_bytes, format_bytes, MemoryLimit};
@@ -45,6 +46,7 @@ pub use simulation::{
     SimulationError, SimulationFailure, SimulationReport, SimulationSettings, StateProjection, WorkAtStep, CHECKPOINT_VERSION,
 };
 pub use state::State;
+pub use state_space::{state_space, StateSpace};
 pub use velocity::{velocity_analysis, VelocityReport};
 pub use watchdog::{
     Balance, Deflection, PhysicsLimits, PhysicsMeasures, SimulationWarning, Unphysical, WarningKind, WatchdogCheckpoint,

@@ -4,7 +4,7 @@
 
 use std::sync::Arc;
 
-use super::{assemble, velocity_analysis, AccelerationSolver, Accelerations, AssemblyError, Simulation, SimulationFailure, SimulationSettings, State};
+use super::{assemble, linearize_at, reduce_to_independent, velocity_analysis, Linearization, ReducedLinearization, AccelerationSolver, Accelerations, AssemblyError, Simulation, SimulationFailure, SimulationSettings, State};
 use crate::data::Data;
 use crate::model::Model;
 
@@ -84,4 +84,25 @@ fn initial_point(model: &Model, settings: &SimulationSettings) -> Result<Lineari
         .map_err(|e| OperatingPointError::Accelerations(format!("{e:?}")))?
         .clone();
     Ok(LinearizationPoint { data, state, accelerations })
+}
+
+/// The equations of motion linearized at an operating point, whole and in independent coordinates.
+#[derive(Clone, Debug)]
+pub struct LinearModel {
+    /// Where they were linearized.
+    pub point: LinearizationPoint,
+    /// `M, C, K, B, K_B` in velocity coordinates.
+    pub full: Linearization,
+    /// `M_z, C_z, K_z` in independent coordinates, with the basis.
+    pub reduced: ReducedLinearization,
+}
+
+/// Linearizes `model` at the operating point of `choice` ([`operating_point`]) and reduces the
+/// equations to independent coordinates ([`reduce_to_independent`]): what `flexmb linearize`,
+/// `flexmb eigen` and the Python package's `Model.linearize` and `Model.eigen` compute first.
+pub fn linear_model(model: &Arc<Model>, choice: OperatingPointChoice, settings: &SimulationSettings) -> Result<LinearModel, OperatingPointError> {
+    let mut point = operating_point(model, choice, settings)?;
+    let full = linearize_at(model, &mut point.data, &point.state, &point.accelerations);
+    let reduced = reduce_to_independent(model, &mut point.data, &point.state, &point.accelerations, &full);
+    Ok(LinearModel { point, full, reduced })
 }

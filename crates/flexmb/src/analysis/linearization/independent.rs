@@ -64,6 +64,9 @@ pub struct ReducedLinearization {
     pub stiffness: Mat<f64>,
     /// The coordinates `δz` and the basis `N`.
     pub independent: IndependentCoordinates,
+    /// `Ṅ + W N`, `nv × n`: the velocity a unit `δz` carries along the motion (`δv = N δż + (Ṅ + W N) δz`;
+    /// zero at rest).
+    pub basis_rate: Mat<f64>,
 }
 
 impl ReducedLinearization {
@@ -283,7 +286,7 @@ pub fn reduce_to_independent(model: &Model, data: &mut Data, state: &State, acc:
         coordinates: p.independent,
         basis: n,
     };
-    ReducedLinearization { mass, damping, stiffness, independent }
+    ReducedLinearization { mass, damping, stiffness, independent, basis_rate: g_ng_dot }
 }
 
 #[cfg(test)]
