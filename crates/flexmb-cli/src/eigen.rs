@@ -90,7 +90,7 @@ fn run_sweep(path: &Path, options: &EigenOptions, sweep: &Sweep) -> Result<Strin
         rows.push((value, oscillating));
     }
     let columns = rows.iter().map(|(_, m)| m.len()).max().unwrap_or(0);
-    let mut csv = format!("{}", sweep.parameter);
+    let mut csv = sweep.parameter.clone();
     for k in 1..=columns {
         let _ = write!(csv, ",mode{k}_hz,mode{k}_damping_ratio,mode{k}_whirl");
     }

@@ -55,12 +55,12 @@ pub enum OperatingPointError {
 pub fn operating_point(model: &Arc<Model>, choice: OperatingPointChoice, settings: &SimulationSettings) -> Result<LinearizationPoint, OperatingPointError> {
     match choice {
         OperatingPointChoice::Initial => initial_point(model, settings),
-        OperatingPointChoice::Time(t) if t == 0.0 => initial_point(model, settings),
+        OperatingPointChoice::Time(0.0) => initial_point(model, settings),
         OperatingPointChoice::Time(t) => {
             if !(t > 0.0 && t.is_finite()) {
                 return Err(OperatingPointError::Unavailable(format!("the operating point's time must be positive, got {t}")));
             }
-            let mut settings = settings.clone();
+            let mut settings = *settings;
             settings.t_end = t;
             settings.output_step = settings.output_step.min(t);
             let mut simulation = Simulation::new(Arc::clone(model), settings).map_err(|e| e.cause)?;

@@ -90,7 +90,7 @@ pub fn state_space(
             }
         };
         let q_u = Mat::from_fn(model.layout.nv, 1, |i, _| generalized[i]);
-        let column = lu.solve(&(&nt * &q_u));
+        let column = lu.solve(&(nt * &q_u));
         for i in 0..n {
             b[(n + i, col)] = column[(i, 0)];
         }
