@@ -55,6 +55,26 @@ class Model:
         (``iterations``, ``initial_residual``, ``residual``), ``velocity_adjustments``,
         ``flexible_bodies`` (``name``, ``mode_set``, ``basis``, ``modes``, ``frequencies_hz``, ``nodes``,
         ``warnings``). Raises ``ModelError`` when the model cannot be assembled."""
+    def linearize(
+        self,
+        at: Optional[str] = None,
+        t: Optional[float] = None,
+        inputs: Optional[List[str]] = None,
+        outputs: Optional[List[str]] = None,
+    ) -> Dict[str, Any]:
+        """Linearizes at an operating point (``at="initial"``, the assembled initial state with its
+        velocities; ``at="equilibrium"``; or ``t``, the state a simulation reaches at that time). Keys:
+        ``M``, ``C``, ``K`` (numpy, independent coordinates), ``basis`` (velocity coordinates ×
+        independent coordinates), ``coordinates``, ``velocity_names``, ``t``; with ``inputs`` (force
+        elements: ``NAME.x``/``.y``/``.z`` of an applied force or torque, ``NAME`` of a spring-damper) or
+        ``outputs`` (measures), ``state_space``: ``A``, ``B``, ``C``, ``D``, ``states``, ``inputs``,
+        ``outputs``. As ``flexmb linearize``; raises ``ModelError``."""
+    def eigen(self, at: Optional[str] = None, t: Optional[float] = None) -> Dict[str, Any]:
+        """Eigen-analysis at an operating point (as ``linearize``). Keys: ``frequencies`` (Hz, undamped
+        natural), ``damped_frequencies``, ``damping_ratios``, ``eigenvalues`` (complex), ``whirl``
+        (``"forward"``, ``"backward"``, ``"none"``), ``rigid_body``, ``shapes`` (complex, modes ×
+        velocity coordinates), ``velocity_names``, ``coordinates``, ``t``. As ``flexmb eigen``; raises
+        ``ModelError``."""
     def simulate(
         self,
         t_end: Optional[float] = None,

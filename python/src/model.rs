@@ -137,6 +137,34 @@ impl Model {
         Ok(dict)
     }
 
+    /// Linearizes the model at an operating point (`at="initial"`, the assembled initial state with its
+    /// velocities; `at="equilibrium"`; or `t`, the state a simulation reaches at that time) and returns a
+    /// dict: `M`, `C`, `K` (numpy, independent coordinates), `basis` (the velocity-space motion of each
+    /// independent coordinate), `coordinates` (their names), `velocity_names`, `t`; with `inputs` (force
+    /// elements: `NAME.x`/`.y`/`.z` of an applied force or torque, `NAME` of a spring-damper) or
+    /// `outputs` (measures) also `state_space`: `A`, `B`, `C`, `D`, `states`, `inputs`, `outputs`. As
+    /// `flexmb linearize`; raises `ModelError` with its message.
+    #[pyo3(signature = (at = None, t = None, inputs = None, outputs = None))]
+    fn linearize<'py>(
+        &self,
+        py: Python<'py>,
+        at: Option<&str>,
+        t: Option<f64>,
+        inputs: Option<Vec<String>>,
+        outputs: Option<Vec<String>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        crate::linear_analysis::linearize(py, self, at, t, inputs.unwrap_or_default(), outputs.unwrap_or_default())
+    }
+
+    /// Eigen-analysis at an operating point (as `linearize`): a dict of `frequencies` (Hz, undamped
+    /// natural), `damped_frequencies`, `damping_ratios`, `eigenvalues` (complex), `whirl` (`forward`,
+    /// `backward`, `none`), `rigid_body`, `shapes` (complex numpy, modes × velocity coordinates),
+    /// `velocity_names`, `coordinates`, `t`. As `flexmb eigen`; raises `ModelError` with its message.
+    #[pyo3(signature = (at = None, t = None))]
+    fn eigen<'py>(&self, py: Python<'py>, at: Option<&str>, t: Option<f64>) -> PyResult<Bound<'py, PyDict>> {
+        crate::linear_analysis::eigen(py, self, at, t)
+    }
+
     /// Simulates the model from its initial state to `t_end` and returns the outputs as `Results`.
     /// Each argument left `None` takes the model file's `[simulation]` value; `integrator` is `"bdf"`,
     /// `"adams"` or `"gen-alpha"` (with `spectral_radius`, default 0.9). The native work runs without the

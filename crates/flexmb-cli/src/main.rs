@@ -144,6 +144,63 @@ enum Command {
         #[arg(long, short)]
         quiet: bool,
     },
+    /// Linearize a model at an operating point: mass, damping and stiffness in independent
+    /// coordinates (M.mtx, C.mtx, K.mtx, Matrix Market), optionally a state-space model (A, B, C_out,
+    /// D) for named inputs and outputs, and linearization.json. See docs/linear-analysis.md.
+    Linearize {
+        /// Model file (TOML).
+        model: PathBuf,
+        /// Replace the value of a parameter of the model's [parameters] table: NAME=VALUE (repeatable).
+        #[arg(long = "parameter", short = 'p', value_name = "NAME=VALUE", value_parser = parse_parameter)]
+        parameter: Vec<(String, f64)>,
+        /// The operating point: initial (the assembled initial state, its velocities included) or
+        /// equilibrium.
+        #[arg(long, value_name = "initial|equilibrium")]
+        at: Option<String>,
+        /// Linearize at the state a simulation with the model's [simulation] integrator reaches at T (s).
+        #[arg(long, value_name = "T")]
+        at_time: Option<f64>,
+        /// An input of the state-space model: a parameter of the model's [parameters] (repeatable).
+        #[arg(long = "input", value_name = "PARAMETER")]
+        input: Vec<String>,
+        /// An output of the state-space model: a measure of the model (repeatable).
+        #[arg(long = "output", value_name = "MEASURE")]
+        output: Vec<String>,
+        /// Directory for the files.
+        #[arg(long, default_value = "out/linearization")]
+        out: PathBuf,
+    },
+    /// Eigen-analysis of a model at an operating point: frequencies, damping ratios, whirl and mode
+    /// shapes of the whole mechanism (table and eigen.json). See docs/linear-analysis.md.
+    Eigen {
+        /// Model file (TOML).
+        model: PathBuf,
+        /// Replace the value of a parameter of the model's [parameters] table: NAME=VALUE (repeatable).
+        #[arg(long = "parameter", short = 'p', value_name = "NAME=VALUE", value_parser = parse_parameter)]
+        parameter: Vec<(String, f64)>,
+        /// The operating point: initial or equilibrium.
+        #[arg(long, value_name = "initial|equilibrium")]
+        at: Option<String>,
+        /// Linearize at the state a simulation reaches at T (s).
+        #[arg(long, value_name = "T")]
+        at_time: Option<f64>,
+        /// One eigen-analysis per value of a parameter: NAME=START:STOP:COUNT (sweep.json, sweep.csv).
+        #[arg(long, value_name = "NAME=START:STOP:COUNT", value_parser = flexmb_cli::eigen::parse_sweep)]
+        sweep: Option<flexmb_cli::eigen::Sweep>,
+        /// Directory for the files.
+        #[arg(long, default_value = "out/eigen")]
+        out: PathBuf,
+        /// Also write a ParaView animation of every oscillating mode of the whole mechanism: OUT/MODEL_mode_K.pvd.
+        #[arg(long)]
+        vtk: bool,
+        /// With --sweep: draw the Campbell diagram (frequencies against the parameter): OUT/campbell.png.
+        #[arg(long)]
+        plot: bool,
+        /// With --plot: the 1x line f = S × parameter, S in Hz per unit of the parameter
+        /// (0.15915494 = 1/(2π) for a spin in rad/s, 0.016666667 for rpm); crossings are printed.
+        #[arg(long, value_name = "S")]
+        one_per_rev: Option<f64>,
+    },
     /// Reduce a flexible body's FE model to a mode set: frequencies, mass properties, and the
     /// flexible-body file (JSON) that mechanism models use.
     Modes {
@@ -386,6 +443,20 @@ fn main() -> ExitCode {
             let options = EquilibriumOptions { out_dir: out, vtk, parameters: parameter, quiet };
             run_equilibrium(&model, &options).map(|_| ())
         }
+        Command::Linearize { model, parameter, at, at_time, input, output, out } => {
+            flexmb_cli::linear_analysis::operating_point_choice(at.as_deref(), at_time)
+                .and_then(|choice| {
+                    let options = flexmb_cli::linear_analysis::LinearizeOptions { choice, inputs: input, outputs: output, out, parameters: parameter };
+                    flexmb_cli::linear_analysis::run_linearize(&model, &options)
+                })
+                .map(|report| print!("{report}"))
+        }
+        Command::Eigen { model, parameter, at, at_time, sweep, out, vtk, plot, one_per_rev } => flexmb_cli::linear_analysis::operating_point_choice(at.as_deref(), at_time)
+            .and_then(|choice| {
+                let options = flexmb_cli::eigen::EigenOptions { choice, out, parameters: parameter, sweep, vtk, plot, one_per_rev };
+                flexmb_cli::eigen::run_eigen(&model, &options)
+            })
+            .map(|report| print!("{report}")),
         Command::Modes { fe_model, modes, basis, mass, out, vtk, solver } => {
             let options = ModesOptions {
                 mode_set: modes,

@@ -45,6 +45,7 @@
 pub mod fe_model_file;
 pub mod flexible_body;
 pub mod integrator_choice;
+pub mod matrix_market;
 pub mod model_file;
 pub mod output_limits;
 pub mod restart;

@@ -1,18 +1,22 @@
 //! Analyses of a model: the check before a run (`check_model`), redundancy check, assembly (position analysis), velocity analysis,
-//! accelerations and reaction forces, the linearized equations of motion, and the dynamic simulation.
+//! accelerations and reaction forces, the linearized equations of motion (also in independent
+//! coordinates, at an operating point), eigen-analysis, and the dynamic simulation.
 
 mod accelerations;
 mod assembly;
 mod check;
 mod equilibrium;
+mod eigen_analysis;
 mod linearization;
 mod memory;
+mod operating_point;
 mod outputs;
 mod redundancy;
 mod redundancy_reference;
 mod simulation;
 mod static_deformation;
 mod state;
+mod state_space;
 mod velocity;
 mod watchdog;
 #[cfg(test)]
@@ -27,7 +31,12 @@ pub use equilibrium::{
     equilibrium_outputs, joint_reactions, static_equilibrium, BodyMotion, EquilibriumError, EquilibriumFallback, EquilibriumIteration, EquilibriumMethod,
     EquilibriumReport, EquilibriumSettings, FreeMotion, JointReaction, ReactionSide,
 };
-pub use linearization::{displaced_positions, linearize, Linearization, OperatingPoint, SparseLinearization};
+pub use eigen_analysis::{eigen_analysis, state_matrix, EigenAnalysis, EigenAnalysisError, Mode, Spin, Whirl};
+pub use linearization::{
+    displaced_positions, linearize, reduce_to_independent, IndependentCoordinates, Linearization, OperatingPoint, ReducedLinearization,
+    SparseLinearization,
+};
+pub use operating_point::{linear_model, operating_point, LinearModel, LinearizationPoint, OperatingPointChoice, OperatingPointError};
 pub(crate) use linearization::linearize_at;
 pub use outputs::{columns_of_output, output_columns, ColumnSources, OutputColumn};
 pub use memory::{analysis_bytes, format_bytes, MemoryLimit};
@@ -42,6 +51,7 @@ pub use simulation::{
     SimulationError, SimulationFailure, SimulationReport, SimulationSettings, Start, StateProjection, WorkAtStep, CHECKPOINT_VERSION,
 };
 pub use state::State;
+pub use state_space::{state_space, StateSpace};
 pub use velocity::{velocity_analysis, VelocityReport};
 pub use watchdog::{
     Balance, Deflection, PhysicsLimits, PhysicsMeasures, SimulationWarning, Unphysical, WarningKind, WatchdogCheckpoint,

@@ -562,6 +562,6 @@ pub fn equilibrium_outputs(model: &Model, data: &mut Data, state: &State, multip
     crate::stage::run_forward(model, data, state.t, &state.q, &zero, &zero);
     let at_rest = super::Accelerations { vdot: zero.clone(), lambda: multipliers.to_vec() };
     let mut values = vec![0.0; super::output_columns(model).len()];
-    super::outputs::evaluate_outputs(model, data, &state.q, &zero, &at_rest, &state.active, &mut values);
+    super::outputs::evaluate_outputs(model, data, (state.t, &state.q, &zero), &at_rest, &state.active, &mut values, false);
     Ok(values)
 }

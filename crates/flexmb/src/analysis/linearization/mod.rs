@@ -15,10 +15,12 @@
 //! evaluation the generalized-α iteration matrix makes too). [`linearize`] returns them dense; an
 //! eigen-analysis of a large model keeps them sparse.
 
+mod independent;
 mod sparse;
 
 use faer::Mat;
 
+pub use independent::{reduce_to_independent, IndependentCoordinates, ReducedLinearization};
 pub use sparse::SparseLinearization;
 
 use super::{Accelerations, State};

@@ -386,6 +386,14 @@ impl Simulation {
         Ok(linearize_at(&self.model, self.integrator.data_mut(), &state, &acc))
     }
 
+    /// The last accepted step as an operating point of a linearization: a copy of the evaluation
+    /// data (parameters, joint-angle continuation), the state, and its accelerations and multipliers.
+    pub fn operating_point(&mut self) -> Result<(Data, State, Accelerations), SimulationFailure> {
+        let acc = self.solve_accelerations()?.clone();
+        let state = State { t: self.integrator.t(), q: self.q.clone(), v: self.v.clone(), active: self.active.clone() };
+        Ok((self.integrator.data_mut().clone(), state, acc))
+    }
+
     /// The integrator's counters so far (with those of the integrators a
     /// [`set_state`](Self::set_state) replaced).
     pub fn stats(&self) -> &crate::integrate::Stats {
