@@ -55,6 +55,12 @@ class Model:
         (``iterations``, ``initial_residual``, ``residual``), ``velocity_adjustments``,
         ``flexible_bodies`` (``name``, ``mode_set``, ``basis``, ``modes``, ``frequencies_hz``, ``nodes``,
         ``warnings``). Raises ``ModelError`` when the model cannot be assembled."""
+    def equilibrium(self, t: Optional[float] = None) -> Dict[str, Any]:
+        """The static equilibrium at ``t`` (default the start time), as ``flexmb equilibrium``: keys
+        ``positions``, ``position_names``, ``multipliers``, ``reactions`` (per joint side: ``joint``,
+        ``body``, ``marker``, ``point``, ``force``, ``torque``), ``outputs`` (column → value),
+        ``iterations``, ``method``, residuals, ``history``, ``degrees_of_freedom``,
+        ``neutral_directions``, ``unstable_directions``, ``t``. Raises ``ModelError`` naming a free motion."""
     def linearize(
         self,
         at: Optional[str] = None,

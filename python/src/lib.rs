@@ -5,6 +5,7 @@
 mod callable_law;
 mod errors;
 mod interrupt;
+mod equilibrium;
 mod linear_analysis;
 mod model;
 mod model_text;

@@ -137,6 +137,19 @@ impl Model {
         Ok(dict)
     }
 
+    /// The static equilibrium at time `t` (default: the start time) with gravity, springs, loads and
+    /// drivers held there, as `flexmb equilibrium` finds it (Newton with a line search, damped dynamic
+    /// relaxation as fallback). Returns a dict: `positions` (numpy, per body `R, p, a`) and
+    /// `position_names`, `multipliers`, `reactions` (one dict per joint side: `joint`, `body`,
+    /// `marker`, `point`, `force`, `torque`, global axes), `outputs` (column → value there),
+    /// `iterations`, `method`, `force_residual`, `constraint_residual`, `force_tolerance`, `history`,
+    /// `degrees_of_freedom`, `neutral_directions`, `unstable_directions`, `t`. A mechanism with no
+    /// equilibrium raises `ModelError` naming the free motion.
+    #[pyo3(signature = (t = None))]
+    fn equilibrium<'py>(&self, py: Python<'py>, t: Option<f64>) -> PyResult<Bound<'py, PyDict>> {
+        crate::equilibrium::equilibrium(py, self, t)
+    }
+
     /// Linearizes the model at an operating point (`at="initial"`, the assembled initial state with its
     /// velocities; `at="equilibrium"`; or `t`, the state a simulation reaches at that time) and returns a
     /// dict: `M`, `C`, `K` (numpy, independent coordinates), `basis` (the velocity-space motion of each
