@@ -72,7 +72,9 @@ class Model:
         velocities; ``at="equilibrium"``; or ``t``, the state a simulation reaches at that time). Keys:
         ``M``, ``C``, ``K`` (numpy, independent coordinates), ``basis`` (velocity coordinates ×
         independent coordinates), ``coordinates``, ``velocity_names``, ``t``; with ``inputs`` (force
-        elements: ``NAME.x``/``.y``/``.z`` of an applied force or torque, ``NAME`` of a spring-damper) or
+        elements: ``NAME.x``/``.y``/``.z`` of an applied force or torque, ``NAME`` of a spring-damper;
+        drivers: ``NAME``, ``NAME.rate``, ``NAME.acceleration`` for the offset of an angle or displacement
+        driver) or
         ``outputs`` (measures), ``state_space``: ``A``, ``B``, ``C``, ``D``, ``states``, ``inputs``,
         ``outputs``. As ``flexmb linearize``; raises ``ModelError``."""
     def eigen(self, at: Optional[str] = None, t: Optional[float] = None) -> Dict[str, Any]:

@@ -154,7 +154,8 @@ impl Model {
     /// velocities; `at="equilibrium"`; or `t`, the state a simulation reaches at that time) and returns a
     /// dict: `M`, `C`, `K` (numpy, independent coordinates), `basis` (the velocity-space motion of each
     /// independent coordinate), `coordinates` (their names), `velocity_names`, `t`; with `inputs` (force
-    /// elements: `NAME.x`/`.y`/`.z` of an applied force or torque, `NAME` of a spring-damper) or
+    /// elements: `NAME.x`/`.y`/`.z` of an applied force or torque, `NAME` of a spring-damper; drivers:
+    /// `NAME`, `NAME.rate`, `NAME.acceleration` for the offset of an angle or displacement driver) or
     /// `outputs` (measures) also `state_space`: `A`, `B`, `C`, `D`, `states`, `inputs`, `outputs`. As
     /// `flexmb linearize`; raises `ModelError` with its message.
     #[pyo3(signature = (at = None, t = None, inputs = None, outputs = None))]

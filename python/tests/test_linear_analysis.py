@@ -39,5 +39,5 @@ def test_a_tilting_rotor_whirls_at_the_closed_form_frequencies():
 
 def test_bad_requests_raise_model_error():
     model = flexmb.load(REPOSITORY / MODELS / "hanging_pendulum.toml")
-    with pytest.raises(flexmb.ModelError, match="input 'motor' is not a force element"):
+    with pytest.raises(flexmb.ModelError, match="input 'motor' is not a force element or driver"):
         model.linearize(inputs=["motor"])

@@ -50,7 +50,7 @@ pub fn load_and_linearize(path: &Path, parameters: &[(String, f64)], choice: Ope
 pub struct LinearizeOptions {
     /// Where to linearize.
     pub choice: OperatingPointChoice,
-    /// Parameters as inputs of the state-space model.
+    /// Inputs of the state-space model: force elements and drivers.
     pub inputs: Vec<String>,
     /// Measures as its outputs.
     pub outputs: Vec<String>,

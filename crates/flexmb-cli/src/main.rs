@@ -160,8 +160,10 @@ enum Command {
         /// Linearize at the state a simulation with the model's [simulation] integrator reaches at T (s).
         #[arg(long, value_name = "T")]
         at_time: Option<f64>,
-        /// An input of the state-space model: a parameter of the model's [parameters] (repeatable).
-        #[arg(long = "input", value_name = "PARAMETER")]
+        /// An input of the state-space model (repeatable): NAME.x|y|z of an applied force or torque,
+        /// NAME of a spring-damper, or NAME, NAME.rate, NAME.acceleration of an angle or displacement
+        /// driver (its offset, rate and acceleration).
+        #[arg(long = "input", value_name = "INPUT")]
         input: Vec<String>,
         /// An output of the state-space model: a measure of the model (repeatable).
         #[arg(long = "output", value_name = "MEASURE")]

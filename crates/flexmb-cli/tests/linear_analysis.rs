@@ -139,7 +139,7 @@ fn bad_requests_are_refused_with_a_message() {
     let o = out.to_str().unwrap();
     assert!(fail(&["eigen", &model, "--at", "rest", "--out", o]).contains("--at: expected `initial` or `equilibrium`, got `rest`"));
     let e = fail(&["linearize", &model, "--input", "motor", "--out", o]);
-    assert!(e.contains("input 'motor' is not a force element of the model: inputs are drive.x"), "{e}");
+    assert!(e.contains("input 'motor' is not a force element or driver of the model: inputs are drive.x"), "{e}");
     let e = fail(&["linearize", &model, "--input", "drive", "--out", o]);
     assert!(e.contains("the applied torque 'drive' is an input as NAME.x, NAME.y or NAME.z"), "{e}");
     let e = fail(&["linearize", &model, "--output", "height", "--out", o]);

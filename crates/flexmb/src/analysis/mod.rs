@@ -33,7 +33,7 @@ pub use equilibrium::{
 };
 pub use eigen_analysis::{eigen_analysis, state_matrix, EigenAnalysis, EigenAnalysisError, Mode, Spin, Whirl};
 pub use linearization::{
-    displaced_positions, linearize, reduce_to_independent, IndependentCoordinates, Linearization, OperatingPoint, ReducedLinearization,
+    displaced_positions, driver_inputs, linearize, reduce_to_independent, DriverInputs, IndependentCoordinates, Linearization, OperatingPoint, ReducedLinearization,
     SparseLinearization,
 };
 pub use operating_point::{linear_model, operating_point, LinearModel, LinearizationPoint, OperatingPointChoice, OperatingPointError};

@@ -5,25 +5,32 @@
 //! ```
 //!
 //! in the independent coordinates of [`reduce_to_independent`](super::reduce_to_independent). The
-//! inputs `u` are loads added by force elements, named as in the model:
+//! inputs `u` are loads added by force elements, and drivers' offsets, named as in the model:
 //!
 //! - `NAME.x`, `NAME.y`, `NAME.z` for an applied force or torque `NAME`: a force (N) or torque (N m)
 //!   along that global axis at the element's marker;
 //! - `NAME` for a spring-damper: an actuator force (N, pushing the markers apart) or torque (N m, about
 //!   the joint's `z_i`, on the body of marker `j`), added to the element's;
+//! - `NAME`, `NAME.rate`, `NAME.acceleration` for an angle or displacement driver `NAME`: an offset `u`
+//!   added to its prescribed angle (rad) or displacement (m), its rate `u̇` and its acceleration `ü`,
+//!   three inputs a user sets consistently (a base excitation `u(t)` enters through all three;
+//!   [`driver_inputs`](super::driver_inputs) has the equations);
 //! - the name of a parameter of a model built in code ([`ModelBuilder::add_parameter`](crate::ModelBuilder::add_parameter)).
 //!
 //! The outputs `y` are measures. `A` is [`state_matrix`](super::state_matrix);
 //! `B = [0; M_z⁻¹ Nᵀ Q_u]` with `Q_u` the generalized force of a unit input (by virtual power, from the
 //! markers' velocities; for a parameter `−∂g/∂u`, the dynamic residual's change with accelerations and
-//! multipliers held, by central differences);
+//! multipliers held, by central differences); for a driver `B = [0; −M_z⁻¹ K_zu]`, `[0; −M_z⁻¹ C_zu]`
+//! and `[0; −M_z⁻¹ M_zu]` for its offset, rate and acceleration;
 //! `C` by central differences of the measures along `δx = N δz`, `δv = N δż + (Ṅ + W N) δz`; `D` by
-//! central differences of the measures in the inputs (zero unless a measure reads a parameter).
+//! central differences of the measures in the inputs (zero unless a measure reads a parameter, or the
+//! part of the mechanism a driver moves: along `δx = P u`, `δv = P u̇ + (Ṗ + W P) u`; the measures read
+//! positions and velocities, so a driver's acceleration has no `D`).
 
 use faer::linalg::solvers::Solve;
 use faer::Mat;
 
-use super::{state_matrix, Accelerations, ReducedLinearization, State};
+use super::{driver_inputs, linearize_at, state_matrix, Accelerations, DriverInputs, ReducedLinearization, State};
 use crate::data::Data;
 use crate::model::Model;
 use crate::stage::{equations_of_motion, measures, retract, run_kinematic_stages};
@@ -41,7 +48,7 @@ pub struct StateSpace {
     pub d: Mat<f64>,
     /// The states: the independent coordinates, then their rates (`<name>.rate`).
     pub states: Vec<String>,
-    /// The inputs (parameters).
+    /// The inputs (loads, drivers' offsets and their rates and accelerations, parameters).
     pub inputs: Vec<String>,
     /// The outputs (measures).
     pub outputs: Vec<String>,
@@ -64,6 +71,13 @@ pub fn state_space(
     outputs: &[String],
 ) -> Result<StateSpace, String> {
     let sources = inputs.iter().map(|name| input_source(model, name)).collect::<Result<Vec<_>, _>>()?;
+    let drivers = driven(&sources);
+    let driver_terms = if drivers.is_empty() {
+        None
+    } else {
+        let lin = linearize_at(model, data, state, acc);
+        Some(driver_inputs(model, data, state, acc, &lin, &drivers)?.1)
+    };
     let measured = outputs.iter().map(|name| find(name, "measure", model.measures.iter().map(|m| m.name.as_str()))).collect::<Result<Vec<_>, _>>()?;
     let n = reduced.degrees_of_freedom();
     let a = state_matrix(reduced);
@@ -74,6 +88,20 @@ pub fn state_space(
     for (col, source) in sources.iter().enumerate() {
         let generalized = match *source {
             InputSource::Load(load) => unit_load(model, data, state, load),
+            InputSource::Driver(ref name, derivative) => {
+                let terms = driver_terms.as_ref().expect("the driver terms of a driver input");
+                let k = drivers.iter().position(|d| d == name).unwrap_or(0);
+                let column = driver_column(terms, derivative, k);
+                let column = lu.solve(&Mat::from_fn(n, 1, |i, _| -column[(i, 0)]));
+                for i in 0..n {
+                    b[(n + i, col)] = column[(i, 0)];
+                }
+                let y = driver_feedthrough(model, data, state, terms, derivative, k, &measured);
+                for (r, x) in y.iter().enumerate() {
+                    d[(r, col)] = *x;
+                }
+                continue;
+            }
             InputSource::Parameter(p) => {
                 let u0 = data.parameters[p];
                 let h = STEP * u0.abs().max(1.0);
@@ -123,10 +151,56 @@ pub fn state_space(
 }
 
 /// Where an input acts.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 enum InputSource {
     Load(UnitLoad),
     Parameter(usize),
+    /// A driver's offset (0), its rate (1) or its acceleration (2).
+    Driver(String, usize),
+}
+
+/// The drivers among the inputs, each once, in order.
+fn driven(sources: &[InputSource]) -> Vec<String> {
+    let mut names: Vec<String> = Vec::new();
+    for source in sources {
+        if let InputSource::Driver(name, _) = source {
+            if !names.contains(name) {
+                names.push(name.clone());
+            }
+        }
+    }
+    names
+}
+
+/// The reduced equations' term of driver `k`'s offset, rate or acceleration (`K_zu`, `C_zu`, `M_zu`).
+fn driver_column(terms: &DriverInputs, derivative: usize, k: usize) -> Mat<f64> {
+    let matrix = [&terms.stiffness, &terms.damping, &terms.mass][derivative];
+    Mat::from_fn(matrix.nrows(), 1, |i, _| matrix[(i, k)])
+}
+
+/// `D` of driver `k`'s offset (the measures along `δx = P u`, `δv = (Ṗ + W P) u`) or rate
+/// (`δv = P u̇`), by central differences; zero for its acceleration.
+fn driver_feedthrough(model: &Model, data: &mut Data, state: &State, terms: &DriverInputs, derivative: usize, k: usize, measured: &[usize]) -> Vec<f64> {
+    if derivative == 2 {
+        return vec![0.0; measured.len()];
+    }
+    let (motion, rate) = (&terms.motion, &terms.motion_rate);
+    let size = (0..motion.nrows()).map(|i| motion[(i, k)].abs()).fold(1.0, f64::max);
+    let h = STEP / size;
+    let mut moved = |sign: f64| {
+        let mut q = state.q.clone();
+        let mut v = state.v.clone();
+        if derivative == 0 {
+            let dx: Vec<f64> = (0..motion.nrows()).map(|i| sign * h * motion[(i, k)]).collect();
+            retract(&model.layout, &state.q, &dx, &mut q);
+            v.iter_mut().enumerate().for_each(|(i, x)| *x += sign * h * rate[(i, k)]);
+        } else {
+            v.iter_mut().enumerate().for_each(|(i, x)| *x += sign * h * motion[(i, k)]);
+        }
+        measured_values(model, data, state.t, &q, &v, measured)
+    };
+    let (plus, minus) = (moved(1.0), moved(-1.0));
+    plus.iter().zip(&minus).map(|(p, m)| (p - m) / (2.0 * h)).collect()
 }
 
 /// A unit load: a force or torque along a global axis at a marker, or a spring-damper's actuator.
@@ -160,6 +234,14 @@ fn input_source(model: &Model, name: &str) -> Result<InputSource, String> {
     if let Some(p) = model.parameters.iter().position(|p| p.name == name) {
         return Ok(InputSource::Parameter(p));
     }
+    let (driver, derivative) = match name.rsplit_once('.') {
+        Some((d, "rate")) => (d, 1),
+        Some((d, "acceleration")) => (d, 2),
+        _ => (name, 0),
+    };
+    if model.joints.iter().any(|j| j.name == driver && j.kind.is_driver()) {
+        return Ok(InputSource::Driver(driver.to_string(), derivative));
+    }
     let known: Vec<String> = model
         .forces
         .iter()
@@ -168,9 +250,10 @@ fn input_source(model: &Model, name: &str) -> Result<InputSource, String> {
             _ => f.name.clone(),
         })
         .chain(model.parameters.iter().map(|p| p.name.clone()))
+        .chain(model.joints.iter().filter(|j| j.kind.is_driver()).map(|j| format!("{0} ({0}.rate, {0}.acceleration)", j.name)))
         .collect();
-    let list = if known.is_empty() { "it has no force elements".to_string() } else { format!("inputs are {}", known.join(", ")) };
-    Err(format!("input '{name}' is not a force element of the model: {list}"))
+    let list = if known.is_empty() { "it has no force elements or drivers".to_string() } else { format!("inputs are {}", known.join(", ")) };
+    Err(format!("input '{name}' is not a force element or driver of the model: {list}"))
 }
 
 /// The generalized force `Q_u` of a unit load, by virtual power: `Q_u[k]` is the load's power when the

@@ -156,21 +156,26 @@ fn partition(jac: &Mat<f64>) -> Partition {
     Partition { rows, dependent, independent }
 }
 
-/// `N_g` at `q` with the partition held (rotations about global axes).
-fn global_basis_at(model: &Model, data: &mut Data, t: f64, q: &[f64], active: &[bool], p: &Partition) -> Mat<f64> {
+/// `[N_g | P_g]` at `q` with the partition held (rotations about global axes): the null-space basis,
+/// then for each constraint row of `driven` the particular solution `B_g δx_p = e_row` with the
+/// independent coordinates held (zero there). Every row of `driven` must be a pivot row of `p`.
+fn global_basis_at(model: &Model, data: &mut Data, t: f64, q: &[f64], active: &[bool], p: &Partition, driven: &[usize]) -> Mat<f64> {
     let jac = global_jacobian(model, data, t, q, active);
     let nv = model.layout.nv;
     let (r, n) = (p.dependent.len(), p.independent.len());
-    let mut ng = Mat::zeros(nv, n);
+    let mut ng = Mat::zeros(nv, n + driven.len());
     for (k, &c) in p.independent.iter().enumerate() {
         ng[(c, k)] = 1.0;
     }
     if r > 0 {
         let bd = Mat::from_fn(r, r, |i, j| jac[(p.rows[i], p.dependent[j])]);
-        let bi = Mat::from_fn(r, n, |i, j| -jac[(p.rows[i], p.independent[j])]);
-        let x = bd.partial_piv_lu().solve(&bi);
+        let rhs = Mat::from_fn(r, n + driven.len(), |i, j| match j.checked_sub(n) {
+            None => -jac[(p.rows[i], p.independent[j])],
+            Some(d) => f64::from(u8::from(p.rows[i] == driven[d])),
+        });
+        let x = bd.partial_piv_lu().solve(&rhs);
         for (i, &c) in p.dependent.iter().enumerate() {
-            for k in 0..n {
+            for k in 0..n + driven.len() {
                 ng[(c, k)] = x[(i, k)];
             }
         }
@@ -250,9 +255,35 @@ fn motion_step(state: &State, acc: &Accelerations) -> Option<f64> {
 /// are those of the global basis alone, `Ṅ + W N = G Ṅ_g` and `N̈ + W Ṅ + Ẇ N = G N̈_g − W G Ṅ_g`, so
 /// that a spin about a symmetry axis, which leaves `N_g` unchanged, adds no differencing error.
 pub fn reduce_to_independent(model: &Model, data: &mut Data, state: &State, acc: &Accelerations, lin: &Linearization) -> ReducedLinearization {
+    match reduce_with_particular(model, data, state, acc, lin, &[]) {
+        Ok((reduced, _)) => reduced,
+        Err(_) => unreachable!("no driven rows to find among the pivots"),
+    }
+}
+
+/// The reduced equations and, for the constraint rows `driven`, the particular motions `P` (`B δx_p =
+/// e_row`, the independent coordinates held) with their terms in the reduced equations,
+/// `Nᵀ [M, C, K]`-products of `P` built as those of `N` are:
+///
+/// ```text
+/// M_zu = Nᵀ M P,   C_zu = Nᵀ [C P + M (2Ṗ + W P)],   K_zu = Nᵀ [K P + C (Ṗ + W P) + M (P̈ + W Ṗ + Ẇ P)]
+/// ```
+///
+/// A row of `driven` that the partition found dependent on the others is an error naming it.
+pub(super) fn reduce_with_particular(
+    model: &Model,
+    data: &mut Data,
+    state: &State,
+    acc: &Accelerations,
+    lin: &Linearization,
+    driven: &[usize],
+) -> Result<(ReducedLinearization, ParticularMotion), usize> {
     let jac = global_jacobian(model, data, state.t, &state.q, &state.active);
     let p = partition(&jac);
-    let ng = global_basis_at(model, data, state.t, &state.q, &state.active, &p);
+    if let Some(&row) = driven.iter().find(|row| !p.rows.contains(row)) {
+        return Err(row);
+    }
+    let ng = global_basis_at(model, data, state.t, &state.q, &state.active, &p, driven);
     let nv = model.layout.nv;
     let (mut ng_dot, mut ng_ddot) = (Mat::<f64>::zeros(nv, ng.ncols()), Mat::<f64>::zeros(nv, ng.ncols()));
     if let Some(h) = motion_step(state, acc) {
@@ -263,30 +294,46 @@ pub fn reduce_to_independent(model: &Model, data: &mut Data, state: &State, acc:
             q
         };
         let (q_plus, q_minus) = (along(1.0), along(-1.0));
-        let plus = global_basis_at(model, data, state.t + h, &q_plus, &state.active, &p);
-        let minus = global_basis_at(model, data, state.t - h, &q_minus, &state.active, &p);
+        let plus = global_basis_at(model, data, state.t + h, &q_plus, &state.active, &p, driven);
+        let minus = global_basis_at(model, data, state.t - h, &q_minus, &state.active, &p, driven);
         let size = (0..nv).flat_map(|i| (0..ng.ncols()).map(move |j| (i, j))).map(|(i, j)| ng[(i, j)].abs()).fold(0.0, f64::max);
         let eps = 64.0 * f64::EPSILON * size;
         ng_dot = without_rounding((&plus - &minus) * (0.5 / h), eps / h);
         ng_ddot = without_rounding((&plus - &ng * 2.0 + &minus) * (1.0 / (h * h)), 4.0 * eps / (h * h));
     }
-    let n = to_body_axes(model, &state.q, &ng);
-    let g_ng_dot = to_body_axes(model, &state.q, &ng_dot);
-    let g_ng_ddot = to_body_axes(model, &state.q, &ng_ddot);
-    let wn = apply_spin(model, &state.v, &n);
+    let n_free = p.independent.len();
+    let e = to_body_axes(model, &state.q, &ng);
+    let g_e_dot = to_body_axes(model, &state.q, &ng_dot);
+    let g_e_ddot = to_body_axes(model, &state.q, &ng_ddot);
+    let we = apply_spin(model, &state.v, &e);
+    let n = e.as_ref().subcols(0, n_free).to_owned();
     let nt = n.transpose();
     let (m, c, k) = (&lin.mass, &lin.damping, &lin.stiffness);
-    // 2Ṅ + W N = 2 G Ṅ_g − W N;  Ṅ + W N = G Ṅ_g;  N̈ + W Ṅ + Ẇ N = G N̈_g − W G Ṅ_g.
-    let mass = nt * m * &n;
-    let damping = nt * (c * &n + m * (&g_ng_dot * 2.0 - &wn));
-    let stiffness = nt * (k * &n + c * &g_ng_dot + m * (&g_ng_ddot - apply_spin(model, &state.v, &g_ng_dot)));
+    // 2Ṅ + W N = 2 G Ṅ_g − W N;  Ṅ + W N = G Ṅ_g;  N̈ + W Ṅ + Ẇ N = G N̈_g − W G Ṅ_g (and alike for P).
+    let mass = nt * m * &e;
+    let damping = nt * (c * &e + m * (&g_e_dot * 2.0 - &we));
+    let stiffness = nt * (k * &e + c * &g_e_dot + m * (&g_e_ddot - apply_spin(model, &state.v, &g_e_dot)));
+    let (first, rest) = (|x: &Mat<f64>| x.as_ref().subcols(0, n_free).to_owned(), |x: &Mat<f64>| x.as_ref().subcols(n_free, driven.len()).to_owned());
     let names = coordinate_names(model);
     let independent = IndependentCoordinates {
         names: p.independent.iter().map(|&i| names[i].clone()).collect(),
         coordinates: p.independent,
         basis: n,
     };
-    ReducedLinearization { mass, damping, stiffness, independent, basis_rate: g_ng_dot }
+    let reduced = ReducedLinearization { mass: first(&mass), damping: first(&damping), stiffness: first(&stiffness), independent, basis_rate: first(&g_e_dot) };
+    let particular = ParticularMotion { mass: rest(&mass), damping: rest(&damping), stiffness: rest(&stiffness), motion: rest(&e), motion_rate: rest(&g_e_dot) };
+    Ok((reduced, particular))
+}
+
+/// The particular motions of prescribed constraint values and their terms in the reduced equations
+/// (see [`reduce_with_particular`]).
+#[derive(Clone, Debug)]
+pub(super) struct ParticularMotion {
+    pub(super) mass: Mat<f64>,
+    pub(super) damping: Mat<f64>,
+    pub(super) stiffness: Mat<f64>,
+    pub(super) motion: Mat<f64>,
+    pub(super) motion_rate: Mat<f64>,
 }
 
 #[cfg(test)]

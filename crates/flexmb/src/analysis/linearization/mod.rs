@@ -15,11 +15,13 @@
 //! evaluation the generalized-α iteration matrix makes too). [`linearize`] returns them dense; an
 //! eigen-analysis of a large model keeps them sparse.
 
+mod driver_input;
 mod independent;
 mod sparse;
 
 use faer::Mat;
 
+pub use driver_input::{driver_inputs, DriverInputs};
 pub use independent::{reduce_to_independent, IndependentCoordinates, ReducedLinearization};
 pub use sparse::SparseLinearization;
 
