@@ -56,6 +56,32 @@ fn a_hanging_pendulum_linearizes_to_its_closed_form_state_space() {
     assert_eq!(summary["state_space"]["inputs"][0], "drive.z");
 }
 
+/// A mass on a spring-damper `(k, c)` whose base is driven, the driver's offset, rate and acceleration
+/// as inputs: `B = [0 0 0; k/m c/m 0]` (`m z̈ + c (ż − u̇) + k (z − u) = 0`), and the spring's stretch
+/// `z − u` reads the offset through `D = [−1 0 0]`.
+#[test]
+fn a_driven_base_is_an_input_through_its_offset_rate_and_acceleration() {
+    let out = scratch("linearize_base_excited");
+    let model = format!("{MODELS}/base_excited.toml");
+    let drive = ["--input", "base_drive", "--input", "base_drive.rate", "--input", "base_drive.acceleration"];
+    let args = [&["linearize", &model][..], &drive[..], &["--output", "height", "--output", "stretch", "--out", out.to_str().unwrap()][..]].concat();
+    let stdout = succeed(&args);
+    assert!(stdout.contains("1 degrees of freedom (mass.R.z)"), "{stdout}");
+    let (m, k, c) = (2.0, 800.0, 6.0);
+    let (b, d) = (read_matrix_market(&out.join("B.mtx")).unwrap(), read_matrix_market(&out.join("D.mtx")).unwrap());
+    let exact_b = [k / m, c / m, 0.0];
+    let exact_d = [[0.0, 0.0, 0.0], [-1.0, 0.0, 0.0]];
+    let mut worst = 0.0_f64;
+    for j in 0..3 {
+        worst = worst.max(b.get(0, j).abs()).max((b.get(1, j) - exact_b[j]).abs() / (k / m));
+        for r in 0..2 {
+            worst = worst.max((d.get(r, j) - exact_d[r][j]).abs());
+        }
+    }
+    eprintln!("base-excited mass: B and D against the closed form, largest relative error {worst:.1e}");
+    assert!(worst < 1e-8, "{worst:.1e}");
+}
+
 /// The FE cantilever clamped by a fixed joint at its clamped node: with vibration modes only (4N, the
 /// FE model's clamped modes) the mechanism's frequencies are the FE frequencies; with 2 static
 /// correction modes added (4N2S) the lowest four are those of the enlarged (Craig–Bampton-like) basis:
