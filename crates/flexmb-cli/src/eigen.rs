@@ -1,12 +1,12 @@
 //! `flexmb eigen`: the modes of a model linearized at an operating point (frequencies, damping
 //! ratios, whirl, the coordinates that dominate each shape) as a table and `eigen.json`; with
 //! `--sweep NAME=START:STOP:COUNT`, one eigen-analysis per value of a model parameter and the
-//! frequencies against it (`sweep.json`, `sweep.csv`).
+//! frequencies against it, each mode followed by its shape (`sweep.json`, `sweep.csv`).
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use flexmb::analysis::{eigen_analysis, EigenAnalysis, LinearModel, OperatingPointChoice};
+use flexmb::analysis::{eigen_analysis, track_modes, EigenAnalysis, LinearModel, OperatingPointChoice};
 use flexmb::Model;
 use serde_json::{json, Value};
 
@@ -89,11 +89,12 @@ fn analyse(path: &Path, model: &Model, linear: &LinearModel) -> Result<EigenAnal
     eigen_analysis(model, &linear.point.state, &linear.reduced).map_err(|e| CliError(format!("{}: {e}", path.display())))
 }
 
-/// One eigen-analysis per value of the swept parameter. Modes are tracked by sorting: the k-th
-/// column is the k-th oscillating mode by increasing undamped frequency at each value (modes that
-/// cross swap columns; the whirl labels tell forward from backward).
+/// One eigen-analysis per value of the swept parameter. Modes are tracked by their shapes
+/// ([`track_modes`]: the modal assurance criterion between consecutive values), so that a mode keeps
+/// its column (and its whirl) where curves cross; column `k` starts as the `k`-th oscillating mode of
+/// the first value.
 fn run_sweep(path: &Path, options: &EigenOptions, sweep: &Sweep) -> Result<String, CliError> {
-    let mut rows = Vec::new();
+    let mut analyses = Vec::new();
     let mut model_name = String::new();
     for &value in &sweep.values {
         let mut parameters = options.parameters.clone();
@@ -102,19 +103,27 @@ fn run_sweep(path: &Path, options: &EigenOptions, sweep: &Sweep) -> Result<Strin
         if !loaded.parameters.contains_key(&sweep.parameter) {
             return Err(CliError(format!("--sweep: the model has no parameter '{}'", sweep.parameter)));
         }
-        let modes = analyse(path, &loaded.model, &linear)?;
+        analyses.push(analyse(path, &loaded.model, &linear)?);
         model_name = loaded.model.name().to_string();
-        let oscillating: Vec<(f64, f64, &'static str)> =
-            modes.modes.iter().filter(|m| !m.rigid_body).map(|m| (m.frequency, m.damping_ratio, m.whirl.label())).collect();
-        rows.push((value, oscillating));
     }
-    let columns = rows.iter().map(|(_, m)| m.len()).max().unwrap_or(0);
+    let tracks = track_modes(&analyses);
+    // rows[i][k]: track k at value i (frequency, damping ratio, whirl).
+    let rows: Vec<(f64, Vec<Option<(f64, f64, &'static str)>>)> = sweep
+        .values
+        .iter()
+        .enumerate()
+        .map(|(i, &value)| {
+            let at = |m: Option<usize>| m.map(|m| &analyses[i].modes[m]).map(|m| (m.frequency, m.damping_ratio, m.whirl.label()));
+            (value, tracks.iter().map(|t| at(t[i])).collect())
+        })
+        .collect();
+    let columns = tracks.len();
     let mut csv = sweep.parameter.clone();
     for k in 1..=columns {
         let _ = write!(csv, ",mode{k}_hz,mode{k}_damping_ratio,mode{k}_whirl");
     }
     csv.push('\n');
-    let mut report = format!("eigen-analysis of '{model_name}' against {} ({} values); modes by increasing frequency\n", sweep.parameter, rows.len());
+    let mut report = format!("eigen-analysis of '{model_name}' against {} ({} values); modes followed by their shapes\n", sweep.parameter, rows.len());
     let _ = write!(report, "{:>14}", sweep.parameter);
     for k in 1..=columns {
         let _ = write!(report, " {:>22}", format!("mode {k} Hz (whirl)"));
@@ -123,21 +132,32 @@ fn run_sweep(path: &Path, options: &EigenOptions, sweep: &Sweep) -> Result<Strin
     for (value, modes) in &rows {
         let _ = write!(csv, "{value:e}");
         let _ = write!(report, "{value:>14.6e}");
-        for &(f, z, w) in modes {
-            let _ = write!(csv, ",{f:e},{z:e},{w}");
-            let _ = write!(report, " {:>22}", format!("{f:.6e} ({w})"));
+        for mode in modes {
+            match mode {
+                Some((f, z, w)) => {
+                    let _ = write!(csv, ",{f:e},{z:e},{w}");
+                    let _ = write!(report, " {:>22}", format!("{f:.6e} ({w})"));
+                }
+                None => {
+                    csv.push_str(",,,");
+                    let _ = write!(report, " {:>22}", "-");
+                }
+            }
         }
         csv.push('\n');
         report.push('\n');
     }
+    let column = |pick: &dyn Fn(&(f64, f64, &'static str)) -> Value| -> Vec<Vec<Value>> {
+        rows.iter().map(|(_, m)| m.iter().map(|x| x.as_ref().map_or(Value::Null, pick)).collect()).collect()
+    };
     let json = json!({
         "model": model_name,
         "parameter": sweep.parameter,
-        "tracking": "the k-th mode is the k-th oscillating mode by increasing undamped frequency at each value",
+        "tracking": "mode k follows its shape from value to value (the modal assurance criterion of complex shapes between consecutive values); null where the mode is absent",
         "values": rows.iter().map(|(v, _)| *v).collect::<Vec<_>>(),
-        "frequencies_hz": rows.iter().map(|(_, m)| m.iter().map(|x| x.0).collect::<Vec<_>>()).collect::<Vec<_>>(),
-        "damping_ratios": rows.iter().map(|(_, m)| m.iter().map(|x| x.1).collect::<Vec<_>>()).collect::<Vec<_>>(),
-        "whirl": rows.iter().map(|(_, m)| m.iter().map(|x| x.2).collect::<Vec<_>>()).collect::<Vec<_>>(),
+        "frequencies_hz": column(&|x| json!(x.0)),
+        "damping_ratios": column(&|x| json!(x.1)),
+        "whirl": column(&|x| json!(x.2)),
     });
     let (json_file, csv_file) = (options.out.join("sweep.json"), options.out.join("sweep.csv"));
     write_json(&json_file, &json)?;
@@ -146,7 +166,7 @@ fn run_sweep(path: &Path, options: &EigenOptions, sweep: &Sweep) -> Result<Strin
     if options.plot {
         let png = options.out.join("campbell.png");
         let values: Vec<f64> = rows.iter().map(|(v, _)| *v).collect();
-        let frequencies: Vec<Vec<f64>> = rows.iter().map(|(_, m)| m.iter().map(|x| x.0).collect()).collect();
+        let frequencies: Vec<Vec<f64>> = rows.iter().map(|(_, m)| m.iter().map(|x| x.map_or(f64::NAN, |x| x.0)).collect()).collect();
         write_campbell(&png, &sweep.parameter, &values, &frequencies, options.one_per_rev).map_err(|e| CliError(format!("{}: {e}", png.display())))?;
         let _ = writeln!(report, "written: {} (Campbell diagram)", png.display());
         if let Some(s) = options.one_per_rev {

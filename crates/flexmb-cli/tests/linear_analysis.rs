@@ -157,6 +157,40 @@ fn a_tilting_rotor_sweep_gives_the_closed_form_whirl() {
     assert!(std::fs::read_to_string(out.join("sweep.csv")).unwrap().starts_with("spin,mode1_hz,mode1_damping_ratio,mode1_whirl"));
 }
 
+/// The tilting rotor swept from rest to 600 rad/s: the backward whirl falls through the housing's
+/// torsion mode (15.57 Hz) between 0 and 50 rad/s. Followed by their shapes the modes keep their
+/// columns through the crossing: column 1 the torsion at its constant frequency (whirl none), column 2
+/// the backward and column 3 the forward whirl at every speed, each at the closed form; where sorting
+/// by frequency would have put the backward whirl in column 1 from 50 rad/s on. The Campbell
+/// diagram's 1× line then crosses the torsion at `2π × 15.57` rad/s.
+#[test]
+fn a_sweep_follows_crossing_modes_by_their_shapes() {
+    let out = scratch("linear_rotor_crossing");
+    let stdout = succeed(&["eigen", &format!("{MODELS}/tilting_rotor.toml"), "--sweep", "spin=0:600:13", "--plot", "--one-per-rev", "0.15915494309189535", "--out", out.to_str().unwrap()]);
+    let sweep = json(&out.join("sweep.json"));
+    let (it, ip, ktheta): (f64, f64, f64) = (0.03, 0.035, 2.0 * 2.0e4 * 0.1 * 0.1);
+    let torsion = sweep["frequencies_hz"][0][0].as_f64().unwrap();
+    let mut worst = 0.0_f64;
+    for k in 1..13 {
+        let spin = 50.0 * k as f64;
+        let f: Vec<f64> = sweep["frequencies_hz"][k].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+        let whirl: Vec<&str> = sweep["whirl"][k].as_array().unwrap().iter().map(|x| x.as_str().unwrap()).collect();
+        assert_eq!(whirl, ["none", "backward", "forward"], "spin {spin}");
+        let root = (ip * ip * spin * spin + 4.0 * it * ktheta).sqrt();
+        let (backward, forward) = ((root - ip * spin) / (2.0 * it) / std::f64::consts::TAU, (root + ip * spin) / (2.0 * it) / std::f64::consts::TAU);
+        worst = worst.max((f[0] - torsion).abs() / torsion).max((f[1] - backward).abs() / backward).max((f[2] - forward).abs() / forward);
+        assert!(f[1] < f[0], "the backward whirl has crossed below the torsion at {spin}: {f:?}");
+    }
+    let at_rest: Vec<f64> = sweep["frequencies_hz"][0].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+    assert!(at_rest[1] > at_rest[0], "at rest the tilt modes are above the torsion: {at_rest:?}");
+    eprintln!("tilting rotor through the crossing: largest relative error of the followed curves {worst:.1e}");
+    assert!(worst < 1e-7);
+    let critical = stdout.lines().find(|l| l.contains("crosses mode 1 at")).unwrap_or_else(|| panic!("{stdout}"));
+    let value: f64 = critical.split("spin = ").nth(1).unwrap().split_whitespace().next().unwrap().parse().unwrap();
+    assert!((value - torsion * std::f64::consts::TAU).abs() < 1e-6 * value, "{critical}");
+    assert!(out.join("campbell.png").exists());
+}
+
 /// Requests that cannot be met are refused with what was wrong.
 #[test]
 fn bad_requests_are_refused_with_a_message() {

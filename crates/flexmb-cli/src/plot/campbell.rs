@@ -1,6 +1,6 @@
 //! The Campbell diagram: a mechanism's natural frequencies (Hz) against a swept parameter, such as a
-//! rotor's spin speed, one curve per mode (the `i`-th lowest frequency at each value, a dot where it was
-//! computed), and the 1× line `f = s x` of a once-per-revolution excitation (`s = 1/2π` for a spin in
+//! rotor's spin speed, one curve per mode (column `k` of the frequencies at each value, as the caller
+//! followed the mode; a dot where it was computed), and the 1× line `f = s x` of a once-per-revolution excitation (`s = 1/2π` for a spin in
 //! rad/s, `1/60` for one in rpm). Where a mode's curve crosses the 1× line the excitation meets that
 //! mode's frequency: a critical speed, marked and labelled on the diagram and returned by
 //! [`critical_speeds`].
@@ -21,8 +21,9 @@ pub struct CriticalSpeed {
     pub frequency_hz: f64,
 }
 
-/// Writes the Campbell diagram of `frequencies_hz[i]` (the sorted frequencies at `values[i]`; their
-/// number may differ from value to value) against the parameter named `parameter` (with its unit in
+/// Writes the Campbell diagram of `frequencies_hz[i]` (the frequencies of the modes at `values[i]`,
+/// mode `k` in column `k`; their number may differ from value to value, and NaN marks a mode absent
+/// at a value) against the parameter named `parameter` (with its unit in
 /// the name, e.g. `spin [rad/s]`) to `path` (`.png` or `.svg`, 1200 × 750 pixels), with the 1× line
 /// `f = s x` and its crossings if `one_per_rev_hz_per_unit` is `Some(s)`.
 pub fn write_campbell(
@@ -55,7 +56,7 @@ pub fn campbell_figure(
             style: SeriesStyle::LineAndPoints,
         })
         .collect();
-    let highest = frequencies_hz.iter().flatten().copied().fold(0.0, f64::max);
+    let highest = frequencies_hz.iter().flatten().copied().filter(|f| !f.is_nan()).fold(0.0, f64::max);
     let top = if highest > 0.0 { 1.1 * highest } else { 1.0 };
     let (first, last) = (values[order[0]], values[order[order.len() - 1]]);
     let mut annotations = Vec::new();
@@ -117,7 +118,7 @@ pub fn critical_speeds(values: &[f64], frequencies_hz: &[Vec<f64>], s: f64) -> V
 
 /// Mode `mode`'s points, `(value, frequency)`, in the order `order` of the values, where it was found.
 fn mode_curve(values: &[f64], frequencies_hz: &[Vec<f64>], order: &[usize], mode: usize) -> Vec<(f64, f64)> {
-    order.iter().filter_map(|&i| frequencies_hz[i].get(mode).map(|f| (values[i], *f))).collect()
+    order.iter().filter_map(|&i| frequencies_hz[i].get(mode).filter(|f| !f.is_nan()).map(|f| (values[i], *f))).collect()
 }
 
 /// The indices of `values` in increasing order of value.
@@ -128,7 +129,7 @@ fn sorted_order(values: &[f64]) -> Vec<usize> {
 }
 
 /// An error unless there is a list of frequencies per value, at least one value, and every number is
-/// finite (frequencies also not negative; the 1× slope positive).
+/// finite (frequencies also not negative, or NaN for an absent mode; the 1× slope positive).
 fn check(values: &[f64], frequencies_hz: &[Vec<f64>], s: Option<f64>) -> Result<(), String> {
     if values.is_empty() || values.len() != frequencies_hz.len() {
         return Err(format!(
@@ -141,7 +142,7 @@ fn check(values: &[f64], frequencies_hz: &[Vec<f64>], s: Option<f64>) -> Result<
         return Err(format!("parameter value {} is {}", k + 1, values[k]));
     }
     for (k, list) in frequencies_hz.iter().enumerate() {
-        if let Some(f) = list.iter().find(|f| !(f.is_finite() && **f >= 0.0)) {
+        if let Some(f) = list.iter().find(|f| !(f.is_nan() || (f.is_finite() && **f >= 0.0))) {
             return Err(format!("a frequency at parameter value {} is {f} Hz", values[k]));
         }
     }

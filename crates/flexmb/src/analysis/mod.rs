@@ -9,6 +9,7 @@ mod equilibrium;
 mod eigen_analysis;
 mod linearization;
 mod memory;
+mod mode_tracking;
 mod operating_point;
 mod outputs;
 mod redundancy;
@@ -36,6 +37,7 @@ pub use linearization::{
     displaced_positions, driver_inputs, linearize, reduce_to_independent, DriverInputs, IndependentCoordinates, Linearization, OperatingPoint, ReducedLinearization,
     SparseLinearization,
 };
+pub use mode_tracking::{modal_assurance, track_modes};
 pub use operating_point::{linear_model, operating_point, LinearModel, LinearizationPoint, OperatingPointChoice, OperatingPointError};
 pub(crate) use linearization::linearize_at;
 pub use outputs::{columns_of_output, output_columns, ColumnSources, OutputColumn};
