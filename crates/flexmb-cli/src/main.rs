@@ -6,7 +6,7 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use clap::{Args, Parser, Subcommand};
 use flexmb_cli::bench::{run_benchmarks, BenchCase, BenchIntegrator, BenchOptions};
 use flexmb_cli::check::{check_model, describe, describe_columns, describe_flexible_bodies};
 use flexmb_cli::compare::{compare_model, CompareOptions};
@@ -31,6 +31,23 @@ struct Cli {
 
 // Parsed once per run of the program: the size of its largest variant costs nothing.
 #[allow(clippy::large_enum_variant)]
+/// The model and operating point of `flexmb linearize` and `flexmb eigen`.
+#[derive(Args, Debug)]
+struct OperatingPointArgs {
+    /// Model file (TOML).
+    model: PathBuf,
+    /// Replace the value of a parameter of the model's [parameters] table: NAME=VALUE (repeatable).
+    #[arg(long = "parameter", short = 'p', value_name = "NAME=VALUE", value_parser = parse_parameter)]
+    parameter: Vec<(String, f64)>,
+    /// The operating point: initial (the assembled initial state, its velocities included) or
+    /// equilibrium.
+    #[arg(long, value_name = "initial|equilibrium")]
+    at: Option<String>,
+    /// Linearize at the state a simulation with the model's [simulation] integrator reaches at T (s).
+    #[arg(long, value_name = "T")]
+    at_time: Option<f64>,
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// Simulate a model and write its outputs (CSV) and a summary (JSON).
@@ -148,18 +165,8 @@ enum Command {
     /// coordinates (M.mtx, C.mtx, K.mtx, Matrix Market), optionally a state-space model (A, B, C_out,
     /// D) for named inputs and outputs, and linearization.json. See docs/linear-analysis.md.
     Linearize {
-        /// Model file (TOML).
-        model: PathBuf,
-        /// Replace the value of a parameter of the model's [parameters] table: NAME=VALUE (repeatable).
-        #[arg(long = "parameter", short = 'p', value_name = "NAME=VALUE", value_parser = parse_parameter)]
-        parameter: Vec<(String, f64)>,
-        /// The operating point: initial (the assembled initial state, its velocities included) or
-        /// equilibrium.
-        #[arg(long, value_name = "initial|equilibrium")]
-        at: Option<String>,
-        /// Linearize at the state a simulation with the model's [simulation] integrator reaches at T (s).
-        #[arg(long, value_name = "T")]
-        at_time: Option<f64>,
+        #[command(flatten)]
+        point: OperatingPointArgs,
         /// An input of the state-space model (repeatable): NAME.x|y|z of an applied force or torque,
         /// NAME of a spring-damper, or NAME, NAME.rate, NAME.acceleration of an angle or displacement
         /// driver (its offset, rate and acceleration).
@@ -175,17 +182,8 @@ enum Command {
     /// Eigen-analysis of a model at an operating point: frequencies, damping ratios, whirl and mode
     /// shapes of the whole mechanism (table and eigen.json). See docs/linear-analysis.md.
     Eigen {
-        /// Model file (TOML).
-        model: PathBuf,
-        /// Replace the value of a parameter of the model's [parameters] table: NAME=VALUE (repeatable).
-        #[arg(long = "parameter", short = 'p', value_name = "NAME=VALUE", value_parser = parse_parameter)]
-        parameter: Vec<(String, f64)>,
-        /// The operating point: initial or equilibrium.
-        #[arg(long, value_name = "initial|equilibrium")]
-        at: Option<String>,
-        /// Linearize at the state a simulation reaches at T (s).
-        #[arg(long, value_name = "T")]
-        at_time: Option<f64>,
+        #[command(flatten)]
+        point: OperatingPointArgs,
         /// One eigen-analysis per value of a parameter: NAME=START:STOP:COUNT (sweep.json, sweep.csv).
         #[arg(long, value_name = "NAME=START:STOP:COUNT", value_parser = flexmb_cli::eigen::parse_sweep)]
         sweep: Option<flexmb_cli::eigen::Sweep>,
@@ -445,18 +443,18 @@ fn main() -> ExitCode {
             let options = EquilibriumOptions { out_dir: out, vtk, parameters: parameter, quiet };
             run_equilibrium(&model, &options).map(|_| ())
         }
-        Command::Linearize { model, parameter, at, at_time, input, output, out } => {
-            flexmb_cli::linear_analysis::operating_point_choice(at.as_deref(), at_time)
+        Command::Linearize { point, input, output, out } => {
+            flexmb_cli::linear_analysis::operating_point_choice(point.at.as_deref(), point.at_time)
                 .and_then(|choice| {
-                    let options = flexmb_cli::linear_analysis::LinearizeOptions { choice, inputs: input, outputs: output, out, parameters: parameter };
-                    flexmb_cli::linear_analysis::run_linearize(&model, &options)
+                    let options = flexmb_cli::linear_analysis::LinearizeOptions { choice, inputs: input, outputs: output, out, parameters: point.parameter };
+                    flexmb_cli::linear_analysis::run_linearize(&point.model, &options)
                 })
                 .map(|report| print!("{report}"))
         }
-        Command::Eigen { model, parameter, at, at_time, sweep, out, vtk, plot, one_per_rev } => flexmb_cli::linear_analysis::operating_point_choice(at.as_deref(), at_time)
+        Command::Eigen { point, sweep, out, vtk, plot, one_per_rev } => flexmb_cli::linear_analysis::operating_point_choice(point.at.as_deref(), point.at_time)
             .and_then(|choice| {
-                let options = flexmb_cli::eigen::EigenOptions { choice, out, parameters: parameter, sweep, vtk, plot, one_per_rev };
-                flexmb_cli::eigen::run_eigen(&model, &options)
+                let options = flexmb_cli::eigen::EigenOptions { choice, out, parameters: point.parameter, sweep, vtk, plot, one_per_rev };
+                flexmb_cli::eigen::run_eigen(&point.model, &options)
             })
             .map(|report| print!("{report}")),
         Command::Modes { fe_model, modes, basis, mass, out, vtk, solver } => {

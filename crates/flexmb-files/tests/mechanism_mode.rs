@@ -12,7 +12,7 @@ use flexmb::model::BodyId;
 use flexmb::Model;
 use flexmb_files::shape::frame_size;
 use flexmb_files::vtk::mechanism_mode::{
-    loaded_mechanism_mode_animation, mechanism_mode_animation, write_mechanism_mode_animation,
+    loaded_mechanism_mode_animation, mechanism_mode_animation,
 };
 use flexmb_files::vtk::{AMPLITUDE_FRACTION, FRAMES_PER_PERIOD};
 use flexmb_files::{load_model, LoadedModel};
@@ -155,7 +155,7 @@ fn a_real_mode_swings_through_the_operating_point_and_frame_zero_is_its_displace
     // The largest displacement of any point drawn (the glyphs and the joints' markers) is a tenth of the
     // mechanism's size (the box around them at q), to first order in c: within θ of it.
     let zeros_shape = vec![0.0; shape.len()];
-    let still = write_mechanism_mode_animation(model, &q, &zeros_shape, &zeros_shape, "still", &dir).unwrap();
+    let still = mechanism_mode_animation(model, &q, &zeros_shape, &zeros_shape, "still", &dir).unwrap().pvd;
     let (mut low, mut high) = (Vec3::repeat(f64::MAX), Vec3::repeat(f64::MIN));
     let mut largest: f64 = 0.0;
     for (_, name, _) in entries.iter().filter(|(t, ..)| *t == 0.0) {
@@ -190,7 +190,7 @@ fn a_complex_mode_moves_round_an_orbit_and_a_zero_shape_stays_at_the_operating_p
     }
 
     let zeros = vec![0.0; re.len()];
-    let path = write_mechanism_mode_animation(model, &q, &zeros, &zeros, "still", &dir).unwrap();
+    let path = mechanism_mode_animation(model, &q, &zeros, &zeros, "still", &dir).unwrap().pvd;
     for k in [0, 5, FRAMES_PER_PERIOD / 2] {
         for (b, name) in [(0, "link1"), (1, "link2")] {
             let grid = frame(&path, k, name);
@@ -229,15 +229,15 @@ fn a_flexible_body_is_drawn_as_its_deformed_mesh_and_bad_shapes_are_errors_namin
     let grid = frame(&bare.pvd, 0, "beam");
     assert!(largest_difference(&points(&grid), &nodes(model, 0, &displaced)) < 1e-14);
 
-    let e = write_mechanism_mode_animation(model, &q, &shape[1..], &zeros, "3", &dir).unwrap_err();
+    let e = mechanism_mode_animation(model, &q, &shape[1..], &zeros, "3", &dir).unwrap_err();
     assert_eq!(
         e,
         format!("mode 3: the real part of the shape has {} entries; the model has {nv} velocity coordinates", nv - 1)
     );
     let mut bad = zeros.clone();
     bad[2] = f64::NAN;
-    let e = write_mechanism_mode_animation(model, &q, &shape, &bad, "3", &dir).unwrap_err();
+    let e = mechanism_mode_animation(model, &q, &shape, &bad, "3", &dir).unwrap_err();
     assert_eq!(e, "mode 3: entry 2 of the imaginary part of the shape is NaN");
-    let e = write_mechanism_mode_animation(model, &q[1..], &shape, &zeros, "3", &dir).unwrap_err();
+    let e = mechanism_mode_animation(model, &q[1..], &shape, &zeros, "3", &dir).unwrap_err();
     assert_eq!(e, format!("mode 3: the operating point has {} positions; the model has {}", q.len() - 1, q.len()));
 }

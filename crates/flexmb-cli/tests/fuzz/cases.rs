@@ -152,7 +152,7 @@ pub const FE_MODEL_FILES: &[(&str, Option<(&str, &str)>)] = &[
     ("inp/frame_mesh.toml", None),
 ];
 
-pub const STUDY_FILES: &[&str] = &["door/study.toml", "wiper/study.toml"];
+pub const STUDY_FILES: &[&str] = &["door/study.toml", "wiper/study.toml", "studies/pendulum_lengths.toml"];
 
 /// The end time of every run: short, so that a case takes milliseconds.
 const T_END: &str = "0.05";

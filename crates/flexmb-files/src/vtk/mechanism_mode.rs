@@ -56,21 +56,10 @@ struct MechanismMode<'a> {
 }
 
 /// Writes the animation of the mode `shape_re + i shape_im` (velocity coordinates) of `model` about the
-/// positions `q`, labelled `label`, into `dir`, and returns the `.pvd` file. Rigid bodies are drawn as
-/// their frames' glyphs and flexible bodies as their nodes, which is all a [`Model`] knows of their
-/// drawing; [`loaded_mechanism_mode_animation`] draws a model file's shapes and meshes.
-pub fn write_mechanism_mode_animation(
-    model: &Model,
-    q: &[f64],
-    shape_re: &[f64],
-    shape_im: &[f64],
-    label: &str,
-    dir: &Path,
-) -> Result<PathBuf, String> {
-    mechanism_mode_animation(model, q, shape_re, shape_im, label, dir).map(|a| a.pvd)
-}
-
-/// [`write_mechanism_mode_animation`], returning the scale and counts too.
+/// positions `q`, labelled `label`, into `dir`: the `.pvd` file, the scale and the counts. Rigid
+/// bodies are drawn as their frames' glyphs and flexible bodies as their nodes, which is all a
+/// [`Model`] knows of their drawing; [`loaded_mechanism_mode_animation`] draws a model file's shapes
+/// and meshes.
 pub fn mechanism_mode_animation(
     model: &Model,
     q: &[f64],
