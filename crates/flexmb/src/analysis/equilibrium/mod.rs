@@ -355,8 +355,7 @@ impl<'a> Iteration<'a> {
             body_mass_entries(model, data, b, |r, c, x| m[(vo + r, vo + c)] += x);
         }
         let n = &point.null_space;
-        let closing: Vec<f64> =
-            (0..l.nv).map(|c| -(0..point.phi.len()).map(|r| point.pseudo_inverse[(c, r)] * point.phi[r]).sum::<f64>()).collect();
+        let closing: Vec<f64> = point.least_change(&point.phi).into_iter().map(|x| -x).collect();
         let closing_col = Mat::from_fn(l.nv, 1, |i, _| closing[i]);
         let f = Mat::from_fn(l.nv, 1, |i, _| point.force[i]);
         let rhs = -(n.transpose() * (&f + &k * &closing_col));

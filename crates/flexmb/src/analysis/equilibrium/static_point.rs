@@ -20,8 +20,9 @@ pub(super) struct StaticPoint {
     pub force: Vec<f64>,
     /// `N`: orthonormal basis of the null space of `B`, `nv × dof`.
     pub null_space: Mat<f64>,
-    /// `B⁺`, `nv ×` rows in force: the least change of the positions that closes a constraint residual.
-    pub pseudo_inverse: Mat<f64>,
+    /// `B⁺ = V_r Σ_r⁻¹ U_rᵀ` in factors (rows in force): the least change of the positions that closes
+    /// a constraint residual ([`least_change`](Self::least_change)).
+    pseudo_inverse: PseudoInverse,
     /// `Φ` of the rows in force.
     pub phi: Vec<f64>,
     /// Multipliers, one per constraint row (zero for the rows switched off).
@@ -52,8 +53,8 @@ impl StaticPoint {
         let (null_space, pseudo_inverse) = null_space_and_pseudo_inverse(&jacobian);
         // λ = −(B⁺)ᵀ f minimizes ‖f + Bᵀλ‖.
         let mut lambda = vec![0.0; l.nc];
-        for (k, &r) in rows.iter().enumerate() {
-            lambda[r] = -(0..l.nv).map(|c| pseudo_inverse[(c, k)] * force[c]).sum::<f64>();
+        for (k, x) in pseudo_inverse.transpose_apply(&force).into_iter().enumerate() {
+            lambda[rows[k]] = -x;
         }
         let mut residual = force.clone();
         for (k, &r) in rows.iter().enumerate() {
@@ -62,6 +63,12 @@ impl StaticPoint {
             }
         }
         Self { force, null_space, pseudo_inverse, phi, lambda, residual }
+    }
+
+    /// `B⁺ φ`: the least change of the positions (velocity space) that changes the constraints of the
+    /// rows in force by `φ` (one entry per row in force).
+    pub fn least_change(&self, phi: &[f64]) -> Vec<f64> {
+        self.pseudo_inverse.apply(phi)
     }
 
     /// Largest `|f + Bᵀλ|`.
@@ -80,28 +87,56 @@ impl StaticPoint {
     }
 }
 
+/// `B⁺ = V_r Σ_r⁻¹ U_rᵀ` kept as its factors: applying it costs `(nv + rows) rank`, where forming it
+/// cost `nv rows rank` per configuration.
+struct PseudoInverse {
+    /// `U_r`, rows × rank.
+    left: Mat<f64>,
+    /// `1/σ_k`.
+    inverse_singular: Vec<f64>,
+    /// `V_r`, `nv` × rank.
+    right: Mat<f64>,
+}
+
+impl PseudoInverse {
+    /// `B⁺ x` (`x` over the rows).
+    fn apply(&self, x: &[f64]) -> Vec<f64> {
+        let x = Mat::from_fn(x.len(), 1, |i, _| x[i]);
+        let mut y = self.left.transpose() * &x;
+        self.inverse_singular.iter().enumerate().for_each(|(k, s)| y[(k, 0)] *= s);
+        let out = &self.right * &y;
+        (0..out.nrows()).map(|i| out[(i, 0)]).collect()
+    }
+
+    /// `(B⁺)ᵀ x` (`x` over the velocity coordinates).
+    fn transpose_apply(&self, x: &[f64]) -> Vec<f64> {
+        let x = Mat::from_fn(x.len(), 1, |i, _| x[i]);
+        let mut y = self.right.transpose() * &x;
+        self.inverse_singular.iter().enumerate().for_each(|(k, s)| y[(k, 0)] *= s);
+        let out = &self.left * &y;
+        (0..out.nrows()).map(|i| out[(i, 0)]).collect()
+    }
+}
+
 /// `N` (orthonormal null-space basis of `b`) and `B⁺`, from the full singular value decomposition.
-fn null_space_and_pseudo_inverse(b: &Mat<f64>) -> (Mat<f64>, Mat<f64>) {
+fn null_space_and_pseudo_inverse(b: &Mat<f64>) -> (Mat<f64>, PseudoInverse) {
     let (m, n) = (b.nrows(), b.ncols());
+    let none = |rows: usize| PseudoInverse { left: Mat::zeros(rows, 0), inverse_singular: Vec::new(), right: Mat::zeros(n, 0) };
     if m == 0 {
-        return (Mat::identity(n, n), Mat::zeros(n, 0));
+        return (Mat::identity(n, n), none(0));
     }
     let Ok(svd) = b.svd() else {
         // Never seen for a finite matrix; leave every motion free and no multipliers.
-        return (Mat::identity(n, n), Mat::zeros(n, m));
+        return (Mat::identity(n, n), none(m));
     };
     let (u, s, v) = (svd.U(), svd.S().column_vector(), svd.V());
     let largest = (0..m.min(n)).map(|k| s[k]).fold(0.0, f64::max);
     let rank = (0..m.min(n)).filter(|&k| s[k] > RANK_TOLERANCE * largest).count();
     let null_space = Mat::from_fn(n, n - rank, |i, k| v[(i, rank + k)]);
-    let mut pseudo_inverse = Mat::<f64>::zeros(n, m);
-    for k in 0..rank {
-        for i in 0..n {
-            let vi = v[(i, k)] / s[k];
-            for j in 0..m {
-                pseudo_inverse[(i, j)] += vi * u[(j, k)];
-            }
-        }
-    }
+    let pseudo_inverse = PseudoInverse {
+        left: Mat::from_fn(m, rank, |i, k| u[(i, k)]),
+        inverse_singular: (0..rank).map(|k| 1.0 / s[k]).collect(),
+        right: Mat::from_fn(n, rank, |i, k| v[(i, k)]),
+    };
     (null_space, pseudo_inverse)
 }
