@@ -89,6 +89,9 @@ fn analyse(path: &Path, model: &Model, linear: &LinearModel) -> Result<EigenAnal
     eigen_analysis(model, &linear.point.state, &linear.reduced).map_err(|e| CliError(format!("{}: {e}", path.display())))
 }
 
+/// A followed mode at one value of a sweep: frequency (Hz), damping ratio, whirl.
+type TrackedMode = (f64, f64, &'static str);
+
 /// One eigen-analysis per value of the swept parameter. Modes are tracked by their shapes
 /// ([`track_modes`]: the modal assurance criterion between consecutive values), so that a mode keeps
 /// its column (and its whirl) where curves cross; column `k` starts as the `k`-th oscillating mode of
@@ -107,8 +110,8 @@ fn run_sweep(path: &Path, options: &EigenOptions, sweep: &Sweep) -> Result<Strin
         model_name = loaded.model.name().to_string();
     }
     let tracks = track_modes(&analyses);
-    // rows[i][k]: track k at value i (frequency, damping ratio, whirl).
-    let rows: Vec<(f64, Vec<Option<(f64, f64, &'static str)>>)> = sweep
+    // rows[i].1[k]: track k at value i.
+    let rows: Vec<(f64, Vec<Option<TrackedMode>>)> = sweep
         .values
         .iter()
         .enumerate()
@@ -147,7 +150,7 @@ fn run_sweep(path: &Path, options: &EigenOptions, sweep: &Sweep) -> Result<Strin
         csv.push('\n');
         report.push('\n');
     }
-    let column = |pick: &dyn Fn(&(f64, f64, &'static str)) -> Value| -> Vec<Vec<Value>> {
+    let column = |pick: &dyn Fn(&TrackedMode) -> Value| -> Vec<Vec<Value>> {
         rows.iter().map(|(_, m)| m.iter().map(|x| x.as_ref().map_or(Value::Null, pick)).collect()).collect()
     };
     let json = json!({

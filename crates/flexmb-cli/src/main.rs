@@ -49,6 +49,8 @@ struct OperatingPointArgs {
 }
 
 #[derive(Subcommand)]
+// Parsed once per process: the size of the largest command's options does not matter.
+#[allow(clippy::large_enum_variant)]
 enum Command {
     /// Simulate a model and write its outputs (CSV) and a summary (JSON).
     Run {
