@@ -209,8 +209,13 @@ mod tests {
     fn bad_input_is_an_error_that_says_what() {
         let e = campbell_figure("spin", &[1.0, 2.0], &[vec![1.0]], None).unwrap_err();
         assert_eq!(e, "a Campbell diagram needs one list of frequencies per parameter value: 2 values, 1 lists");
-        let e = campbell_figure("spin", &[1.0], &[vec![f64::NAN]], None).unwrap_err();
-        assert_eq!(e, "a frequency at parameter value 1 is NaN Hz");
+        let e = campbell_figure("spin", &[1.0], &[vec![f64::INFINITY]], None).unwrap_err();
+        assert_eq!(e, "a frequency at parameter value 1 is inf Hz");
+        let e = campbell_figure("spin", &[1.0], &[vec![-2.0]], None).unwrap_err();
+        assert_eq!(e, "a frequency at parameter value 1 is -2 Hz");
+        // NaN marks a mode absent at a value: its curve skips the value.
+        let figure = campbell_figure("spin", &[1.0, 2.0], &[vec![3.0, f64::NAN], vec![3.5, 4.0]], None).unwrap();
+        assert_eq!(figure.series[1].points, vec![(2.0, 4.0)]);
         let e = campbell_figure("spin", &[1.0], &[vec![1.0]], Some(0.0)).unwrap_err();
         assert_eq!(e, "the 1× line's slope must be positive, got 0");
     }
