@@ -35,8 +35,9 @@
 //! **Newton iteration.** Unknowns `x = [v̇_{n+1}, λ_{n+1}, μ̃]`, predictor `[v̇_n, λ_n, 0]` extrapolated
 //! linearly through the last step (`v̇_n + h (v̇_n − v̇_{n−1})/h_{n−1}`, the same for `λ`; at a fixed step,
 //! which need not resolve the motion, the attempt is repeated from `[v̇_n, λ_n, 0]` held when the iteration
-//! from the extrapolation fails, and the predictor holds them for the rest of the run: the peer's rigid pendulum at the fixed step 7e-4 s took 4.2 solves per
-//! step from the held predictor, 2.1 extrapolated at rtol 1e-5). Held constant,
+//! from the extrapolation fails, and the predictor holds them for the rest of the run: the peer's rigid
+//! pendulum at the fixed step 7e-4 s took 4.2 (rtol 1e-8) and 3.4 (rtol 1e-5) solves per step from the
+//! held predictor, 3.2 and 2.1 extrapolated). Held constant,
 //! the multipliers' predictor was the largest part of the first increment (the rigid pendulum at rtol
 //! 3e-6: 300 to 2,000 of the step's share, measured as impulses; extrapolated, 4 to 6), and the
 //! iteration took 3.7 solves per step (43,881 for 11,841 steps; now 2.0, with `NEWTON_TOLERANCE`, a
