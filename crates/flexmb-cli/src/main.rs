@@ -81,7 +81,8 @@ enum Command {
         /// Integrator: bdf (default; stiff, variable order). Overrides the model's [simulation] integrator.
         #[arg(long)]
         integrator: Option<String>,
-        /// Spectral radius at infinity of the generalized-α method (0 to 1).
+        /// Spectral radius at infinity of the generalized-α method (0 to 1). Without --integrator it selects
+        /// that method; with another --integrator it is an error.
         #[arg(long)]
         spectral_radius: Option<f64>,
         /// Largest step (s) of any integrator, whatever its error control allows (Adams' HMAX).

@@ -2,7 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
-use flexmb::integrate::ToleranceSpan;
+use flexmb::integrate::{GeneralizedAlphaConfig, Method, ToleranceSpan};
 use flexmb_files::integrator_choice::parse_method;
 use flexmb_files::model_file::load_model_with;
 use flexmb_files::output_limits::check_output_rows;
@@ -93,6 +93,36 @@ fn tolerance_span(text: &str) -> Result<ToleranceSpan, CliError> {
     }
 }
 
+/// The method of `--integrator` and `--spectral-radius` over the model file's `method`. The spectral radius
+/// is the generalized-α method's: alone it selects that method (with the model file's other settings of it,
+/// if it is the file's method); beside another `--integrator` it is an error, not silently ignored. Without
+/// `--spectral-radius`, `--integrator gen-alpha` keeps the model file's radius if the file chose the
+/// method, else 0.9.
+fn chosen_method(method: Method, integrator: Option<&str>, spectral_radius: Option<f64>) -> Result<Method, CliError> {
+    let file_radius = match method {
+        Method::GeneralizedAlpha(c) => Some(c.spectral_radius),
+        _ => None,
+    };
+    match (integrator, spectral_radius) {
+        (Some(name), Some(_)) if name != "gen-alpha" => Err(CliError(format!(
+            "--spectral-radius is a setting of the generalized-α method, which --integrator {name} is not: give --integrator gen-alpha, or leave --spectral-radius out"
+        ))),
+        (Some(name), rho) => {
+            parse_method(name, rho.or(file_radius).unwrap_or(0.9)).map_err(|e| CliError(format!("--integrator: {e}")))
+        }
+        (None, Some(rho)) => {
+            // Checks the range.
+            parse_method("gen-alpha", rho).map_err(|e| CliError(format!("--spectral-radius: {e}")))?;
+            let config = match method {
+                Method::GeneralizedAlpha(c) => c,
+                _ => GeneralizedAlphaConfig::default(),
+            };
+            Ok(Method::GeneralizedAlpha(GeneralizedAlphaConfig { spectral_radius: rho, ..config }))
+        }
+        (None, None) => Ok(method),
+    }
+}
+
 /// Runs the model at `path`; prints the check and the end-of-run summary unless quiet. The library
 /// calls, in order: [`load_model_with`], [`SimulationDefaults::settings`](flexmb_files::SimulationDefaults::settings),
 /// [`check_model`] (the engine's assembly and velocity analysis), [`record_model_run`].
@@ -110,9 +140,7 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
     let (t_end, output_step) = (d.t_end, d.output_step);
     let max_rows = options.max_output_rows.unwrap_or(d.max_output_rows);
     check_output_rows(t_end, output_step, max_rows, true).map_err(|e| CliError(format!("{}: {e}", path.display())))?;
-    if let Some(name) = &options.integrator {
-        d.method = parse_method(name, options.spectral_radius.unwrap_or(0.9)).map_err(|e| CliError(format!("--integrator: {e}")))?;
-    }
+    d.method = chosen_method(d.method, options.integrator.as_deref(), options.spectral_radius)?;
     if let Some(h) = options.max_step {
         d.max_step = Some(positive("--max-step", h)?);
     }

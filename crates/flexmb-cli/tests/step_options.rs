@@ -64,3 +64,30 @@ fn a_fixed_step_needs_the_generalized_alpha_method() {
     let e = fail(&["check", file.to_str().unwrap()]);
     assert!(e.contains("simulation.max_step") && e.contains("must be positive"), "{e}");
 }
+
+/// `--spectral-radius` alone selects the generalized-α method with that radius (the same run as with
+/// `--integrator gen-alpha`, and another run than with another radius); beside another `--integrator` it
+/// is refused, as is a radius outside 0 to 1.
+#[test]
+fn a_spectral_radius_selects_the_generalized_alpha_method() {
+    let out = scratch("spectral-radius");
+    let run = |name: &str, args: &[&str]| {
+        let dir = out.join(name);
+        let mut all = vec!["run", "models/pendulum.toml", "--t-end", "1", "--quiet", "--out", dir.to_str().unwrap()];
+        all.extend_from_slice(args);
+        succeed(&all);
+        let text = std::fs::read_to_string(dir.join("pendulum.json")).unwrap();
+        let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+        assert_eq!(json["settings"]["integrator"], "gen-alpha", "{args:?}");
+        std::fs::read_to_string(dir.join("pendulum.csv")).unwrap()
+    };
+    let alone = run("alone", &["--spectral-radius", "0.5"]);
+    let named = run("named", &["--integrator", "gen-alpha", "--spectral-radius", "0.5"]);
+    let other = run("other", &["--spectral-radius", "1"]);
+    assert_eq!(alone, named, "--spectral-radius alone is the generalized-α method with that radius");
+    assert_ne!(alone, other, "the radius changes the run");
+    let e = fail(&["run", "models/pendulum.toml", "--integrator", "bdf", "--spectral-radius", "0.5", "--quiet", "--out", out.to_str().unwrap()]);
+    assert!(e.contains("--spectral-radius is a setting of the generalized-α method") && e.contains("--integrator bdf"), "{e}");
+    let e = fail(&["run", "models/pendulum.toml", "--spectral-radius", "1.5", "--quiet", "--out", out.to_str().unwrap()]);
+    assert!(e.contains("between 0 and 1"), "{e}");
+}

@@ -196,6 +196,10 @@ pub struct GeneralizedAlphaCheckpoint {
     /// written before it was kept: none measured).
     #[serde(default)]
     pub derivative_rate: RateMonitor,
+    /// At a fixed step: the predictor holds `v̇` and `λ` for the rest of the run, an iteration from their
+    /// extrapolation having failed (a checkpoint written before: `false`, the predictor extrapolates).
+    #[serde(default)]
+    pub predictor_held: bool,
     /// Stiffness and damping parts of the iteration matrix, in the order of its sparse pattern.
     pub stiffness: Vec<f64>,
     /// See [`stiffness`](Self::stiffness).

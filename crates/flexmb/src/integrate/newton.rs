@@ -41,6 +41,9 @@ pub(crate) struct ConvergenceTest {
     pub smallest_after_first: f64,
     /// The iteration converged by the rounding floor, not by its rate.
     pub at_floor: bool,
+    /// The contraction rate carried from earlier iterations with the same factors, which lets the first
+    /// increment converge on its own (0: none; see [`with_carried_rate`](Self::with_carried_rate)).
+    carried_rate: f64,
 }
 
 impl ConvergenceTest {
@@ -56,7 +59,17 @@ impl ConvergenceTest {
             rounding_floor: 0.0,
             smallest_after_first: f64::INFINITY,
             at_floor: false,
+            carried_rate: 0.0,
         }
+    }
+
+    /// This test with the contraction rate `rate` expected of this iteration, measured by earlier ones with
+    /// the same factors: the first increment then converges when `ρ/(1 − ρ) ‖Δ₀‖ < tol`, the error the
+    /// rate leaves after it, without a second iteration to measure the rate (IDA carries its `ss = ρ/(1 − ρ)`
+    /// from step to step the same way, CVODE its `crate`). 0 (or a rate of 1 and more): the first
+    /// increment never converges on its own.
+    pub fn with_carried_rate(self, rate: f64) -> Self {
+        Self { carried_rate: rate, ..self }
     }
 
     /// This test with increments up to `round_off` (in the test's norm) converged whatever their rate,
@@ -93,6 +106,10 @@ impl ConvergenceTest {
     pub fn assess(&mut self, k: usize, norm: f64) -> Verdict {
         if k == 0 {
             self.first_increment = norm;
+            let rate = self.carried_rate;
+            if rate > 0.0 && rate < 1.0 && rate / (1.0 - rate) * norm < self.tolerance {
+                return Verdict::Converged;
+            }
         }
         if norm == 0.0 || (k > 0 && norm <= (NEGLIGIBLE * self.tolerance).max(self.round_off)) {
             return Verdict::Converged;
@@ -202,6 +219,20 @@ mod tests {
         assert_eq!(test.assess(1, 0.21), Verdict::Diverging);
         assert!(!test.at_floor);
         assert_eq!(test.smallest_after_first, 0.21);
+    }
+
+    /// With a rate carried from earlier iterations, a first increment whose error left at that rate is
+    /// below the tolerance converges on its own; a larger one, or one without a carried rate, does not.
+    #[test]
+    fn a_carried_rate_lets_the_first_increment_converge() {
+        let mut test = ConvergenceTest::new(1e-3, 4).with_carried_rate(0.1);
+        assert_eq!(test.assess(0, 5e-3), Verdict::Converged, "error left 0.1/0.9 × 5e-3 = 5.6e-4");
+        let mut test = ConvergenceTest::new(1e-3, 4).with_carried_rate(0.1);
+        assert_eq!(test.assess(0, 1e-2), Verdict::Continue, "error left 1.1e-3");
+        let mut test = ConvergenceTest::new(1e-3, 4);
+        assert_eq!(test.assess(0, 5e-3), Verdict::Continue, "no carried rate");
+        let mut test = ConvergenceTest::new(1e-3, 4).with_carried_rate(1.5);
+        assert_eq!(test.assess(0, 1e-9), Verdict::Continue, "a carried rate of 1.5 says nothing");
     }
 
     #[test]
