@@ -8,30 +8,56 @@ use nalgebra::{Matrix3, Vector3};
 
 use crate::element::{element_matrices, MassPoint, NodalMass};
 use crate::error::FemError;
-use crate::mesh::{Dof, DofSet, FeModel, MassModel};
+use crate::mesh::{Dof, DofSet, FeModel, MassModel, Mesh};
 
-/// Equation numbers of the nodal degrees of freedom: 6 per node, supported ones have none.
+/// Equation numbers of the nodal degrees of freedom: up to 6 per node; supported ones have none, and
+/// neither have the rotations of nodes that only solid elements touch (absent: the node has
+/// translations only, see [`present_dofs`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct DofMap {
-    /// Per node and dof (`6 node + dof`), the equation number, or `None` where supported.
+    /// Per node and dof (`6 node + dof`), the equation number, or `None` where supported or absent.
     equations: Vec<Option<usize>>,
+    /// Per node and dof, whether the node has it.
+    present: Vec<bool>,
     n_free: usize,
 }
 
 impl DofMap {
-    /// Numbers the free degrees of freedom node by node; a node beyond `supported` is free.
+    /// Numbers the free degrees of freedom node by node, every node having all six; a node beyond
+    /// `supported` is free.
     pub fn new(n_nodes: usize, supported: &[DofSet]) -> DofMap {
+        DofMap::with_present(n_nodes, supported, &[])
+    }
+
+    /// Numbers the free degrees of freedom node by node: those in `present` (all six for a node
+    /// beyond it) and not in `supported` (none for a node beyond it). A support of an absent dof is
+    /// without effect.
+    pub fn with_present(n_nodes: usize, supported: &[DofSet], present: &[DofSet]) -> DofMap {
         let mut equations = vec![None; 6 * n_nodes];
+        let mut has = vec![true; 6 * n_nodes];
         let mut n_free = 0;
         for node in 0..n_nodes {
             for dof in Dof::ALL {
-                if !supported.get(node).is_some_and(|s| s.contains(dof)) {
+                if !present.get(node).is_none_or(|p| p.contains(dof)) {
+                    has[6 * node + dof.index()] = false;
+                } else if !supported.get(node).is_some_and(|s| s.contains(dof)) {
                     equations[6 * node + dof.index()] = Some(n_free);
                     n_free += 1;
                 }
             }
         }
-        DofMap { equations, n_free }
+        DofMap { equations, present: has, n_free }
+    }
+
+    /// Whether global dof `6 node + dof` exists (false for the rotations of solid-only nodes and
+    /// beyond the nodes).
+    pub fn is_present(&self, global: usize) -> bool {
+        self.present.get(global).copied().unwrap_or(false)
+    }
+
+    /// Whether global dof `6 node + dof` exists and is supported.
+    pub fn is_held(&self, global: usize) -> bool {
+        self.is_present(global) && self.equation_of(global).is_none()
     }
 
     /// The equation of `dof` of `node`, `None` if supported or beyond the nodes.
@@ -100,12 +126,29 @@ pub fn supported_dofs(model: &FeModel) -> Vec<DofSet> {
     supported
 }
 
+/// The dofs every node has: the three translations at nodes that solid elements touch and no beam or
+/// shell does, all six elsewhere.
+pub fn present_dofs(mesh: &Mesh) -> Vec<DofSet> {
+    let n = mesh.nodes.len();
+    let (mut solid, mut rotational) = (vec![false; n], vec![false; n]);
+    for element in &mesh.elements {
+        let touched = if element.kind.has_rotations() { &mut rotational } else { &mut solid };
+        for &node in &element.nodes {
+            if let Some(t) = touched.get_mut(node) {
+                *t = true;
+            }
+        }
+    }
+    (0..n).map(|i| if solid[i] && !rotational[i] { DofSet::TRANSLATIONS } else { DofSet::ALL }).collect()
+}
+
 /// Assembles the stiffness and lumped mass of `model`.
 pub fn assemble(model: &FeModel) -> Result<AssembledModel, FemError> {
     model.check_references()?;
     let mesh = &model.mesh;
     let n_nodes = mesh.nodes.len();
-    let dofs = DofMap::new(n_nodes, &supported_dofs(model));
+    let present = present_dofs(mesh);
+    let dofs = DofMap::with_present(n_nodes, &supported_dofs(model), &present);
     if dofs.n_free() == 0 {
         return Err(FemError::NoFreeDofs);
     }
@@ -147,6 +190,9 @@ pub fn assemble(model: &FeModel) -> Result<AssembledModel, FemError> {
         let label = mesh.nodes[pm.node].label;
         if !(pm.mass.is_finite() && pm.mass >= 0.0) {
             return Err(FemError::InvalidPointMass { label, mass: pm.mass });
+        }
+        if pm.rotary_inertia != Vector3::zeros() && !present[pm.node].contains(Dof::Rx) {
+            return Err(FemError::RotaryInertiaWithoutRotations { label });
         }
         nodal_masses[pm.node].mass += pm.mass;
         nodal_masses[pm.node].rotary_inertia += Matrix3::from_diagonal(&pm.rotary_inertia);

@@ -39,5 +39,6 @@ pub use error::FemError;
 
 pub use mesh::{
     BeamSection, Dof, DofSet, Element, ElementKind, FeModel, Material, Mesh, Node, PointMass,
-    MassModel, ModelOptions, ShellSection, StaticLoad, StaticLoadKind, Support,
+    MassModel, ModelOptions, ShellSection, SolidFormulation, SolidSection, StaticLoad, StaticLoadKind,
+    Support,
 };

@@ -51,6 +51,13 @@ pub fn load_vectors(model: &FeModel, assembled: &AssembledModel) -> Result<Mat<f
             let dof = Dof::ALL[first + k];
             match dofs.equation(load.node, dof) {
                 Some(e) => loads[(e, j)] = unit[k],
+                None if !dofs.is_present(6 * load.node + dof.index()) => {
+                    return Err(FemError::LoadOnAbsentDof {
+                        name: load.name.clone(),
+                        label: model.mesh.nodes[load.node].label,
+                        dof: dof.name(),
+                    })
+                }
                 None => {
                     return Err(FemError::LoadOnSupport {
                         name: load.name.clone(),

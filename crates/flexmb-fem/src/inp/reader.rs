@@ -11,11 +11,12 @@ use super::{InpError, InpModel};
 use crate::input::Quantity;
 use crate::mesh::{
     BeamSection, DofSet, Element, ElementKind, FeModel, Material, Mesh, Node, PointMass,
-    ShellSection, Support,
+    ShellSection, SolidFormulation, SolidSection, Support,
 };
 
 /// The element types flexmb reads, as listed in messages.
-pub(super) const SUPPORTED_TYPES: &str = "B31, B31H, B33, B33H, S3, S3R, S4, S4R, MASS, ROTARYI";
+pub(super) const SUPPORTED_TYPES: &str =
+    "B31, B31H, B33, B33H, S3, S3R, S4, S4R, C3D4, C3D10, C3D6, C3D15, C3D8, C3D8I, C3D20, C3D20R, MASS, ROTARYI";
 
 /// Abaqus' default first section direction n₁ of beams, used when `*BEAM SECTION` gives none.
 pub const DEFAULT_N1: [f64; 3] = [0.0, 0.0, -1.0];
@@ -27,6 +28,7 @@ const MAX_GENERATE: u64 = 50_000_000;
 enum Kind {
     Beam,
     Shell,
+    Solid(SolidFormulation),
     Mass,
     RotaryInertia,
 }
@@ -38,6 +40,7 @@ impl Kind {
             Kind::Beam => 2,
             Kind::Shell if type_name.starts_with("S3") => 3,
             Kind::Shell => 4,
+            Kind::Solid(formulation) => formulation.node_count(),
             Kind::Mass | Kind::RotaryInertia => 1,
         }
     }
@@ -50,6 +53,9 @@ fn element_kind(type_name: &str) -> Result<Kind, String> {
         "MASS" => Ok(Kind::Mass),
         "ROTARYI" => Ok(Kind::RotaryInertia),
         _ => {
+            if let Some(formulation) = SolidFormulation::from_abaqus_name(type_name) {
+                return Ok(Kind::Solid(formulation));
+            }
             let t = type_name;
             let hint = if t.starts_with("B2") || t.starts_with("B3") || t.starts_with("PIPE") {
                 " (other beam types are not supported: use B31 or B33)"
@@ -57,8 +63,10 @@ fn element_kind(type_name: &str) -> Result<Kind, String> {
                 || t.starts_with("M3D")
             {
                 " (other shell types are not supported: use S3, S3R, S4 or S4R)"
+            } else if t == "C3D8R" {
+                " (C3D8R's hourglass control is not supported: use C3D8I, incompatible modes, or C3D8)"
             } else if t.starts_with('C') {
-                " (continuum elements are not supported: flexmb models beams and shells)"
+                " (other continuum elements are not supported: use C3D4, C3D10, C3D6, C3D15, C3D8, C3D8I, C3D20 or C3D20R)"
             } else {
                 ""
             };
@@ -137,6 +145,9 @@ enum SectionDef {
     },
     Shell {
         thickness: f64,
+        material: String,
+    },
+    Solid {
         material: String,
     },
     Mass(f64),
@@ -303,6 +314,7 @@ impl Reader {
             "BEAM SECTION" => self.beam_section(card, false),
             "BEAM GENERAL SECTION" => self.beam_section(card, true),
             "SHELL SECTION" => self.shell_section(card),
+            "SOLID SECTION" => self.solid_section(card),
             "MASS" => self.mass(card),
             "ROTARY INERTIA" => self.rotary_inertia(card),
             "BOUNDARY" => self.boundary(card),
@@ -809,6 +821,27 @@ impl Reader {
         Ok(())
     }
 
+    fn solid_section(&mut self, card: &Card) -> Result<(), InpError> {
+        let elset = card.required("ELSET")?.to_string();
+        let material = card.required("MATERIAL")?.to_string();
+        self.check_params(
+            card,
+            &["ELSET", "MATERIAL", "ORIENTATION", "CONTROLS"],
+            &[("COMPOSITE", "flexmb's solids are homogeneous")],
+        )?;
+        if card.params.iter().any(|p| p.key == "ORIENTATION") {
+            let message = "*SOLID SECTION: ORIENTATION ignored (flexmb's materials are isotropic)";
+            self.warn_once("solid orientation", &card.loc, message);
+        }
+        self.sections.push(RawSection {
+            keyword: card.keyword.clone(),
+            elset,
+            loc: card.loc.clone(),
+            def: SectionDef::Solid { material },
+        });
+        Ok(())
+    }
+
     fn mass(&mut self, card: &Card) -> Result<(), InpError> {
         let elset = card.required("ELSET")?.to_string();
         self.check_params(card, &["ELSET", "ALPHA", "TYPE"], &[])?;
@@ -994,6 +1027,7 @@ impl Reader {
         // Sections: assign them to the elements of their sets.
         let mut beam_section_of = vec![usize::MAX; self.sections.len()];
         let mut shell_section_of = vec![usize::MAX; self.sections.len()];
+        let mut solid_section_of = vec![usize::MAX; self.sections.len()];
         for (s, section) in self.sections.iter().enumerate() {
             let kw = &section.keyword;
             let Some(set) = self.elsets.get(&section.elset) else {
@@ -1011,6 +1045,7 @@ impl Reader {
                     (&section.def, element.kind),
                     (SectionDef::Beam { .. }, Kind::Beam)
                         | (SectionDef::Shell { .. }, Kind::Shell)
+                        | (SectionDef::Solid { .. }, Kind::Solid(_))
                         | (SectionDef::Mass(_), Kind::Mass)
                         | (SectionDef::Mass(_), Kind::RotaryInertia)
                         | (SectionDef::RotaryInertia(_), Kind::RotaryInertia)
@@ -1023,7 +1058,7 @@ impl Reader {
                     )));
                 }
                 let already = match section.def {
-                    SectionDef::Beam { .. } | SectionDef::Shell { .. } => {
+                    SectionDef::Beam { .. } | SectionDef::Shell { .. } | SectionDef::Solid { .. } => {
                         element.section.replace(s)
                     }
                     SectionDef::Mass(m) => element.mass.replace((m, s)).map(|(_, o)| o),
@@ -1099,6 +1134,11 @@ impl Reader {
                         thickness: *thickness,
                     });
                 }
+                SectionDef::Solid { material: name } => {
+                    let material = material(name)?;
+                    solid_section_of[s] = mesh.solid_sections.len();
+                    mesh.solid_sections.push(SolidSection { name: section.elset.clone(), material });
+                }
                 SectionDef::Mass(_) | SectionDef::RotaryInertia(_) => {}
             }
         }
@@ -1135,6 +1175,7 @@ impl Reader {
                 let hint = match element.kind {
                     Kind::Beam => "*BEAM SECTION or *BEAM GENERAL SECTION",
                     Kind::Shell => "*SHELL SECTION",
+                    Kind::Solid(_) => "*SOLID SECTION",
                     Kind::Mass | Kind::RotaryInertia => "*MASS or *ROTARY INERTIA",
                 };
                 return Err(element.loc.error(format!(
@@ -1220,6 +1261,19 @@ impl Reader {
                         kind: ElementKind::Shell {
                             section: shell_section_of[s],
                         },
+                        nodes,
+                    });
+                }
+                Kind::Solid(formulation) => {
+                    if HashSet::<&usize>::from_iter(&nodes).len() != nodes.len() {
+                        return Err(element.loc.error(format!(
+                            "element {} ({}): repeated nodes (collapsed solids are not supported: use the element type of that shape)",
+                            element.label, element.type_name
+                        )));
+                    }
+                    mesh.elements.push(Element {
+                        label: element.label,
+                        kind: ElementKind::Solid { section: solid_section_of[s], formulation },
                         nodes,
                     });
                 }
