@@ -25,6 +25,12 @@
 //! spurious modes can appear among the low frequencies of a coarse free-free mesh — the very modes a
 //! reduced flexible body is made of. The shell membrane (QM6) takes the same remedy.
 //!
+//! **Zero-energy modes.** CalculiX's rules are exact for the stiffness of undistorted C3D4, C3D8
+//! and C3D20 elements and of C3D10 with straight edges; two are reduced and leave a single element
+//! modes without energy besides its rigid motions: C3D6 (one, its two points on the axis) and C3D20R
+//! (six). Neighbours restrain them in a mesh of more than one element (the ccx comparison meshes
+//! have none), but a body of one such element, or a layer of C3D6 one element thick, may have them.
+//!
 //! **Consistent mass.** `∫ ρ Nᵀ N dV` as mass points at the integration points of the mass rule
 //! (the same rule as the stiffness, as in CalculiX, except for C3D4, see below). These rules
 //! integrate the mass, its first and its second moments exactly for elements with straight edges,
