@@ -123,15 +123,35 @@ impl SolidBlock {
         self.deck_with_step(&step)
     }
 
-    fn deck_with_step(&self, step: &str) -> String {
-        let elements = self.elements();
+    /// The deck of [`deck`](Self::deck) with `extra` cards (elements, sections) before the step.
+    pub fn deck_with(&self, extra: &str) -> String {
+        let deck = self.deck();
+        let at = deck.find("*STEP").unwrap();
+        format!("{}{extra}{}", &deck[..at], &deck[at..])
+    }
+
+    /// The labels of the corner nodes of the top face z = lz as a grid `[i][j]` (i along x), for
+    /// meshes of corner nodes only.
+    pub fn top_face_labels(&self) -> Vec<Vec<usize>> {
+        let labels = self.labels();
+        (0..=self.nx).map(|i| (0..=self.ny).map(|j| labels[&[2 * i, 2 * j, 2 * self.nz]]).collect()).collect()
+    }
+
+    /// The label of every lattice point the elements use, numbered in order of first use.
+    fn labels(&self) -> BTreeMap<[usize; 3], usize> {
         let mut labels: BTreeMap<[usize; 3], usize> = BTreeMap::new();
-        for nodes in &elements {
+        for nodes in &self.elements() {
             for p in nodes {
                 let next = labels.len() + 1;
                 labels.entry(*p).or_insert(next);
             }
         }
+        labels
+    }
+
+    fn deck_with_step(&self, step: &str) -> String {
+        let elements = self.elements();
+        let labels = self.labels();
         let position = |p: &[usize; 3]| {
             [
                 self.lx * p[0] as f64 / (2 * self.nx) as f64,
