@@ -70,6 +70,14 @@ pub enum FemError {
         /// The largest residual accepted.
         tolerance: f64,
     },
+    /// A rigid coupling that cannot be formed.
+    #[error("the rigid coupling of reference node {reference}: {reason}")]
+    InvalidCoupling {
+        /// The reference node's label.
+        reference: u64,
+        /// Why.
+        reason: String,
+    },
     /// A point mass with rotary inertia at a node that only solid elements touch (no rotations).
     #[error("node {label}: a point mass with rotary inertia at a node of solid elements only, which has no rotations; put it at a reference node coupled to the solid, or give the mass alone")]
     RotaryInertiaWithoutRotations {

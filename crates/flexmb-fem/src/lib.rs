@@ -39,6 +39,6 @@ pub use error::FemError;
 
 pub use mesh::{
     BeamSection, Dof, DofSet, Element, ElementKind, FeModel, Material, Mesh, Node, PointMass,
-    MassModel, ModelOptions, ShellSection, SolidFormulation, SolidSection, StaticLoad, StaticLoadKind,
-    Support,
+    MassModel, ModelOptions, RigidCoupling, ShellSection, SolidFormulation, SolidSection, StaticLoad,
+    StaticLoadKind, Support,
 };

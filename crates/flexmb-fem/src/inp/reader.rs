@@ -11,7 +11,7 @@ use super::{InpError, InpModel};
 use crate::input::Quantity;
 use crate::mesh::{
     BeamSection, DofSet, Element, ElementKind, FeModel, Material, Mesh, Node, PointMass,
-    ShellSection, SolidFormulation, SolidSection, Support,
+    RigidCoupling, ShellSection, SolidFormulation, SolidSection, Support,
 };
 
 /// The element types flexmb reads, as listed in messages.
@@ -172,6 +172,16 @@ struct RawBoundary {
     loc: Loc,
 }
 
+/// A `*KINEMATIC COUPLING` or `*RIGID BODY`: the reference node, the coupled nodes and sets, and
+/// whether the coupled nodes' rotations are tied too.
+struct RawCoupling {
+    keyword: String,
+    reference: u64,
+    targets: Vec<(Target, Loc)>,
+    rotations: bool,
+    loc: Loc,
+}
+
 #[derive(Default)]
 struct Reader {
     warnings: Vec<String>,
@@ -188,6 +198,7 @@ struct Reader {
     current_material: Option<usize>,
     sections: Vec<RawSection>,
     boundaries: Vec<RawBoundary>,
+    couplings: Vec<RawCoupling>,
     in_step: bool,
 }
 
@@ -318,6 +329,8 @@ impl Reader {
             "MASS" => self.mass(card),
             "ROTARY INERTIA" => self.rotary_inertia(card),
             "BOUNDARY" => self.boundary(card),
+            "KINEMATIC COUPLING" => self.kinematic_coupling(card),
+            "RIGID BODY" => self.rigid_body(card),
             "HEADING" => Ok(()),
             keyword => {
                 match keyword {
@@ -842,6 +855,66 @@ impl Reader {
         Ok(())
     }
 
+    /// `*KINEMATIC COUPLING, REF NODE=r` with data lines `node or node set, first dof, last dof`:
+    /// a rigid coupling of all three translations (1–3), and the rotations too with 1–6.
+    fn kinematic_coupling(&mut self, card: &Card) -> Result<(), InpError> {
+        let reference = parse_label(card.required("REF NODE")?)
+            .ok_or_else(|| card.error("REF NODE must be a node label"))?;
+        self.check_params(card, &["REF NODE", "ORIENTATION"], &[("SURFACE", "name the coupled nodes on the data lines (a node set)")])?;
+        let mut targets = Vec::new();
+        let mut rotations = false;
+        for line in card.lines() {
+            let target = self.target(line, "KINEMATIC COUPLING")?;
+            let first = label(line, 1, "the first degree of freedom", "KINEMATIC COUPLING")?;
+            let last = match line.fields.get(2).map(String::as_str) {
+                None | Some("") => first,
+                Some(_) => label(line, 2, "the last degree of freedom", "KINEMATIC COUPLING")?,
+            };
+            if first != 1 || !(3..=6).contains(&last) {
+                return Err(line.loc.error(format!(
+                    "*KINEMATIC COUPLING: degrees of freedom {first} to {last}: flexmb's coupling is rigid in all three translations (give 1, 3) and optionally the rotations (1, 6)"
+                )));
+            }
+            rotations |= last == 6;
+            targets.push((target, line.loc.clone()));
+        }
+        if targets.is_empty() {
+            return Err(card.error("missing data lines (the coupled nodes or node set, first and last dof)"));
+        }
+        self.couplings.push(RawCoupling { keyword: card.keyword.clone(), reference, targets, rotations, loc: card.loc.clone() });
+        Ok(())
+    }
+
+    /// `*RIGID BODY, NSET=set, REF NODE=r`: the nodes of the set tied rigidly to the reference node.
+    fn rigid_body(&mut self, card: &Card) -> Result<(), InpError> {
+        let reference = parse_label(card.required("REF NODE")?)
+            .ok_or_else(|| card.error("REF NODE must be a node label"))?;
+        let set = card.required("NSET")?.to_string();
+        self.check_params(card, &["NSET", "REF NODE", "ROT NODE"], &[("ELSET", "give the tied nodes as a node set (NSET=)")])?;
+        self.couplings.push(RawCoupling {
+            keyword: card.keyword.clone(),
+            reference,
+            targets: vec![(Target::Set(set), card.loc.clone())],
+            rotations: true,
+            loc: card.loc.clone(),
+        });
+        Ok(())
+    }
+
+    /// Field 1 of a data line: a node label or a node set name.
+    fn target(&self, line: &DataLine, keyword: &str) -> Result<Target, InpError> {
+        let Some(field) = line.fields.first().filter(|f| !f.is_empty()) else {
+            return Err(line.loc.error(format!("*{keyword}: missing the node or node set (field 1)")));
+        };
+        match parse_label(field) {
+            Some(l) => Ok(Target::Node(l)),
+            None if field.starts_with(|c: char| c.is_ascii_digit() || c == '-' || c == '+') => {
+                Err(line.loc.error(format!("*{keyword}: '{field}' is neither a node label nor a node set name")))
+            }
+            None => Ok(Target::Set(field.clone())),
+        }
+    }
+
     fn mass(&mut self, card: &Card) -> Result<(), InpError> {
         let elset = card.required("ELSET")?.to_string();
         self.check_params(card, &["ELSET", "ALPHA", "TYPE"], &[])?;
@@ -1292,6 +1365,25 @@ impl Reader {
         if mesh.elements.is_empty() && mesh.point_masses.is_empty() {
             self.warnings
                 .push("the deck defines no elements".to_string());
+        }
+
+        // Rigid couplings.
+        for c in &self.couplings {
+            let reference = self.node_of(c.reference, &c.loc, &format!("*{} REF NODE", c.keyword))?;
+            let mut nodes: Vec<usize> = Vec::new();
+            for (target, loc) in &c.targets {
+                match target {
+                    Target::Node(label) => nodes.push(self.node_of(*label, loc, &format!("*{}", c.keyword))?),
+                    Target::Set(name) => match mesh.node_sets.iter().find(|(k, _)| k.eq_ignore_ascii_case(name)) {
+                        Some((_, members)) => nodes.extend(members.iter().copied()),
+                        None => return Err(loc.error(format!("*{}: node set {name} is not defined", c.keyword))),
+                    },
+                }
+            }
+            // The reference node may be in its own set; a node named twice is coupled once.
+            let mut seen = HashSet::from([reference]);
+            nodes.retain(|&n| seen.insert(n));
+            mesh.rigid_couplings.push(RigidCoupling { reference, nodes, rotations: c.rotations });
         }
 
         // Supports, merged per node, in order of first appearance.

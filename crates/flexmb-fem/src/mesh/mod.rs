@@ -12,6 +12,7 @@
 mod dof;
 mod generate;
 mod references;
+mod rigid_coupling;
 
 use std::collections::BTreeMap;
 
@@ -19,6 +20,8 @@ use nalgebra::Vector3;
 
 pub use dof::{Dof, DofSet};
 pub use generate::ShellShape;
+pub use rigid_coupling::RigidCoupling;
+pub(crate) use rigid_coupling::{dependent_dofs, DependentDof};
 
 
 /// A node of the mesh: its label in the input and its undeformed position in the body frame (m).
@@ -243,6 +246,8 @@ pub struct Mesh {
     /// Named sets of nodes (indices into [`nodes`](Self::nodes)), from `*NSET` or from the mesh
     /// generators.
     pub node_sets: BTreeMap<String, Vec<usize>>,
+    /// Rigid couplings of nodes to reference nodes (`*KINEMATIC COUPLING`, `*RIGID BODY`).
+    pub rigid_couplings: Vec<RigidCoupling>,
 }
 
 impl Mesh {

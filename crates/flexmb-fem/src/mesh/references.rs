@@ -41,6 +41,11 @@ impl Mesh {
         for pm in &self.point_masses {
             known(|| "a point mass".to_string(), "node", pm.node, nodes)?;
         }
+        for coupling in &self.rigid_couplings {
+            let part = || format!("the rigid coupling of reference node index {}", coupling.reference);
+            known(part, "node", coupling.reference, nodes)?;
+            coupling.nodes.iter().try_for_each(|&n| known(part, "node", n, nodes))?;
+        }
         for (name, members) in &self.node_sets {
             members.iter().try_for_each(|&n| known(|| format!("node set '{name}'"), "node", n, nodes))?;
         }
