@@ -120,7 +120,7 @@ fn skinned_block() -> (SolidBlock, String) {
     }
     skin += &format!("*ELSET, ELSET=SKIN, GENERATE\n{first}, {}, 1\n", label - 1);
     skin += "*SHELL SECTION, ELSET=SKIN, MATERIAL=STEEL\n0.005\n";
-    skin += &format!("*NSET, NSET=FIRST_TEN, GENERATE\n1, 10\n*ELSET, ELSET=EVERYTHING\nBLOCK, SKIN\n");
+    skin += "*NSET, NSET=FIRST_TEN, GENERATE\n1, 10\n*ELSET, ELSET=EVERYTHING\nBLOCK, SKIN\n";
     (block.clone(), block.deck_with(&skin))
 }
 

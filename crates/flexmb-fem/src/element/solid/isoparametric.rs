@@ -52,7 +52,7 @@ pub(super) fn checked_determinant(
     let j = jacobian(points, shape);
     let det = j.determinant();
     let scale = size(points).powi(3) / reference_volume;
-    if !(det > 1e-10 * scale) {
+    if det.is_nan() || det <= 1e-10 * scale {
         return Err(ElementError::InvertedSolid { determinant: det, relative: det / scale, at: natural });
     }
     Ok((j, det))
