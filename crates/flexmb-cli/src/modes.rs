@@ -80,18 +80,26 @@ fn describe_animations(animations: &[flexmb_files::vtk::ModeAnimation]) -> Strin
 pub fn describe(path: &Path, loaded: &LoadedFeModel, reduction: &Reduction, seconds: f64) -> String {
     let mesh = &loaded.model.mesh;
     let body = &reduction.body;
-    let beams = mesh.elements.iter().filter(|e| matches!(e.kind, ElementKind::Beam { .. })).count();
-    let shells = mesh.elements.len() - beams;
-    let supported: usize = loaded.model.supports.iter().map(|s| s.dofs.iter().count()).sum();
+    let count = |kind: fn(&ElementKind) -> bool| mesh.elements.iter().filter(|e| kind(&e.kind)).count();
+    let beams = count(|k| matches!(k, ElementKind::Beam { .. }));
+    let shells = count(|k| matches!(k, ElementKind::Shell { .. }));
+    let solids = count(|k| matches!(k, ElementKind::Solid { .. }));
+    let present = flexmb_fem::assembly::present_dofs(mesh);
+    let dofs: usize = present.iter().map(|p| p.iter().count()).sum();
+    let supported: usize = loaded
+        .model
+        .supports
+        .iter()
+        .map(|s| s.dofs.iter().filter(|d| present.get(s.node).is_some_and(|p| p.contains(*d))).count())
+        .sum();
     let mut s = String::new();
     let _ = writeln!(s, "FE model {} ({})", loaded.name, path.display());
     let _ = writeln!(
         s,
-        "  {} nodes, {} elements ({beams} beam, {shells} shell), {} point masses, {} dofs of which {supported} supported",
+        "  {} nodes, {} elements ({beams} beam, {shells} shell, {solids} solid), {} point masses, {dofs} dofs of which {supported} supported",
         mesh.nodes.len(),
         mesh.elements.len(),
         mesh.point_masses.len(),
-        6 * mesh.nodes.len()
     );
     let _ = writeln!(s, "  mass matrix: {} ({})", body.mass.name(), mass_model_description(body.mass));
     let p = &body.mass_properties;
@@ -154,7 +162,7 @@ pub fn describe(path: &Path, loaded: &LoadedFeModel, reduction: &Reduction, seco
 fn mass_model_description(mass: MassModel) -> &'static str {
     match mass {
         MassModel::Lumped => "at the nodes",
-        MassModel::Consistent => "beams' Hermite cubics, shells' bilinear/linear fields",
+        MassModel::Consistent => "beams' Hermite cubics, shells' bilinear/linear fields, solids' shape functions",
     }
 }
 

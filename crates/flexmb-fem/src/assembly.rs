@@ -8,30 +8,94 @@ use nalgebra::{Matrix3, Vector3};
 
 use crate::element::{element_matrices, MassPoint, NodalMass};
 use crate::error::FemError;
-use crate::mesh::{Dof, DofSet, FeModel, MassModel};
+use std::collections::{BTreeMap, HashSet};
 
-/// Equation numbers of the nodal degrees of freedom: 6 per node, supported ones have none.
+use crate::mesh::{dependent_dofs, DependentDof, Dof, DofSet, FeModel, MassModel, Mesh};
+
+/// Equation numbers of the nodal degrees of freedom: up to 6 per node; supported ones have none, and
+/// neither have the rotations of nodes that only solid elements touch (absent: the node has
+/// translations only, see [`present_dofs`]) nor the dofs of nodes rigidly coupled to a reference
+/// node (dependent: combinations of the reference node's equations, see
+/// [`RigidCoupling`](crate::mesh::RigidCoupling)).
 #[derive(Clone, Debug, PartialEq)]
 pub struct DofMap {
-    /// Per node and dof (`6 node + dof`), the equation number, or `None` where supported.
+    /// Per node and dof (`6 node + dof`), the equation number, or `None` where supported, absent or
+    /// dependent.
     equations: Vec<Option<usize>>,
+    /// Per node and dof, whether the node has it.
+    present: Vec<bool>,
+    /// The dependent dofs and their combinations of equations.
+    dependent: BTreeMap<usize, Vec<(usize, f64)>>,
     n_free: usize,
 }
 
 impl DofMap {
-    /// Numbers the free degrees of freedom node by node; a node beyond `supported` is free.
+    /// Numbers the free degrees of freedom node by node, every node having all six; a node beyond
+    /// `supported` is free.
     pub fn new(n_nodes: usize, supported: &[DofSet]) -> DofMap {
+        DofMap::with_present(n_nodes, supported, &[])
+    }
+
+    /// Numbers the free degrees of freedom node by node: those in `present` (all six for a node
+    /// beyond it) and not in `supported` (none for a node beyond it). A support of an absent dof is
+    /// without effect.
+    pub fn with_present(n_nodes: usize, supported: &[DofSet], present: &[DofSet]) -> DofMap {
+        DofMap::with_couplings(n_nodes, supported, present, &[])
+    }
+
+    /// [`with_present`](Self::with_present), with `dependent` global dofs that are combinations of
+    /// other global dofs (those of rigid couplings' reference nodes): they get no equation, and their
+    /// combination is over the equations of the dofs they depend on (a supported one is zero).
+    pub(crate) fn with_couplings(n_nodes: usize, supported: &[DofSet], present: &[DofSet], dependent: &[DependentDof]) -> DofMap {
         let mut equations = vec![None; 6 * n_nodes];
+        let mut has = vec![true; 6 * n_nodes];
+        let is_dependent: HashSet<usize> = dependent.iter().map(|(g, _)| *g).collect();
         let mut n_free = 0;
         for node in 0..n_nodes {
             for dof in Dof::ALL {
-                if !supported.get(node).is_some_and(|s| s.contains(dof)) {
-                    equations[6 * node + dof.index()] = Some(n_free);
+                let global = 6 * node + dof.index();
+                if !present.get(node).is_none_or(|p| p.contains(dof)) {
+                    has[global] = false;
+                } else if !supported.get(node).is_some_and(|s| s.contains(dof)) && !is_dependent.contains(&global) {
+                    equations[global] = Some(n_free);
                     n_free += 1;
                 }
             }
         }
-        DofMap { equations, n_free }
+        let dependent = dependent
+            .iter()
+            .map(|(g, terms)| {
+                let on_equations = terms.iter().filter_map(|&(rg, c)| equations.get(rg).copied().flatten().map(|e| (e, c))).collect();
+                (*g, on_equations)
+            })
+            .collect();
+        DofMap { equations, present: has, dependent, n_free }
+    }
+
+    /// The combination of equations global dof `6 node + dof` is: itself, the combination of a
+    /// dependent dof, or nothing (supported, absent).
+    pub fn terms(&self, global: usize) -> Vec<(usize, f64)> {
+        match (self.equation_of(global), self.dependent.get(&global)) {
+            (Some(e), _) => vec![(e, 1.0)],
+            (None, Some(terms)) => terms.clone(),
+            (None, None) => Vec::new(),
+        }
+    }
+
+    /// Whether global dof `6 node + dof` is tied to a reference node by a rigid coupling.
+    pub fn is_dependent(&self, global: usize) -> bool {
+        self.dependent.contains_key(&global)
+    }
+
+    /// Whether global dof `6 node + dof` exists (false for the rotations of solid-only nodes and
+    /// beyond the nodes).
+    pub fn is_present(&self, global: usize) -> bool {
+        self.present.get(global).copied().unwrap_or(false)
+    }
+
+    /// Whether global dof `6 node + dof` exists and is supported.
+    pub fn is_held(&self, global: usize) -> bool {
+        self.is_present(global) && self.equation_of(global).is_none() && !self.is_dependent(global)
     }
 
     /// The equation of `dof` of `node`, `None` if supported or beyond the nodes.
@@ -63,7 +127,9 @@ impl DofMap {
     /// Scatters a vector over the free dofs into all `6 n_nodes` nodal dofs (zeros at supports, and
     /// where `free` is shorter than [`n_free`](Self::n_free)).
     pub fn expand(&self, free: &[f64]) -> Vec<f64> {
-        self.equations.iter().map(|e| e.and_then(|k| free.get(k).copied()).unwrap_or(0.0)).collect()
+        (0..self.equations.len())
+            .map(|g| self.terms(g).iter().map(|&(e, c)| c * free.get(e).copied().unwrap_or(0.0)).sum())
+            .collect()
     }
 }
 
@@ -100,12 +166,30 @@ pub fn supported_dofs(model: &FeModel) -> Vec<DofSet> {
     supported
 }
 
+/// The dofs every node has: the three translations at nodes that solid elements touch and no beam or
+/// shell does, all six elsewhere.
+pub fn present_dofs(mesh: &Mesh) -> Vec<DofSet> {
+    let n = mesh.nodes.len();
+    let (mut solid, mut rotational) = (vec![false; n], vec![false; n]);
+    for element in &mesh.elements {
+        let touched = if element.kind.has_rotations() { &mut rotational } else { &mut solid };
+        for &node in &element.nodes {
+            if let Some(t) = touched.get_mut(node) {
+                *t = true;
+            }
+        }
+    }
+    (0..n).map(|i| if solid[i] && !rotational[i] { DofSet::TRANSLATIONS } else { DofSet::ALL }).collect()
+}
+
 /// Assembles the stiffness and lumped mass of `model`.
 pub fn assemble(model: &FeModel) -> Result<AssembledModel, FemError> {
     model.check_references()?;
     let mesh = &model.mesh;
     let n_nodes = mesh.nodes.len();
-    let dofs = DofMap::new(n_nodes, &supported_dofs(model));
+    let present = present_dofs(mesh);
+    let dependent = dependent_dofs(model, &present)?;
+    let dofs = DofMap::with_couplings(n_nodes, &supported_dofs(model), &present, &dependent);
     if dofs.n_free() == 0 {
         return Err(FemError::NoFreeDofs);
     }
@@ -119,16 +203,20 @@ pub fn assemble(model: &FeModel) -> Result<AssembledModel, FemError> {
             .map_err(|source| FemError::Element { label: element.label, source })?;
         let globals: Vec<usize> =
             element.nodes.iter().flat_map(|&n| (0..6).map(move |d| 6 * n + d)).collect();
+        let terms: Vec<Vec<(usize, f64)>> = globals.iter().map(|&g| dofs.terms(g)).collect();
         for (a, &ga) in globals.iter().enumerate() {
             if matrices.stiffness[(a, a)] > 0.0 {
                 stiff_dof[ga] = true;
             }
-            let Some(row) = dofs.equation_of(ga) else { continue };
-            for (b, &gb) in globals.iter().enumerate() {
-                let Some(col) = dofs.equation_of(gb) else { continue };
-                let value = matrices.stiffness[(a, b)];
-                if value != 0.0 {
-                    stiffness_triplets.push(Triplet::new(row, col, value));
+            for &(row, ca) in &terms[a] {
+                for (b, column_terms) in terms.iter().enumerate() {
+                    let value = matrices.stiffness[(a, b)];
+                    if value == 0.0 {
+                        continue;
+                    }
+                    for &(col, cb) in column_terms {
+                        stiffness_triplets.push(Triplet::new(row, col, ca * value * cb));
+                    }
                 }
             }
         }
@@ -148,6 +236,9 @@ pub fn assemble(model: &FeModel) -> Result<AssembledModel, FemError> {
         if !(pm.mass.is_finite() && pm.mass >= 0.0) {
             return Err(FemError::InvalidPointMass { label, mass: pm.mass });
         }
+        if pm.rotary_inertia != Vector3::zeros() && !present[pm.node].contains(Dof::Rx) {
+            return Err(FemError::RotaryInertiaWithoutRotations { label });
+        }
         nodal_masses[pm.node].mass += pm.mass;
         nodal_masses[pm.node].rotary_inertia += Matrix3::from_diagonal(&pm.rotary_inertia);
         if model.options.mass == MassModel::Consistent {
@@ -162,6 +253,12 @@ pub fn assemble(model: &FeModel) -> Result<AssembledModel, FemError> {
             .filter(|(_, m)| m.mass != 0.0 || m.rotary_inertia != Matrix3::zeros())
             .map(|(node, m)| MassPoint::at_node(node, mesh.nodes[node].position, m.mass, m.rotary_inertia))
             .collect();
+    }
+    // A coupled dof's stiffness acts on the reference node's dofs it depends on.
+    for (global, terms) in &dependent {
+        if stiff_dof[*global] {
+            terms.iter().for_each(|&(reference, _)| stiff_dof[reference] = true);
+        }
     }
     for (global, stiff) in stiff_dof.iter().enumerate() {
         if !stiff && dofs.equation_of(global).is_some() {
@@ -188,11 +285,12 @@ fn free_rows(dofs: &DofMap, point: &MassPoint) -> [Vec<(usize, f64)>; 6] {
     let mut rows: [Vec<(usize, f64)>; 6] = Default::default();
     for (node, block) in &point.interpolation {
         for dof in Dof::ALL {
-            let Some(e) = dofs.equation(*node, dof) else { continue };
-            for (r, row) in rows.iter_mut().enumerate() {
-                let value = block[(r, dof.index())];
-                if value != 0.0 {
-                    row.push((e, value));
+            for (e, c) in dofs.terms(6 * node + dof.index()) {
+                for (r, row) in rows.iter_mut().enumerate() {
+                    let value = block[(r, dof.index())];
+                    if value != 0.0 {
+                        row.push((e, c * value));
+                    }
                 }
             }
         }

@@ -70,6 +70,30 @@ pub enum FemError {
         /// The largest residual accepted.
         tolerance: f64,
     },
+    /// A rigid coupling that cannot be formed.
+    #[error("the rigid coupling of reference node {reference}: {reason}")]
+    InvalidCoupling {
+        /// The reference node's label.
+        reference: u64,
+        /// Why.
+        reason: String,
+    },
+    /// A point mass with rotary inertia at a node that only solid elements touch (no rotations).
+    #[error("node {label}: a point mass with rotary inertia at a node of solid elements only, which has no rotations; put it at a reference node coupled to the solid, or give the mass alone")]
+    RotaryInertiaWithoutRotations {
+        /// The node's label.
+        label: u64,
+    },
+    /// A static load acts on a dof the node does not have (a rotation of a solid-only node).
+    #[error("static load {name}: acts on node {label} dof {dof}, which the node does not have (only solid elements touch it: translations only); apply it at a reference node coupled to the solid")]
+    LoadOnAbsentDof {
+        /// The static load's name.
+        name: String,
+        /// The node's label.
+        label: u64,
+        /// The dof's name.
+        dof: &'static str,
+    },
     /// A static load acts on a supported dof.
     #[error("static load {name}: acts on node {label} dof {dof}, which is supported; a static correction mode needs a deleted constraint, not a supported one")]
     LoadOnSupport {

@@ -2,8 +2,9 @@
 //!
 //! A flexible body of flexmb is built, as in the DADS code of Haug's *Dynamics of Articulated
 //! Structures*, from a lumped-mass finite-element model (or, as an option, one with the consistent
-//! mass): 3D beams and flat shells (membrane plus bending) with 6 degrees of freedom per node. This
-//! crate
+//! mass): 3D beams and flat shells (membrane plus bending) with 6 degrees of freedom per node, and
+//! solid elements (CalculiX's C3D4 … C3D20R) whose nodes have the three translations, tied to joints
+//! through rigid couplings to reference nodes. This crate
 //!
 //! 1. holds the model ([`mesh`]: nodes, materials, sections, elements, point masses, generators of
 //!    regular meshes, and the Abaqus/CalculiX `.inp` reader in [`inp`]),
@@ -39,5 +40,6 @@ pub use error::FemError;
 
 pub use mesh::{
     BeamSection, Dof, DofSet, Element, ElementKind, FeModel, Material, Mesh, Node, PointMass,
-    MassModel, ModelOptions, ShellSection, StaticLoad, StaticLoadKind, Support,
+    MassModel, ModelOptions, RigidCoupling, ShellSection, SolidFormulation, SolidSection, StaticLoad,
+    StaticLoadKind, Support,
 };

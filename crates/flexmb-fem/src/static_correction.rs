@@ -49,8 +49,19 @@ pub fn load_vectors(model: &FeModel, assembled: &AssembledModel) -> Result<Mat<f
                 continue;
             }
             let dof = Dof::ALL[first + k];
+            let global = 6 * load.node + dof.index();
             match dofs.equation(load.node, dof) {
                 Some(e) => loads[(e, j)] = unit[k],
+                None if dofs.is_dependent(global) => {
+                    dofs.terms(global).into_iter().for_each(|(e, c)| loads[(e, j)] += c * unit[k]);
+                }
+                None if !dofs.is_present(global) => {
+                    return Err(FemError::LoadOnAbsentDof {
+                        name: load.name.clone(),
+                        label: model.mesh.nodes[load.node].label,
+                        dof: dof.name(),
+                    })
+                }
                 None => {
                     return Err(FemError::LoadOnSupport {
                         name: load.name.clone(),

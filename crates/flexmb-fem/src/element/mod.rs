@@ -1,5 +1,6 @@
 //! Element matrices: stiffness and mass of one element, in body-frame components, 6 degrees of
-//! freedom per node (`ux uy uz rx ry rz`) in the order of the element's nodes.
+//! freedom per node (`ux uy uz rx ry rz`) in the order of the element's nodes (solids, which have no
+//! rotations, have zero rows and columns there).
 //!
 //! A lumped mass is, at each node, a point mass (the same in all three translations) and optionally a
 //! 3×3 rotary inertia about the node; with rotary inertia off the mass matrix is diagonal, as in the
@@ -9,6 +10,7 @@
 pub mod beam;
 mod mass_point;
 pub mod shell;
+pub mod solid;
 #[cfg(test)]
 mod test_support;
 mod validate;
@@ -48,7 +50,7 @@ pub enum ElementError {
     /// The element has the wrong number of nodes for its kind.
     #[error("the element has {found} nodes; a {kind} needs {expected}")]
     NodeCount {
-        /// `beam` or `shell`.
+        /// `beam`, `shell` or the solid's Abaqus name.
         kind: &'static str,
         /// The numbers it may have.
         expected: &'static str,
@@ -79,6 +81,17 @@ pub enum ElementError {
     Warped {
         /// The distance from the mean plane relative to the element's size.
         warp: f64,
+    },
+    /// A solid element whose Jacobian determinant is not positive at an integration point: its
+    /// nodes are out of order (inverted) or collapsed.
+    #[error("the solid element is inverted or degenerate: its Jacobian determinant is {determinant:.3e} ({relative:.2e} of its size cubed over the reference volume) at natural coordinates ({:.3}, {:.3}, {:.3}); check the node order", at[0], at[1], at[2])]
+    InvertedSolid {
+        /// `det J` at that point (m³ per reference volume).
+        determinant: f64,
+        /// `det J` relative to the element's size cubed over the reference volume.
+        relative: f64,
+        /// The integration point's natural coordinates.
+        at: [f64; 3],
     },
     /// A property that must be positive is not.
     #[error("{property} must be positive and finite, got {value}")]
@@ -128,6 +141,11 @@ pub fn element_matrices(
                 return Err(ElementError::NodeCount { kind: "shell", expected: "3 or 4", found: points.len() });
             }
             shell::shell_matrices(&points, section, material, options)
+        }
+        ElementKind::Solid { section, formulation } => {
+            let section = lookup(&mesh.solid_sections, "solid section", section)?;
+            let material = lookup(&mesh.materials, "material", section.material)?;
+            solid::solid_matrices(&points, formulation, material, options)
         }
     }
 }

@@ -1,5 +1,5 @@
-//! The Abaqus / CalculiX `.inp` reader: the beam-and-shell subset of the input deck that describes a
-//! flexible body's mesh, sections, materials, point masses and supports.
+//! The Abaqus / CalculiX `.inp` reader: the beam, shell and solid subset of the input deck that
+//! describes a flexible body's mesh, sections, materials, point masses, couplings and supports.
 //!
 //! # What is read
 //!
@@ -10,8 +10,9 @@
 //!   the folder of its `file_name`).
 //! * `*NODE` (`NSET=`), `*ELEMENT, TYPE=…, ELSET=…` with types `B31`, `B31H`, `B33`, `B33H` (2-node
 //!   beams, optionally with a third orientation node), `S3`, `S3R`, `S4`, `S4R` (shells; a quadrilateral
-//!   with a repeated node becomes a triangle), `MASS`, `ROTARYI` (one node); a data line ending in a
-//!   comma continues on the next while nodes are missing.
+//!   with a repeated node becomes a triangle), `C3D4`, `C3D10`, `C3D6`, `C3D15`, `C3D8`, `C3D8I`,
+//!   `C3D20`, `C3D20R` (solids, see [`element::solid`](crate::element::solid)), `MASS`, `ROTARYI`
+//!   (one node); a data line ending in a comma continues on the next while nodes are missing.
 //! * `*NSET, NSET=` and `*ELSET, ELSET=` with labels and names of sets defined earlier, or
 //!   `GENERATE` (`first, last[, increment]`); repeated definitions add to the set. Set and material
 //!   names are case-insensitive.
@@ -26,6 +27,10 @@
 //!   of the section per distinct direction). Sections are Euler–Bernoulli
 //!   (`shear_coefficient: None`).
 //! * `*SHELL SECTION, ELSET=, MATERIAL=` with the thickness on the data line.
+//! * `*SOLID SECTION, ELSET=, MATERIAL=` (data lines, `ORIENTATION` ignored).
+//! * `*KINEMATIC COUPLING, REF NODE=` with lines `node or node set, 1, 3` (or `1, 6`), and
+//!   `*RIGID BODY, NSET=, REF NODE=`: rigid couplings to a reference node
+//!   ([`RigidCoupling`](crate::mesh::RigidCoupling)).
 //! * `*MASS, ELSET=` (mass) and `*ROTARY INERTIA, ELSET=` (I₁₁, I₂₂, I₃₃ in global axes; I₁₂, I₁₃, I₂₃
 //!   must be zero) for `MASS` / `ROTARYI` elements, which become [`PointMass`](crate::mesh::PointMass)es.
 //! * `*BOUNDARY` lines `node or node set, first dof[, last dof[, value]]` or `node, ENCASTRE`

@@ -11,11 +11,12 @@ use super::{InpError, InpModel};
 use crate::input::Quantity;
 use crate::mesh::{
     BeamSection, DofSet, Element, ElementKind, FeModel, Material, Mesh, Node, PointMass,
-    ShellSection, Support,
+    RigidCoupling, ShellSection, SolidFormulation, SolidSection, Support,
 };
 
 /// The element types flexmb reads, as listed in messages.
-pub(super) const SUPPORTED_TYPES: &str = "B31, B31H, B33, B33H, S3, S3R, S4, S4R, MASS, ROTARYI";
+pub(super) const SUPPORTED_TYPES: &str =
+    "B31, B31H, B33, B33H, S3, S3R, S4, S4R, C3D4, C3D10, C3D6, C3D15, C3D8, C3D8I, C3D20, C3D20R, MASS, ROTARYI";
 
 /// Abaqus' default first section direction n₁ of beams, used when `*BEAM SECTION` gives none.
 pub const DEFAULT_N1: [f64; 3] = [0.0, 0.0, -1.0];
@@ -27,6 +28,7 @@ const MAX_GENERATE: u64 = 50_000_000;
 enum Kind {
     Beam,
     Shell,
+    Solid(SolidFormulation),
     Mass,
     RotaryInertia,
 }
@@ -38,6 +40,7 @@ impl Kind {
             Kind::Beam => 2,
             Kind::Shell if type_name.starts_with("S3") => 3,
             Kind::Shell => 4,
+            Kind::Solid(formulation) => formulation.node_count(),
             Kind::Mass | Kind::RotaryInertia => 1,
         }
     }
@@ -50,6 +53,9 @@ fn element_kind(type_name: &str) -> Result<Kind, String> {
         "MASS" => Ok(Kind::Mass),
         "ROTARYI" => Ok(Kind::RotaryInertia),
         _ => {
+            if let Some(formulation) = SolidFormulation::from_abaqus_name(type_name) {
+                return Ok(Kind::Solid(formulation));
+            }
             let t = type_name;
             let hint = if t.starts_with("B2") || t.starts_with("B3") || t.starts_with("PIPE") {
                 " (other beam types are not supported: use B31 or B33)"
@@ -57,8 +63,10 @@ fn element_kind(type_name: &str) -> Result<Kind, String> {
                 || t.starts_with("M3D")
             {
                 " (other shell types are not supported: use S3, S3R, S4 or S4R)"
+            } else if t == "C3D8R" {
+                " (C3D8R's hourglass control is not supported: use C3D8I, incompatible modes, or C3D8)"
             } else if t.starts_with('C') {
-                " (continuum elements are not supported: flexmb models beams and shells)"
+                " (other continuum elements are not supported: use C3D4, C3D10, C3D6, C3D15, C3D8, C3D8I, C3D20 or C3D20R)"
             } else {
                 ""
             };
@@ -139,6 +147,9 @@ enum SectionDef {
         thickness: f64,
         material: String,
     },
+    Solid {
+        material: String,
+    },
     Mass(f64),
     RotaryInertia(Vector3<f64>),
 }
@@ -161,6 +172,16 @@ struct RawBoundary {
     loc: Loc,
 }
 
+/// A `*KINEMATIC COUPLING` or `*RIGID BODY`: the reference node, the coupled nodes and sets, and
+/// whether the coupled nodes' rotations are tied too.
+struct RawCoupling {
+    keyword: String,
+    reference: u64,
+    targets: Vec<(Target, Loc)>,
+    rotations: bool,
+    loc: Loc,
+}
+
 #[derive(Default)]
 struct Reader {
     warnings: Vec<String>,
@@ -177,6 +198,7 @@ struct Reader {
     current_material: Option<usize>,
     sections: Vec<RawSection>,
     boundaries: Vec<RawBoundary>,
+    couplings: Vec<RawCoupling>,
     in_step: bool,
 }
 
@@ -303,9 +325,12 @@ impl Reader {
             "BEAM SECTION" => self.beam_section(card, false),
             "BEAM GENERAL SECTION" => self.beam_section(card, true),
             "SHELL SECTION" => self.shell_section(card),
+            "SOLID SECTION" => self.solid_section(card),
             "MASS" => self.mass(card),
             "ROTARY INERTIA" => self.rotary_inertia(card),
             "BOUNDARY" => self.boundary(card),
+            "KINEMATIC COUPLING" => self.kinematic_coupling(card),
+            "RIGID BODY" => self.rigid_body(card),
             "HEADING" => Ok(()),
             keyword => {
                 match keyword {
@@ -809,6 +834,87 @@ impl Reader {
         Ok(())
     }
 
+    fn solid_section(&mut self, card: &Card) -> Result<(), InpError> {
+        let elset = card.required("ELSET")?.to_string();
+        let material = card.required("MATERIAL")?.to_string();
+        self.check_params(
+            card,
+            &["ELSET", "MATERIAL", "ORIENTATION", "CONTROLS"],
+            &[("COMPOSITE", "flexmb's solids are homogeneous")],
+        )?;
+        if card.params.iter().any(|p| p.key == "ORIENTATION") {
+            let message = "*SOLID SECTION: ORIENTATION ignored (flexmb's materials are isotropic)";
+            self.warn_once("solid orientation", &card.loc, message);
+        }
+        self.sections.push(RawSection {
+            keyword: card.keyword.clone(),
+            elset,
+            loc: card.loc.clone(),
+            def: SectionDef::Solid { material },
+        });
+        Ok(())
+    }
+
+    /// `*KINEMATIC COUPLING, REF NODE=r` with data lines `node or node set, first dof, last dof`:
+    /// a rigid coupling of all three translations (1–3), and the rotations too with 1–6.
+    fn kinematic_coupling(&mut self, card: &Card) -> Result<(), InpError> {
+        let reference = parse_label(card.required("REF NODE")?)
+            .ok_or_else(|| card.error("REF NODE must be a node label"))?;
+        self.check_params(card, &["REF NODE", "ORIENTATION"], &[("SURFACE", "name the coupled nodes on the data lines (a node set)")])?;
+        let mut targets = Vec::new();
+        let mut rotations = false;
+        for line in card.lines() {
+            let target = self.target(line, "KINEMATIC COUPLING")?;
+            let first = label(line, 1, "the first degree of freedom", "KINEMATIC COUPLING")?;
+            let last = match line.fields.get(2).map(String::as_str) {
+                None | Some("") => first,
+                Some(_) => label(line, 2, "the last degree of freedom", "KINEMATIC COUPLING")?,
+            };
+            if first != 1 || !(3..=6).contains(&last) {
+                return Err(line.loc.error(format!(
+                    "*KINEMATIC COUPLING: degrees of freedom {first} to {last}: flexmb's coupling is rigid in all three translations (give 1, 3) and optionally the rotations (1, 6)"
+                )));
+            }
+            rotations |= last == 6;
+            targets.push((target, line.loc.clone()));
+        }
+        if targets.is_empty() {
+            return Err(card.error("missing data lines (the coupled nodes or node set, first and last dof)"));
+        }
+        self.couplings.push(RawCoupling { keyword: card.keyword.clone(), reference, targets, rotations, loc: card.loc.clone() });
+        Ok(())
+    }
+
+    /// `*RIGID BODY, NSET=set, REF NODE=r`: the nodes of the set tied rigidly to the reference node.
+    fn rigid_body(&mut self, card: &Card) -> Result<(), InpError> {
+        let reference = parse_label(card.required("REF NODE")?)
+            .ok_or_else(|| card.error("REF NODE must be a node label"))?;
+        let set = card.required("NSET")?.to_string();
+        self.check_params(card, &["NSET", "REF NODE", "ROT NODE"], &[("ELSET", "give the tied nodes as a node set (NSET=)")])?;
+        self.couplings.push(RawCoupling {
+            keyword: card.keyword.clone(),
+            reference,
+            targets: vec![(Target::Set(set), card.loc.clone())],
+            rotations: true,
+            loc: card.loc.clone(),
+        });
+        Ok(())
+    }
+
+    /// Field 1 of a data line: a node label or a node set name.
+    fn target(&self, line: &DataLine, keyword: &str) -> Result<Target, InpError> {
+        let Some(field) = line.fields.first().filter(|f| !f.is_empty()) else {
+            return Err(line.loc.error(format!("*{keyword}: missing the node or node set (field 1)")));
+        };
+        match parse_label(field) {
+            Some(l) => Ok(Target::Node(l)),
+            None if field.starts_with(|c: char| c.is_ascii_digit() || c == '-' || c == '+') => {
+                Err(line.loc.error(format!("*{keyword}: '{field}' is neither a node label nor a node set name")))
+            }
+            None => Ok(Target::Set(field.clone())),
+        }
+    }
+
     fn mass(&mut self, card: &Card) -> Result<(), InpError> {
         let elset = card.required("ELSET")?.to_string();
         self.check_params(card, &["ELSET", "ALPHA", "TYPE"], &[])?;
@@ -994,6 +1100,7 @@ impl Reader {
         // Sections: assign them to the elements of their sets.
         let mut beam_section_of = vec![usize::MAX; self.sections.len()];
         let mut shell_section_of = vec![usize::MAX; self.sections.len()];
+        let mut solid_section_of = vec![usize::MAX; self.sections.len()];
         for (s, section) in self.sections.iter().enumerate() {
             let kw = &section.keyword;
             let Some(set) = self.elsets.get(&section.elset) else {
@@ -1011,6 +1118,7 @@ impl Reader {
                     (&section.def, element.kind),
                     (SectionDef::Beam { .. }, Kind::Beam)
                         | (SectionDef::Shell { .. }, Kind::Shell)
+                        | (SectionDef::Solid { .. }, Kind::Solid(_))
                         | (SectionDef::Mass(_), Kind::Mass)
                         | (SectionDef::Mass(_), Kind::RotaryInertia)
                         | (SectionDef::RotaryInertia(_), Kind::RotaryInertia)
@@ -1023,7 +1131,7 @@ impl Reader {
                     )));
                 }
                 let already = match section.def {
-                    SectionDef::Beam { .. } | SectionDef::Shell { .. } => {
+                    SectionDef::Beam { .. } | SectionDef::Shell { .. } | SectionDef::Solid { .. } => {
                         element.section.replace(s)
                     }
                     SectionDef::Mass(m) => element.mass.replace((m, s)).map(|(_, o)| o),
@@ -1099,6 +1207,11 @@ impl Reader {
                         thickness: *thickness,
                     });
                 }
+                SectionDef::Solid { material: name } => {
+                    let material = material(name)?;
+                    solid_section_of[s] = mesh.solid_sections.len();
+                    mesh.solid_sections.push(SolidSection { name: section.elset.clone(), material });
+                }
                 SectionDef::Mass(_) | SectionDef::RotaryInertia(_) => {}
             }
         }
@@ -1135,6 +1248,7 @@ impl Reader {
                 let hint = match element.kind {
                     Kind::Beam => "*BEAM SECTION or *BEAM GENERAL SECTION",
                     Kind::Shell => "*SHELL SECTION",
+                    Kind::Solid(_) => "*SOLID SECTION",
                     Kind::Mass | Kind::RotaryInertia => "*MASS or *ROTARY INERTIA",
                 };
                 return Err(element.loc.error(format!(
@@ -1223,6 +1337,19 @@ impl Reader {
                         nodes,
                     });
                 }
+                Kind::Solid(formulation) => {
+                    if HashSet::<&usize>::from_iter(&nodes).len() != nodes.len() {
+                        return Err(element.loc.error(format!(
+                            "element {} ({}): repeated nodes (collapsed solids are not supported: use the element type of that shape)",
+                            element.label, element.type_name
+                        )));
+                    }
+                    mesh.elements.push(Element {
+                        label: element.label,
+                        kind: ElementKind::Solid { section: solid_section_of[s], formulation },
+                        nodes,
+                    });
+                }
                 Kind::Mass | Kind::RotaryInertia => mesh.point_masses.push(PointMass {
                     node: nodes[0],
                     mass: element.mass.map_or(0.0, |(m, _)| m),
@@ -1238,6 +1365,25 @@ impl Reader {
         if mesh.elements.is_empty() && mesh.point_masses.is_empty() {
             self.warnings
                 .push("the deck defines no elements".to_string());
+        }
+
+        // Rigid couplings.
+        for c in &self.couplings {
+            let reference = self.node_of(c.reference, &c.loc, &format!("*{} REF NODE", c.keyword))?;
+            let mut nodes: Vec<usize> = Vec::new();
+            for (target, loc) in &c.targets {
+                match target {
+                    Target::Node(label) => nodes.push(self.node_of(*label, loc, &format!("*{}", c.keyword))?),
+                    Target::Set(name) => match mesh.node_sets.iter().find(|(k, _)| k.eq_ignore_ascii_case(name)) {
+                        Some((_, members)) => nodes.extend(members.iter().copied()),
+                        None => return Err(loc.error(format!("*{}: node set {name} is not defined", c.keyword))),
+                    },
+                }
+            }
+            // The reference node may be in its own set; a node named twice is coupled once.
+            let mut seen = HashSet::from([reference]);
+            nodes.retain(|&n| seen.insert(n));
+            mesh.rigid_couplings.push(RigidCoupling { reference, nodes, rotations: c.rotations });
         }
 
         // Supports, merged per node, in order of first appearance.

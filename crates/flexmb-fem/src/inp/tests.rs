@@ -274,12 +274,12 @@ fn errors_name_file_and_line() {
     let head = "*NODE\n1, 0, 0, 0\n2, 1, 0, 0\n"; // lines 1-3
                                                   // Unknown element type: the keyword line.
     let e = error(&format!(
-        "{head}*ELEMENT, TYPE=C3D8, ELSET=E\n1, 1, 2, 1, 2, 1, 2, 1, 2\n"
+        "{head}*ELEMENT, TYPE=C3D8R, ELSET=E\n1, 1, 2, 1, 2, 1, 2, 1, 2\n"
     ));
     assert_eq!(
         e,
-        "bad.inp:4: *ELEMENT: unknown element type C3D8 (continuum elements are not supported: flexmb models beams and shells); \
-         flexmb reads B31, B31H, B33, B33H, S3, S3R, S4, S4R, MASS, ROTARYI"
+        "bad.inp:4: *ELEMENT: unknown element type C3D8R (C3D8R's hourglass control is not supported: use C3D8I, incompatible modes, or C3D8); \
+         flexmb reads B31, B31H, B33, B33H, S3, S3R, S4, S4R, C3D4, C3D10, C3D6, C3D15, C3D8, C3D8I, C3D20, C3D20R, MASS, ROTARYI"
     );
     // A node that is not defined: the element's line.
     let e = error(&format!(

@@ -1,6 +1,10 @@
 //! The finite-element model of one flexible body: nodes with 6 degrees of freedom (three
-//! translations, three rotations), materials, beam and shell sections, elements, point masses, and,
-//! in [`FeModel`], the boundary conditions and the unit loads of the static correction modes.
+//! translations, three rotations), materials, beam, shell and solid sections, elements, point masses,
+//! and, in [`FeModel`], the boundary conditions and the unit loads of the static correction modes.
+//!
+//! Solid elements have translations only: a node that solids touch and no beam or shell does has no
+//! rotational degrees of freedom in the assembled model (no stiffness, no mass); see
+//! [`crate::assembly::DofMap`].
 //!
 //! Elements refer to nodes by index into [`Mesh::nodes`]; each node also keeps the label it has in
 //! the user's input (an `.inp` node number or a generated one), which is what messages show.
@@ -8,6 +12,7 @@
 mod dof;
 mod generate;
 mod references;
+mod rigid_coupling;
 
 use std::collections::BTreeMap;
 
@@ -15,6 +20,8 @@ use nalgebra::Vector3;
 
 pub use dof::{Dof, DofSet};
 pub use generate::ShellShape;
+pub use rigid_coupling::RigidCoupling;
+pub(crate) use rigid_coupling::{dependent_dofs, DependentDof};
 
 
 /// A node of the mesh: its label in the input and its undeformed position in the body frame (m).
@@ -81,6 +88,82 @@ pub struct ShellSection {
     pub thickness: f64,
 }
 
+/// The section of solid (continuum) elements: the material fills the element.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SolidSection {
+    /// The section's name.
+    pub name: String,
+    /// Index into [`Mesh::materials`].
+    pub material: usize,
+}
+
+/// The isoparametric solid element formulations, each the CalculiX/Abaqus element of that name (see
+/// [`element::solid`](crate::element::solid)).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum SolidFormulation {
+    /// C3D4: 4-node linear tetrahedron (constant strain).
+    LinearTetrahedron,
+    /// C3D10: 10-node quadratic tetrahedron.
+    QuadraticTetrahedron,
+    /// C3D6: 6-node linear wedge (triangular prism).
+    LinearWedge,
+    /// C3D15: 15-node quadratic wedge.
+    QuadraticWedge,
+    /// C3D8: 8-node trilinear brick, full 2 × 2 × 2 integration.
+    LinearBrick,
+    /// C3D8I: 8-node brick enhanced by incompatible (bubble) modes, condensed out.
+    IncompatibleModeBrick,
+    /// C3D20: 20-node serendipity brick, full 3 × 3 × 3 integration.
+    QuadraticBrick,
+    /// C3D20R: 20-node serendipity brick, reduced 2 × 2 × 2 integration.
+    ReducedQuadraticBrick,
+}
+
+impl SolidFormulation {
+    /// All of them, in the order of the documentation.
+    pub const ALL: [SolidFormulation; 8] = [
+        SolidFormulation::LinearTetrahedron,
+        SolidFormulation::QuadraticTetrahedron,
+        SolidFormulation::LinearWedge,
+        SolidFormulation::QuadraticWedge,
+        SolidFormulation::LinearBrick,
+        SolidFormulation::IncompatibleModeBrick,
+        SolidFormulation::QuadraticBrick,
+        SolidFormulation::ReducedQuadraticBrick,
+    ];
+
+    /// The Abaqus/CalculiX element type.
+    pub fn abaqus_name(self) -> &'static str {
+        match self {
+            SolidFormulation::LinearTetrahedron => "C3D4",
+            SolidFormulation::QuadraticTetrahedron => "C3D10",
+            SolidFormulation::LinearWedge => "C3D6",
+            SolidFormulation::QuadraticWedge => "C3D15",
+            SolidFormulation::LinearBrick => "C3D8",
+            SolidFormulation::IncompatibleModeBrick => "C3D8I",
+            SolidFormulation::QuadraticBrick => "C3D20",
+            SolidFormulation::ReducedQuadraticBrick => "C3D20R",
+        }
+    }
+
+    /// The formulation of an Abaqus/CalculiX element type.
+    pub fn from_abaqus_name(name: &str) -> Option<SolidFormulation> {
+        SolidFormulation::ALL.into_iter().find(|f| f.abaqus_name().eq_ignore_ascii_case(name))
+    }
+
+    /// The number of nodes.
+    pub fn node_count(self) -> usize {
+        match self {
+            SolidFormulation::LinearTetrahedron => 4,
+            SolidFormulation::QuadraticTetrahedron => 10,
+            SolidFormulation::LinearWedge => 6,
+            SolidFormulation::QuadraticWedge => 15,
+            SolidFormulation::LinearBrick | SolidFormulation::IncompatibleModeBrick => 8,
+            SolidFormulation::QuadraticBrick | SolidFormulation::ReducedQuadraticBrick => 20,
+        }
+    }
+}
+
 /// What an element is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ElementKind {
@@ -95,6 +178,30 @@ pub enum ElementKind {
         /// Index into [`Mesh::shell_sections`].
         section: usize,
     },
+    /// A solid (continuum) element with translations only at its nodes; `section` indexes
+    /// [`Mesh::solid_sections`]. Nodes in the Abaqus/CalculiX order of `formulation`.
+    Solid {
+        /// Index into [`Mesh::solid_sections`].
+        section: usize,
+        /// Which element.
+        formulation: SolidFormulation,
+    },
+}
+
+impl ElementKind {
+    /// `beam`, `shell`, or the solid's Abaqus name.
+    pub fn name(self) -> &'static str {
+        match self {
+            ElementKind::Beam { .. } => "beam",
+            ElementKind::Shell { .. } => "shell",
+            ElementKind::Solid { formulation, .. } => formulation.abaqus_name(),
+        }
+    }
+
+    /// Whether its nodes carry rotations (beams and shells) or translations only (solids).
+    pub fn has_rotations(self) -> bool {
+        !matches!(self, ElementKind::Solid { .. })
+    }
 }
 
 /// One element: its kind and its nodes (indices into [`Mesh::nodes`]).
@@ -130,6 +237,8 @@ pub struct Mesh {
     pub beam_sections: Vec<BeamSection>,
     /// The sections of shell elements.
     pub shell_sections: Vec<ShellSection>,
+    /// The sections of solid elements.
+    pub solid_sections: Vec<SolidSection>,
     /// The elements.
     pub elements: Vec<Element>,
     /// Concentrated masses at nodes.
@@ -137,6 +246,8 @@ pub struct Mesh {
     /// Named sets of nodes (indices into [`nodes`](Self::nodes)), from `*NSET` or from the mesh
     /// generators.
     pub node_sets: BTreeMap<String, Vec<usize>>,
+    /// Rigid couplings of nodes to reference nodes (`*KINEMATIC COUPLING`, `*RIGID BODY`).
+    pub rigid_couplings: Vec<RigidCoupling>,
 }
 
 impl Mesh {

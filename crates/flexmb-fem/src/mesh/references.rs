@@ -25,17 +25,26 @@ impl Mesh {
         for s in &self.shell_sections {
             known(|| format!("shell section '{}'", s.name), "material", s.material, self.materials.len())?;
         }
+        for s in &self.solid_sections {
+            known(|| format!("solid section '{}'", s.name), "material", s.material, self.materials.len())?;
+        }
         for e in &self.elements {
             let part = || format!("element {}", e.label);
             let (kind, section, count) = match e.kind {
                 ElementKind::Beam { section } => ("beam section", section, self.beam_sections.len()),
                 ElementKind::Shell { section } => ("shell section", section, self.shell_sections.len()),
+                ElementKind::Solid { section, .. } => ("solid section", section, self.solid_sections.len()),
             };
             known(part, kind, section, count)?;
             e.nodes.iter().try_for_each(|&n| known(part, "node", n, nodes))?;
         }
         for pm in &self.point_masses {
             known(|| "a point mass".to_string(), "node", pm.node, nodes)?;
+        }
+        for coupling in &self.rigid_couplings {
+            let part = || format!("the rigid coupling of reference node index {}", coupling.reference);
+            known(part, "node", coupling.reference, nodes)?;
+            coupling.nodes.iter().try_for_each(|&n| known(part, "node", n, nodes))?;
         }
         for (name, members) in &self.node_sets {
             members.iter().try_for_each(|&n| known(|| format!("node set '{name}'"), "node", n, nodes))?;

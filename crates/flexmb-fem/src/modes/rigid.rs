@@ -46,7 +46,13 @@ pub fn free_rigid_motions(mesh: &Mesh, dofs: &DofMap) -> Mat<f64> {
     let mut free = Matrix6::<f64>::zeros();
     for g in 0..all.nrows() {
         let row = |a: usize| all[(g, a)];
-        let target = if dofs.equation_of(g).is_some() { &mut free } else { &mut held };
+        let target = if dofs.equation_of(g).is_some() {
+            &mut free
+        } else if dofs.is_held(g) {
+            &mut held
+        } else {
+            continue;
+        };
         for a in 0..6 {
             for b in 0..6 {
                 target[(a, b)] += row(a) * row(b);

@@ -32,6 +32,10 @@ pub struct ShiftInvert {
     mass_root_transpose: SparseColMat<usize, f64>,
     /// Orthonormal basis of `F R` (the rigid motions in the mass-weighted space).
     deflation: Mat<f64>,
+    /// The rigid motions `R` (n × r) and `(RᵀMR)⁻¹ (MR)ᵀ` (r × n): the M-orthogonal projection onto
+    /// them, removed from the mode shapes.
+    rigid: Mat<f64>,
+    rigid_coefficients: Mat<f64>,
 }
 
 impl ShiftInvert {
@@ -48,7 +52,14 @@ impl ShiftInvert {
         let mass_root_transpose = mass_root.transpose().to_col_major().expect("the transpose of a valid sparse matrix");
         let mut deflation = &mass_root * rigid;
         super::rigid::orthonormalize_columns(&mut deflation);
-        Ok(ShiftInvert { shift, factor, mass_root, mass_root_transpose, deflation })
+        let mass_rigid = &assembled.mass * rigid;
+        let gram = rigid.transpose() * &mass_rigid;
+        let rigid_coefficients = if rigid.ncols() == 0 {
+            Mat::zeros(0, rigid.nrows())
+        } else {
+            gram.partial_piv_lu().solve(mass_rigid.transpose())
+        };
+        Ok(ShiftInvert { shift, factor, mass_root, mass_root_transpose, deflation, rigid: rigid.clone(), rigid_coefficients })
     }
 
     /// Dimension of the operator (the rows of the mass factor: the massive motions of the mass
@@ -77,10 +88,16 @@ impl ShiftInvert {
         z
     }
 
-    /// The mode shapes `φ = (K + σM)⁻¹ Fᵀ z` of eigenvectors `z` of `B`.
+    /// The mode shapes `φ = (K + σM)⁻¹ Fᵀ z` of eigenvectors `z` of `B`, freed of the rigid motions
+    /// that rounding in the solve with the nearly singular `K + σM` leaves in them (elastic modes
+    /// are M-orthogonal to the rigid motions: `φ ← φ − R (RᵀMR)⁻¹ RᵀM φ`).
     pub fn mode_shapes(&self, z: MatRef<'_, f64>) -> Mat<f64> {
         let mut phi = &self.mass_root_transpose * z;
         self.factor.solve_in_place(phi.as_mut());
+        if self.rigid.ncols() > 0 {
+            let coefficients = &self.rigid_coefficients * &phi;
+            phi -= &self.rigid * &coefficients;
+        }
         phi
     }
 

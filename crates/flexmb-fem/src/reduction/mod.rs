@@ -19,7 +19,7 @@ pub use mode_set::{ModeGroup, ModeSet};
 
 use crate::assembly::{AssembledModel, MassProperties};
 use crate::error::FemError;
-use crate::mesh::{ElementKind, FeModel};
+use crate::mesh::FeModel;
 use crate::modes::{check_memory, prepare, vibration_modes_of, EigenSettings, VibrationModes};
 use crate::static_correction::{static_correction_modes, StaticModes};
 
@@ -346,10 +346,7 @@ fn flexible_body(
             .iter()
             .map(|e| BodyElement {
                 label: e.label,
-                kind: match e.kind {
-                    ElementKind::Beam { .. } => "beam".to_string(),
-                    ElementKind::Shell { .. } => "shell".to_string(),
-                },
+                kind: e.kind.name().to_string(),
                 nodes: e.nodes.clone(),
             })
             .collect(),

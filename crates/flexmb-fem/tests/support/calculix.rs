@@ -35,6 +35,35 @@ fn is_executable(path: &Path) -> bool {
 /// Writes `inp_text` to `work_dir/job.inp`, runs `ccx -i job` there (one thread) and returns the
 /// frequencies (cycles/time) of the first eigenvalue table of `job.dat`, in ccx's order (ascending).
 pub fn natural_frequencies(inp_text: &str, work_dir: &Path) -> Result<Vec<f64>, String> {
+    let (text, dat) = run(inp_text, work_dir)?;
+    parse_eigenvalue_table(&text).ok_or_else(|| format!("no eigenvalue table in {}", dat.display()))
+}
+
+/// Runs ccx on a deck with a `*STATIC` step and a `*NODE PRINT` of `U` and returns the printed
+/// nodal displacements (label, ux, uy, uz) of the first table of `job.dat`.
+pub fn static_displacements(inp_text: &str, work_dir: &Path) -> Result<Vec<(u64, [f64; 3])>, String> {
+    let (text, dat) = run(inp_text, work_dir)?;
+    let mut lines = text.lines().skip_while(|l| !l.contains("displacements (vx,vy,vz)"));
+    lines.next().ok_or_else(|| format!("no displacement table in {}", dat.display()))?;
+    let mut rows = Vec::new();
+    for line in lines {
+        let fields: Vec<&str> = line.split_whitespace().collect();
+        if fields.is_empty() && rows.is_empty() {
+            continue;
+        }
+        let (Some(label), Some(values)) = (
+            fields.first().and_then(|f| f.parse::<u64>().ok()),
+            fields.get(1..4).and_then(|v| v.iter().map(|x| x.parse::<f64>().ok()).collect::<Option<Vec<f64>>>()),
+        ) else {
+            break;
+        };
+        rows.push((label, [values[0], values[1], values[2]]));
+    }
+    Ok(rows)
+}
+
+/// Runs ccx on `inp_text` in `work_dir` and returns the text and the path of `job.dat`.
+fn run(inp_text: &str, work_dir: &Path) -> Result<(String, PathBuf), String> {
     let ccx =
         ccx_path().ok_or("ccx not found on the PATH (install Debian package calculix-ccx)")?;
     std::fs::create_dir_all(work_dir)
@@ -71,7 +100,7 @@ pub fn natural_frequencies(inp_text: &str, work_dir: &Path) -> Result<Vec<f64>, 
     }
     let text =
         std::fs::read_to_string(&dat).map_err(|e| format!("cannot read {}: {e}", dat.display()))?;
-    parse_eigenvalue_table(&text).ok_or_else(|| format!("no eigenvalue table in {}", dat.display()))
+    Ok((text, dat))
 }
 
 /// The frequencies (cycles/time, the fourth column) of the first `E I G E N V A L U E   O U T P U T`

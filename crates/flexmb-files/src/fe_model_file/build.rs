@@ -183,6 +183,7 @@ fn warn_unused(b: &mut Builder) {
         match element.kind {
             ElementKind::Beam { section } => used_beam.insert(section),
             ElementKind::Shell { section } => used_shell.insert(section),
+            ElementKind::Solid { .. } => false,
         };
     }
     let used_materials: BTreeSet<usize> = mesh
