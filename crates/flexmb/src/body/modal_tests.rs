@@ -355,6 +355,7 @@ fn a_flexible_body_without_modes_moves_like_the_rigid_body() {
                 mode_labels: vec![],
                 initial_coordinates: DVector::zeros(0),
                 initial_rates: DVector::zeros(0),
+                geometric_stiffness: None,
             };
             b.add_flexible_body("link", initial.clone(), modal).unwrap()
         } else {
