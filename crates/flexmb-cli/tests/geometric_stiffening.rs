@@ -234,3 +234,44 @@ fn without_rotation_or_acceleration_the_stiffening_changes_nothing() {
     assert!(amplitude > 1e-3);
     assert!(largest <= 1e-12 * amplitude.max(1.0), "the terms changed a run without rotation: {largest:.1e} m");
 }
+
+/// A column under its own weight, `q = ρA g` (the spin-up beam stood on its clamped end, gravity along
+/// its axis, the load entering through `ā = −Aᵀg`): it buckles at Greenhill's `q L³ / EI = 7.837`
+/// (Timoshenko and Gere, *Theory of Elastic Stability*, 1961, §2.10). Within 1 %: at 0.99 of that
+/// weight the first bending mode still oscillates, slowly, at 1.01 it grows. Hung from the clamp (the
+/// same weight in tension) the beam vibrates faster than without weight.
+#[test]
+fn a_column_under_its_own_weight_buckles_at_greenhills_load() {
+    let dir = scratch("stiffening_greenhill");
+    let fe = workspace().join("models/fe/spin_up_beam.toml");
+    let critical = 7.837 * 1.4e4 / (1.2 * 1000.0); // g at q L³/EI = 7.837 (m/s²)
+    let first_mode = |name: &str, g: f64| -> (f64, f64) {
+        let model = format!(
+            "[model]\nname = \"column\"\ngravity = [{:?}, 0.0, 0.0]\n\n[simulation]\nt_end = 1.0\noutput_step = 0.01\n\n\
+             [[flexible_body]]\nname = \"column\"\nfe_model = {:?}\n\n\
+             [[marker]]\nname = \"base_ground\"\nbody = \"ground\"\n\n[[marker]]\nname = \"base\"\nbody = \"column\"\nnode = \"beam.start\"\n\n\
+             [[joint]]\nname = \"clamp\"\ntype = \"fixed\"\ni = \"base_ground\"\nj = \"base\"\n",
+            -g,
+            fe.to_str().unwrap()
+        );
+        let path = dir.join(format!("{name}.toml"));
+        std::fs::write(&path, model).unwrap();
+        let out = dir.join(name);
+        succeed(&["eigen", path.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+        let eigen: Value = serde_json::from_str(&std::fs::read_to_string(out.join("eigen.json")).unwrap()).unwrap();
+        let modes = eigen["modes"].as_array().unwrap();
+        let lowest = modes.iter().min_by(|a, b| a["frequency_hz"].as_f64().unwrap().total_cmp(&b["frequency_hz"].as_f64().unwrap())).unwrap();
+        (lowest["frequency_hz"].as_f64().unwrap(), lowest["damping_ratio"].as_f64().unwrap())
+    };
+    let (unloaded, _) = first_mode("unloaded", 0.0);
+    let (below, below_damping) = first_mode("below", 0.99 * critical);
+    let (above, above_damping) = first_mode("above", 1.01 * critical);
+    let (hanging, _) = first_mode("hanging", -0.99 * critical);
+    eprintln!(
+        "column under its own weight: first bending mode {unloaded:.4} Hz unloaded, {below:.4} Hz (ζ = {below_damping:.1e}) at 0.99 of Greenhill's load, \
+         |s|/2π = {above:.4} Hz (ζ = {above_damping:.2}) at 1.01, {hanging:.4} Hz hanging"
+    );
+    assert!(below_damping.abs() < 1e-6 && below < 0.3 * unloaded, "stable, slow below the load: {below} Hz, ζ = {below_damping}");
+    assert!(above_damping < -0.99, "a growing (real, positive) eigenvalue above the load: ζ = {above_damping}");
+    assert!(hanging > 1.3 * unloaded, "tension raises the frequency: {hanging} Hz against {unloaded} Hz");
+}
