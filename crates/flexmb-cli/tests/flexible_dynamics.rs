@@ -135,6 +135,7 @@ fn pendulum_with(elements: usize, mass: MassModel, set: Option<&str>) -> Vec<[f6
             inv.c9 = nalgebra::DMatrix::zeros(0, 0);
             inv.rotary_coupling = nalgebra::DMatrix::zeros(3, 0);
             inv.rotary_modal_mass = nalgebra::DMatrix::zeros(0, 0);
+            body.geometric_stiffness = None;
             body
         }, &ModalDamping::None)
         .unwrap();

@@ -42,7 +42,7 @@ fn a_beam_spun_past_its_bending_frequency_warns_then_stops_with_a_diagnosis() {
         "of its size 10.000 m ([simulation] elastic_deflection_limit = 0.5)",
         "above its lowest modal frequency 3.798 rad/s",
         "without geometric (centrifugal) stiffening",
-        "Split it into several flexible bodies",
+        "split it into several flexible bodies",
     ] {
         assert!(stderr.contains(part), "{part}: {stderr}");
     }

@@ -123,7 +123,7 @@ fn m_orthogonal_to(assembled: &AssembledModel, rigid: &Mat<f64>, x: &Mat<f64>) -
 }
 
 /// Solves `K x = f` with the dofs `held` also held at zero (their rows dropped).
-fn solve_with_extra_supports(
+pub(crate) fn solve_with_extra_supports(
     assembled: &AssembledModel,
     held: &[usize],
     loads: &Mat<f64>,

@@ -370,3 +370,39 @@ fn door_with_the_seeds_supports_reduces_to_the_seeds_mode_sets() {
         }
     }
 }
+
+/// The geometric stiffness of the unit inertia loads (formulation.md §11) on a cantilever along x
+/// (40 elements, consistent mass): spun about z (`centrifugal[zz]`), the first bending pair's
+/// `φᵀ G φ` (mass-normalized `φ`) is Southwell's coefficient 1.193 (Hodges and Rutkowski's table: 1.192 between
+/// ν = 0 and 1); spun about its own axis x, the beam carries no axial force (`centrifugal[xx]` = 0);
+/// accelerated along x, the clamp pushes it: `acceleration[x]` softens. A file without the terms
+/// (written before them) still reads, without them; a plate (shells) gets none.
+#[test]
+fn geometric_stiffness_of_the_inertia_loads_gives_southwells_coefficient() {
+    let section = square_section(0.01);
+    let mut model = cantilever(1.0, 40, section.clone());
+    model.options.mass = MassModel::Consistent;
+    model.options.rotary_inertia = true;
+    let body = reduce(&model, "arm", &settings("2N", Basis::Orthonormal)).unwrap().body;
+    let terms = body.geometric_stiffness.as_ref().expect("a beam body has the terms");
+    assert_eq!((terms.acceleration.len(), terms.angular_acceleration.len(), terms.centrifugal.len()), (3, 3, 6));
+    // Mass-normalized modes: ω² = ω₀² + (φᵀ G_zz φ) Ω², so the entry is the coefficient itself.
+    let southwell = 0.5 * (terms.centrifugal[2][(0, 0)] + terms.centrifugal[2][(1, 1)]);
+    assert!((southwell / 1.1935 - 1.0).abs() < 2e-3, "Southwell coefficient {southwell}");
+    assert!(terms.centrifugal[0].amax() < 1e-9 * terms.centrifugal[2].amax());
+    assert!(terms.acceleration[0][(0, 0)] < 0.0 && terms.acceleration[0][(1, 1)] < 0.0);
+
+    let mut json: serde_json::Value = serde_json::from_str(&body.to_json()).unwrap();
+    json.as_object_mut().unwrap().remove("geometric_stiffness");
+    let older = FlexibleBody::from_json(&json.to_string(), "older.json").unwrap();
+    assert!(older.geometric_stiffness.is_none());
+    let mut wrong: serde_json::Value = serde_json::from_str(&body.to_json()).unwrap();
+    wrong["geometric_stiffness"]["centrifugal"].as_array_mut().unwrap().pop();
+    let error = FlexibleBody::from_json(&wrong.to_string(), "wrong.json").unwrap_err().to_string();
+    assert!(error.contains("geometric_stiffness.centrifugal has 5 matrices, expected 6"), "{error}");
+
+    let (mut plate_model, _) = plate(1.0, 0.5, 0.01, 4, 2, ShellShape::Quadrilateral);
+    plate_model.supports.push(flexmb_fem::Support { node: 0, dofs: flexmb_fem::DofSet::ALL });
+    let plate_body = reduce(&plate_model, "plate", &settings("2N", Basis::Orthonormal)).unwrap().body;
+    assert!(plate_body.geometric_stiffness.is_none());
+}

@@ -1,7 +1,8 @@
 //! From the preprocessor's flexible-body file to the engine's modal body: the invariants, modal
-//! stiffness and damping, and the nodes where markers attach.
+//! stiffness and damping, the geometric stiffness of the unit inertia loads (when the file has it),
+//! and the nodes where markers attach.
 
-use flexmb::body::{ModalBody, ModalDamping, ModalInvariants, ModalNode};
+use flexmb::body::{ModalBody, ModalDamping, ModalGeometricStiffness, ModalInvariants, ModalNode};
 use flexmb_fem::reduction::FlexibleBody;
 use nalgebra::{DMatrix, DVector, Matrix3xX};
 
@@ -44,6 +45,9 @@ pub fn modal_body(body: &FlexibleBody, damping: &ModalDamping) -> Result<ModalBo
         mode_labels: body.modes.iter().map(|mode| mode.label.clone()).collect(),
         initial_coordinates: DVector::zeros(m),
         initial_rates: DVector::zeros(m),
+        geometric_stiffness: body.geometric_stiffness.as_ref().map(|g| ModalGeometricStiffness {
+            inertia_cases: g.acceleration.iter().chain(&g.angular_acceleration).chain(&g.centrifugal).cloned().collect(),
+        }),
     };
     modal.damping = modal.damping_matrix(damping).map_err(|e| e.to_string())?;
     Ok(modal)

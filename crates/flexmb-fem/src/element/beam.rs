@@ -35,7 +35,11 @@
 //! `ρ Iy` about y and `ρ Iz` about z per length (Rayleigh's rotary inertia; the translations
 //! already hold the rest). A Timoshenko beam uses the same field for its mass.
 
+mod geometric_stiffness;
+
 use nalgebra::{DMatrix, Matrix3, Matrix6, Vector3};
+
+pub use geometric_stiffness::{axial_force, beam_geometric_stiffness};
 
 use super::validate::{positive, Elastic};
 use super::{gauss_legendre_4, ElementError, ElementMatrices, MassPoint, NodalMass};

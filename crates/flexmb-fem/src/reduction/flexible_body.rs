@@ -6,6 +6,7 @@ use std::path::Path;
 use nalgebra::{DMatrix, Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
 
+use super::geometric_stiffness::GeometricStiffness;
 use super::invariants::InertiaInvariants;
 use crate::mesh::MassModel;
 use super::serde_matrix;
@@ -145,6 +146,11 @@ pub struct FlexibleBody {
     pub rigid_modes: usize,
     /// Mass, centre of mass and inertia of the undeformed body.
     pub mass_properties: BodyMassProperties,
+    /// The modal geometric stiffness of the unit inertia loads (formulation.md §11), for the
+    /// engine's geometric stiffening; absent in files written before it and for bodies with
+    /// elements other than beams.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub geometric_stiffness: Option<GeometricStiffness>,
 }
 
 /// A problem reading or writing a flexible-body file.
@@ -261,6 +267,9 @@ impl FlexibleBody {
         square("invariants.c9", &self.invariants.c9)?;
         if self.invariants.c4.len() != m || self.invariants.c5.len() != m || self.invariants.c7.len() != m {
             return Err(format!("invariants C4, C5, C7 must have {m} entries"));
+        }
+        if let Some(terms) = &self.geometric_stiffness {
+            terms.validate(m)?;
         }
         if let Some(e) = self.elements.iter().find(|e| e.nodes.iter().any(|&i| i >= n)) {
             return Err(format!("element {} refers to a node index beyond the {n} nodes", e.label));

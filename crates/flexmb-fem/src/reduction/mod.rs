@@ -3,6 +3,7 @@
 //! stiffness, the inertia invariants, and the flexible-body file that holds them.
 
 mod flexible_body;
+mod geometric_stiffness;
 mod invariants;
 mod mode_set;
 mod serde_matrix;
@@ -14,6 +15,7 @@ pub use flexible_body::{
     Basis, BodyElement, BodyFileError, BodyMassProperties, BodyNode, FlexibleBody, ModeInfo, ModeKind, ModeShape,
     FORMAT, VERSION,
 };
+pub use geometric_stiffness::{GeometricStiffness, CENTRIFUGAL_CASES};
 pub use invariants::InertiaInvariants;
 pub use mode_set::{ModeGroup, ModeSet};
 
@@ -172,7 +174,7 @@ pub fn reduce(model: &FeModel, name: &str, settings: &ReductionSettings) -> Resu
             .map(|(j, f)| ModeInfo { label: format!("O{}", j + 1), kind: ModeKind::Orthonormal, frequency_hz: Some(*f), load: None })
             .collect();
     }
-    let body = flexible_body(
+    let mut body = flexible_body(
         model,
         assembled,
         name,
@@ -183,6 +185,7 @@ pub fn reduce(model: &FeModel, name: &str, settings: &ReductionSettings) -> Resu
         reduced_frequencies_hz,
         &fe_modes,
     )?;
+    body.geometric_stiffness = geometric_stiffness::geometric_stiffness(model, assembled, rigid, &nodal_modes(assembled, &basis))?;
     Ok(Reduction { body, fe_modes, static_modes, basis_independence, warnings })
 }
 
@@ -282,6 +285,11 @@ fn reduced_eigenproblem(mass: &Mat<f64>, stiffness: &Mat<f64>) -> Result<(Vec<f6
     Ok((values, x))
 }
 
+/// Every mode of `basis` (over the free dofs) over all `6 n_nodes` nodal dofs.
+fn nodal_modes(assembled: &AssembledModel, basis: &Mat<f64>) -> Vec<Vec<f64>> {
+    (0..basis.ncols()).map(|j| assembled.dofs.expand(&(0..basis.nrows()).map(|i| basis[(i, j)]).collect::<Vec<_>>())).collect()
+}
+
 fn to_nalgebra(m: &Mat<f64>) -> DMatrix<f64> {
     DMatrix::from_fn(m.nrows(), m.ncols(), |i, j| m[(i, j)])
 }
@@ -300,8 +308,7 @@ fn flexible_body(
 ) -> Result<FlexibleBody, FemError> {
     let mesh = &model.mesh;
     let m = basis.ncols();
-    let nodal: Vec<Vec<f64>> =
-        (0..m).map(|j| assembled.dofs.expand(&(0..basis.nrows()).map(|i| basis[(i, j)]).collect::<Vec<_>>())).collect();
+    let nodal = nodal_modes(assembled, basis);
     let shapes: Vec<ModeShape> = nodal
         .iter()
         .map(|v| ModeShape {
@@ -363,5 +370,6 @@ fn flexible_body(
             center_of_mass: properties.center_of_mass,
             inertia: properties.inertia,
         },
+        geometric_stiffness: None,
     })
 }

@@ -128,6 +128,7 @@ pub(crate) struct FlexibleBodySection {
     pub basis: Option<Name>,
     pub damping: Option<Spanned<DampingSection>>,
     pub high_mode_damping: Option<Spanned<HighModeDampingSection>>,
+    pub geometric_stiffening: Option<bool>,
     pub position: Option<Vector>,
     pub orientation: Option<Spanned<OrientationSection>>,
     pub velocity: Option<Vector>,

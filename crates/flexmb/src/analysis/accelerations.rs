@@ -11,7 +11,7 @@
 use crate::data::Data;
 use crate::linalg::{SingularMatrix, SparseLu};
 use crate::model::{Model, SizeCheck, SizeMismatch};
-use crate::stage::{body_mass_entries, run_force_stages, jacobian_entries, run_kinematic_stages};
+use crate::stage::{inertia_jacobian_entries, jacobian_entries, run_force_stages, run_kinematic_stages};
 
 /// Result of an acceleration solve.
 #[derive(Clone, Debug)]
@@ -62,7 +62,7 @@ impl KktMatrix {
         for b in 0..model.bodies.len() {
             let vo = model.layout.v_offset[b];
             let lu = &mut self.lu;
-            body_mass_entries(model, data, b, |r, c, m| lu.add(vo + r, vo + c, m));
+            inertia_jacobian_entries(model, data, b, |r, c, m| lu.add(vo + r, vo + c, m));
         }
         let lu = &mut self.lu;
         jacobian_entries(model, data, |r, c, x| {

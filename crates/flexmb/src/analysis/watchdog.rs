@@ -143,6 +143,10 @@ pub struct Deflection {
     pub angular_velocity: f64,
     /// The lowest natural frequency of the body's reduced model (rad/s), if it has one.
     pub lowest_frequency: Option<f64>,
+    /// Whether the body has geometric stiffening (then its spin stiffens it and does not explain a
+    /// large deflection).
+    #[serde(default)]
+    pub geometric_stiffening: bool,
 }
 
 impl Deflection {
@@ -160,12 +164,13 @@ impl Deflection {
             self.threshold
         );
         match self.lowest_frequency {
-            Some(w1) if self.angular_velocity >= 0.5 * w1 => s += &format!(
+            Some(w1) if self.angular_velocity >= 0.5 * w1 && !self.geometric_stiffening => s += &format!(
                 "The body turns at {:.3} rad/s, {} its lowest modal frequency {:.3} rad/s ({:.3} Hz): a modal body is a linear \
-                 model without geometric (centrifugal) stiffening, so spinning it softens its bending modes instead of \
-                 stiffening them, and near or above that frequency its deflection grows without bound. Split it into \
-                 several flexible bodies joined together, keep its speed well below {:.3} rad/s, or model it as a \
-                 nonlinear beam.",
+                 model, here without geometric (centrifugal) stiffening (its flexible-body file has no geometric-stiffness \
+                 terms, or `geometric_stiffening = false`), so spinning it softens its bending modes instead of \
+                 stiffening them, and near or above that frequency its deflection grows without bound. Turn geometric \
+                 stiffening on (a beam model reduced by this version has the terms), split it into several flexible \
+                 bodies joined together, keep its speed well below {:.3} rad/s, or model it as a nonlinear beam.",
                 self.angular_velocity,
                 if self.angular_velocity >= w1 { "above" } else { "more than half" },
                 w1,
@@ -483,6 +488,7 @@ impl Watchdog {
                 threshold,
                 angular_velocity,
                 lowest_frequency: extent.lowest_frequency,
+                geometric_stiffening: modal.geometric_stiffness.is_some(),
             };
             let fraction = deflection / extent.size;
             if measures.largest_deflection.as_ref().is_none_or(|d| fraction > d.deflection / d.size) {

@@ -93,6 +93,7 @@ fn deflection(angular_velocity: f64) -> Deflection {
         threshold: 0.5,
         angular_velocity,
         lowest_frequency: Some(3.8),
+        geometric_stiffening: false,
     }
 }
 
@@ -104,11 +105,13 @@ fn a_deflection_is_explained_by_the_spin_when_the_body_turns_fast() {
         "[simulation] elastic_deflection_limit = 0.5",
         "turns at 4.500 rad/s, above its lowest modal frequency 3.800 rad/s",
         "without geometric (centrifugal) stiffening",
-        "Split it into several flexible bodies",
+        "split it into several flexible bodies",
     ] {
         assert!(spinning.contains(part), "{part}: {spinning}");
     }
     assert!(deflection(2.0).describe("x").contains("more than half its lowest modal frequency"));
+    let stiffened = Deflection { geometric_stiffening: true, ..deflection(4.5) }.describe("x");
+    assert!(!stiffened.contains("centrifugal") && stiffened.contains("small elastic displacements only"), "{stiffened}");
     let slow = deflection(0.1).describe("elastic_deflection_warning");
     assert!(!slow.contains("centrifugal") && slow.contains("small elastic displacements only"), "{slow}");
 }

@@ -1,11 +1,13 @@
 //! Bodies and the markers fixed on them: rigid bodies, and flexible bodies in modal form (a rigid
 //! body whose frame carries modal coordinates).
 
+mod geometric_stiffness;
 mod high_mode_damping;
 mod marker;
 mod modal;
 mod rigid;
 
+pub use geometric_stiffness::{inertia_load_factors, ModalGeometricStiffness, INERTIA_CASES};
 pub use high_mode_damping::HighModeDamping;
 pub use marker::Marker;
 pub use modal::{LumpedNode, ModalBody, ModalDamping, ModalError, ModalInvariants, ModalNode};

@@ -8,6 +8,7 @@
 use nalgebra::{DMatrix, DVector, Matrix3xX};
 
 use crate::math::{Mat3, Vec3};
+use super::ModalGeometricStiffness;
 
 /// The inertia invariants of a flexible body (formulation.md §3), with `m` modes.
 #[derive(Clone, Debug, PartialEq)]
@@ -225,6 +226,9 @@ pub struct ModalBody {
     pub initial_coordinates: DVector<f64>,
     /// Initial modal rates `ȧ(0)` (default zero).
     pub initial_rates: DVector<f64>,
+    /// The geometric stiffening of its unit inertia loads, added to the modal equations when
+    /// present (`None`: the body keeps its unstressed stiffness).
+    pub geometric_stiffness: Option<ModalGeometricStiffness>,
 }
 
 impl ModalBody {
@@ -247,6 +251,7 @@ impl ModalBody {
             mode_labels: (1..=m).map(|j| format!("M{j}")).collect(),
             initial_coordinates: DVector::zeros(m),
             initial_rates: DVector::zeros(m),
+            geometric_stiffness: None,
         })
     }
 

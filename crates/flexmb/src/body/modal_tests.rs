@@ -7,7 +7,8 @@
 //! - joint equations at nodes: `B` against finite differences of `Φ`, `Φ̇ = B v + Φ_t`, and
 //!   `Φ̈ = B v̇ + bias`;
 //! - a flexible body without modes moves exactly as the rigid body of the same mass properties;
-//! - a free, undamped flexible body keeps linear and angular momentum and total energy.
+//! - a free, undamped flexible body keeps linear and angular momentum and total energy;
+//! - geometric stiffening adds `Σ f_k G_k a` and its exact acceleration columns.
 
 use nalgebra::{DMatrix, DVector, Matrix3xX};
 
@@ -355,6 +356,7 @@ fn a_flexible_body_without_modes_moves_like_the_rigid_body() {
                 mode_labels: vec![],
                 initial_coordinates: DVector::zeros(0),
                 initial_rates: DVector::zeros(0),
+                geometric_stiffness: None,
             };
             b.add_flexible_body("link", initial.clone(), modal).unwrap()
         } else {
@@ -557,4 +559,69 @@ fn high_mode_damping_damps_only_the_modes_above_its_cutoff() {
     assert!(HighModeDamping::above(100.0).validate().is_ok());
     let negative = HighModeDamping { above_hz: 100.0, ratio: -0.5 };
     assert!(matches!(body.high_mode_damping_matrix(&negative), Err(crate::body::ModalError::HighModeDamping(m)) if m.contains("negative")));
+}
+
+/// Geometric stiffening (formulation.md §11) on a random body with random symmetric `G_k`, in
+/// gravity: the inertia forces gain exactly `Σ f_k G_k a` with the factors computed here from
+/// `ā = Aᵀ(R̈ − g)`, `ω̄̇`, `ω̄`, and `inertia_jacobian_entries` is their derivative in `v̇` (central
+/// differences; the forces are linear in `v̇`).
+#[test]
+fn geometric_stiffening_adds_its_term_and_its_acceleration_columns() {
+    use crate::body::ModalGeometricStiffness;
+    use crate::stage::inertia_jacobian_entries;
+    let mut rng = Lcg(0xf1e5_0020);
+    let m = 3;
+    let nodes = random_nodes(&mut rng, 6, m, true);
+    let plain = modal_body(&nodes, m, &mut rng);
+    let cases: Vec<DMatrix<f64>> = (0..12)
+        .map(|_| {
+            let r = DMatrix::from_fn(m, m, |_, _| rng.range(-1.0, 1.0));
+            &r + r.transpose()
+        })
+        .collect();
+    let gravity = Vec3::new(0.3, -9.81, 1.2);
+    let build = |body: ModalBody| {
+        let mut b = ModelBuilder::new("stiffened").gravity(gravity);
+        b.add_flexible_body("flex", InitialState::default(), body).unwrap();
+        b.build().unwrap()
+    };
+    let stiffened = build(ModalBody { geometric_stiffness: Some(ModalGeometricStiffness { inertia_cases: cases.clone() }), ..plain.clone() });
+    let unstiffened = build(plain);
+    let (q, v, vdot) = random_state(&stiffened, &mut rng);
+    let forces = |model: &Model, vdot: &[f64]| {
+        let mut data = Data::new(model);
+        kinematics(model, &mut data, &q, &v);
+        inertia_forces(model, &mut data, vdot);
+        data.inertia.clone()
+    };
+    let (with, without) = (forces(&stiffened, &vdot), forces(&unstiffened, &vdot));
+    let rotation = rotation_matrix(&Vec4::from_column_slice(&q[3..7]));
+    let a_bar = rotation.transpose() * (Vec3::from_column_slice(&vdot[0..3]) - gravity);
+    let (wd, w) = (Vec3::from_column_slice(&vdot[3..6]), Vec3::from_column_slice(&v[3..6]));
+    let factors = [a_bar.x, a_bar.y, a_bar.z, wd.x, wd.y, wd.z, w.x * w.x, w.y * w.y, w.z * w.z, w.x * w.y, w.y * w.z, w.z * w.x];
+    let a = DVector::from_column_slice(&q[7..7 + m]);
+    let expected = cases.iter().zip(factors).fold(DVector::zeros(m), |sum, (g, f)| sum + g * &a * f);
+    for k in 0..6 + m {
+        let added = with[k] - without[k];
+        let reference = if k < 6 { 0.0 } else { expected[k - 6] };
+        assert!((added - reference).abs() < 1e-12 * (1.0 + reference.abs()), "row {k}: {added} against {reference}");
+    }
+    let n = 6 + m;
+    let mut jacobian = DMatrix::<f64>::zeros(n, n);
+    let mut data = Data::new(&stiffened);
+    kinematics(&stiffened, &mut data, &q, &v);
+    inertia_jacobian_entries(&stiffened, &data, 0, |r, c, x| jacobian[(r, c)] += x);
+    let h = 1e-4;
+    let mut worst = 0.0_f64;
+    for c in 0..n {
+        let (mut plus, mut minus) = (vdot.clone(), vdot.clone());
+        plus[c] += h;
+        minus[c] -= h;
+        let (fp, fm) = (forces(&stiffened, &plus), forces(&stiffened, &minus));
+        for r in 0..n {
+            worst = worst.max(((fp[r] - fm[r]) / (2.0 * h) - jacobian[(r, c)]).abs());
+        }
+    }
+    assert!(worst < 1e-9 * jacobian.amax(), "∂(inertia forces)/∂v̇ against central differences: {worst:.2e}");
+    assert!((0..m).any(|j| jacobian[(6 + j, 0)] != jacobian[(0, 6 + j)]), "the stiffening columns make it non-symmetric");
 }

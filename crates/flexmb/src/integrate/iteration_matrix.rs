@@ -16,7 +16,7 @@ use crate::data::Data;
 use super::CheckpointError;
 use crate::linalg::{greedy_colouring, perturbation, InvalidPivots, SingularMatrix, SparseLu};
 use crate::model::{Coupling, Model};
-use crate::stage::{body_mass_entries, multiplier_jacobian_entries, residual, YLayout};
+use crate::stage::{inertia_jacobian_entries, multiplier_jacobian_entries, residual, YLayout};
 
 /// Iteration matrix with stored derivative parts and reusable LU factors.
 pub(crate) struct IterationMatrix {
@@ -164,7 +164,7 @@ impl IterationMatrix {
             }
             let v0 = yl.v.start + model.layout.v_offset[b];
             let (lu, f_yp) = (&self.lu, &mut self.f_yp);
-            body_mass_entries(model, data, b, |r, c, m| {
+            inertia_jacobian_entries(model, data, b, |r, c, m| {
                 let s = lu.slot(v0 + r, v0 + c).expect("mass block is in the pattern");
                 f_yp[s] += m;
             });

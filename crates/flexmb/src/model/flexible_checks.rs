@@ -36,6 +36,14 @@ pub(super) fn check_flexible_body(body: &RigidBody, modal: &ModalBody) -> Result
     if inv.c5.len() != m * m || modal.stiffness.ncols() != m || modal.damping.ncols() != m || inv.rotary_modal_mass.nrows() != m {
         return Err(bad(name, format!("C5, the modal stiffness, damping and rotary modal mass must be {m}×{m}")));
     }
+    if let Some(terms) = &modal.geometric_stiffness {
+        if terms.inertia_cases.len() != crate::body::INERTIA_CASES || terms.inertia_cases.iter().any(|g| g.shape() != (m, m)) {
+            return Err(bad(name, format!("the geometric stiffness must hold {} matrices of {m}×{m}", crate::body::INERTIA_CASES)));
+        }
+        if !terms.inertia_cases.iter().all(|g| g.iter().all(|x| x.is_finite())) {
+            return Err(bad(name, "the geometric stiffness is not finite".into()));
+        }
+    }
     if let Some(k) = modal.nodes.iter().position(|n| n.psi.ncols() != m || n.theta.ncols() != m) {
         return Err(bad(name, format!("node {} has mode shapes of the wrong size", modal.nodes[k].label)));
     }

@@ -16,6 +16,7 @@
 //! with `S = C1 + C2 a`, `Eⱼ = Σₖ aₖ C5(j,k)`, `Cₚ = C6 + Σₖ C7(k) aₖ + Σ Jᵢ Θᵢ`, `M_aa = C9 + Σ Θᵢᵀ Jᵢ Θᵢ`
 //! (the last terms are the nodes' own rotary inertia, zero unless the FE model lumps it).
 
+use super::geometric_stiffening::{add_geometric_stiffening, geometric_stiffening_entries};
 use crate::data::Data;
 use crate::math::{skew, Mat3, Vec3};
 use crate::model::Model;
@@ -56,7 +57,17 @@ pub(crate) fn body_mass_entries(model: &Model, data: &Data, b: usize, mut f: imp
     }
 }
 
-/// Fills `data.inertia` with `M v̇ + h(q, v)` (after the kinematics stage).
+/// Calls `f(r, c, value)` for every entry of `∂(inertia forces)/∂v̇` of body `b`: its mass matrix
+/// ([`body_mass_entries`]) and, for a body with geometric stiffening, the derivative of `K_G a` in
+/// the accelerations. The matrix of the acceleration solve, the Newton iterations and the
+/// linearization; the kinetic energy and the momenta use the mass matrix alone.
+pub(crate) fn inertia_jacobian_entries(model: &Model, data: &Data, b: usize, mut f: impl FnMut(usize, usize, f64)) {
+    body_mass_entries(model, data, b, &mut f);
+    geometric_stiffening_entries(model, data, b, f);
+}
+
+/// Fills `data.inertia` with `M v̇ + h(q, v)` (after the kinematics stage), and the geometric
+/// stiffening `K_G a` of flexible bodies that have it.
 pub(crate) fn inertia_forces(model: &Model, data: &mut Data, vdot: &[f64]) {
     for (b, body) in model.bodies.iter().enumerate() {
         let o = model.layout.v_offset[b];
@@ -114,5 +125,6 @@ pub(crate) fn inertia_forces(model: &Model, data: &mut Data, vdot: &[f64]) {
             row += w.dot(&((inv.c4[p].transpose() + ms.c5a[p]) * w));
             data.inertia[o + 6 + p] = row;
         }
+        add_geometric_stiffening(model, data, b, vdot);
     }
 }

@@ -6,9 +6,9 @@
 //! this is the seed's `A (I + θ̃) Ā`; unlike that, it keeps the marker axes orthonormal, so every joint
 //! primitive and its Jacobian stay exact.
 
-use nalgebra::{DVector, Matrix3xX};
+use nalgebra::{DMatrix, DVector, Matrix3xX};
 
-use crate::body::ModalBody;
+use crate::body::{ModalBody, INERTIA_CASES};
 use crate::math::{skew, Mat3, Vec3};
 use crate::model::Model;
 use crate::stage::MarkerState;
@@ -29,6 +29,9 @@ pub struct ModalState {
     pub coupling: Matrix3xX<f64>,
     /// `Eⱼ = Σₖ aₖ C5(j,k)`.
     pub c5a: Vec<Mat3>,
+    /// `G_k a` (m × 12), column k for the k-th unit inertia case of the body's geometric stiffness;
+    /// zero without one.
+    pub stiffening_columns: DMatrix<f64>,
 }
 
 impl ModalState {
@@ -40,6 +43,7 @@ impl ModalState {
             inertia: Mat3::zeros(),
             coupling: Matrix3xX::zeros(modes),
             c5a: vec![Mat3::zeros(); modes],
+            stiffening_columns: DMatrix::zeros(modes, INERTIA_CASES),
         }
     }
 
@@ -67,6 +71,13 @@ impl ModalState {
             }
         }
         self.inertia = -j + inv.rotary_inertia;
+        if let Some(terms) = &body.geometric_stiffness {
+            for (k, g) in terms.inertia_cases.iter().enumerate() {
+                for r in 0..m {
+                    self.stiffening_columns[(r, k)] = (0..m).map(|c| g[(r, c)] * a[c]).sum();
+                }
+            }
+        }
     }
 }
 

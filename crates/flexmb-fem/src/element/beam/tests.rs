@@ -357,3 +357,54 @@ fn consistent_mass_points_give_przemieniecki_consistent_mass() {
         }
     }
 }
+
+/// Euler buckling of an oblique cantilever of 16 elements: the smallest loads `P` with
+/// `(K − P K_geo(N = 1)) φ = 0` are `π² E I / (4 L²)` for `Iy` and for `Iz` (Timoshenko and Gere,
+/// *Theory of Elastic Stability*, 1961, §2.1), to the discretization error of cubic elements.
+#[test]
+fn geometric_stiffness_gives_the_euler_buckling_loads_of_a_cantilever() {
+    let (a, b, orientation, _) = oblique_beam();
+    let s = section(orientation, None);
+    let n = 16;
+    let size = 6 * (n + 1);
+    let (mut k, mut kg) = (nalgebra::DMatrix::<f64>::zeros(size, size), nalgebra::DMatrix::<f64>::zeros(size, size));
+    for e in 0..n {
+        let pa = a + (b - a) * (e as f64 / n as f64);
+        let pb = a + (b - a) * ((e + 1) as f64 / n as f64);
+        let ke = beam_matrices(&pa, &pb, &s, &steel(), &options(false)).unwrap().stiffness;
+        let ge = beam_geometric_stiffness(&pa, &pb, &s, 1.0).unwrap();
+        for r in 0..12 {
+            for c in 0..12 {
+                k[(6 * e + r, 6 * e + c)] += ke[(r, c)];
+                kg[(6 * e + r, 6 * e + c)] += ge[(r, c)];
+            }
+        }
+    }
+    // Clamp node 0.
+    let k = k.view((6, 6), (size - 6, size - 6)).into_owned();
+    let kg = kg.view((6, 6), (size - 6, size - 6)).into_owned();
+    let l = k.cholesky().unwrap().l();
+    let l_inv = l.try_inverse().unwrap();
+    let reduced: nalgebra::DMatrix<f64> = &l_inv * kg * l_inv.transpose();
+    let mut mu: Vec<f64> = nalgebra::SymmetricEigen::new((&reduced + reduced.transpose()) * 0.5).eigenvalues.iter().copied().collect();
+    mu.sort_by(|x, y| y.total_cmp(x));
+    let length = (b - a).norm();
+    let euler = |i: f64| std::f64::consts::PI.powi(2) * E * i / (4.0 * length * length);
+    assert!((1.0 / mu[0] / euler(s.iy) - 1.0).abs() < 1e-4, "{} vs {}", 1.0 / mu[0], euler(s.iy));
+    assert!((1.0 / mu[1] / euler(s.iz) - 1.0).abs() < 1e-4, "{} vs {}", 1.0 / mu[1], euler(s.iz));
+}
+
+/// The axial force of a stretched beam is `E A δ / L` whatever its orientation; a transverse motion
+/// gives none.
+#[test]
+fn axial_force_is_the_stretch_along_the_axis() {
+    let (a, b, orientation, axes) = oblique_beam();
+    let s = section(orientation, None);
+    let x: Vector3<f64> = axes.row(0).transpose();
+    let y: Vector3<f64> = axes.row(1).transpose();
+    let length = (b - a).norm();
+    let stretch = axial_force(&a, &b, &s, &steel(), &Vector3::zeros(), &(1e-4 * x)).unwrap();
+    assert!((stretch / (E * s.area * 1e-4 / length) - 1.0).abs() < 1e-12);
+    let sideways = axial_force(&a, &b, &s, &steel(), &Vector3::zeros(), &(1e-4 * y)).unwrap();
+    assert!(sideways.abs() < 1e-9 * stretch);
+}

@@ -345,6 +345,15 @@ impl Table<'_> {
             }
             modal.damping += matrix;
         }
+        match self.f.geometric_stiffening {
+            Some(false) => modal.geometric_stiffness = None,
+            Some(true) if modal.geometric_stiffness.is_none() => warnings.push(
+                "geometric_stiffening = true, but the body has no geometric-stiffness terms (a body with shells, or a \
+                 flexible-body file written before them): it keeps its unstressed stiffness"
+                    .to_string(),
+            ),
+            _ => {}
+        }
         modal.initial_coordinates = self.modal_vector(&self.f.modal_coordinates, "modal_coordinates", &labels)?;
         modal.initial_rates = self.modal_vector(&self.f.modal_rates, "modal_rates", &labels)?;
         Ok(modal)

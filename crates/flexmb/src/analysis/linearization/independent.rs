@@ -56,7 +56,8 @@ pub struct IndependentCoordinates {
 /// The linear equations of motion in independent coordinates.
 #[derive(Clone, Debug)]
 pub struct ReducedLinearization {
-    /// `M_z`, `n × n`, symmetric positive definite.
+    /// `M_z`, `n × n`, positive definite; symmetric but for the acceleration columns of a flexible
+    /// body's geometric stiffening.
     pub mass: Mat<f64>,
     /// `C_z`, `n × n`: damping, gyroscopic and Coriolis terms.
     pub damping: Mat<f64>,

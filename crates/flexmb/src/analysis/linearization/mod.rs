@@ -29,12 +29,13 @@ use super::{Accelerations, State};
 use crate::data::Data;
 use crate::stage::retract;
 use crate::model::{Model, SizeCheck, SizeMismatch};
-use crate::stage::{body_mass_entries, jacobian_entries, run_kinematic_stages};
+use crate::stage::{inertia_jacobian_entries, jacobian_entries, run_kinematic_stages};
 
 /// The equations of motion linearized at one state (matrices in velocity coordinates: `nv` columns).
 #[derive(Clone, Debug)]
 pub struct Linearization {
-    /// `M`, `nv × nv`.
+    /// `M = ∂g/∂v̇`, `nv × nv`: the mass matrix, and for a flexible body with geometric stiffening the
+    /// (non-symmetric) acceleration columns of `K_G a`.
     pub mass: Mat<f64>,
     /// `C = ∂g/∂v`, `nv × nv`: viscous forces, gyroscopic and Coriolis terms.
     pub damping: Mat<f64>,
@@ -91,7 +92,7 @@ pub(crate) fn linearize_at(model: &Model, data: &mut Data, state: &State, acc: &
     let mut mass = Mat::zeros(l.nv, l.nv);
     for b in 0..model.bodies.len() {
         let vo = l.v_offset[b];
-        body_mass_entries(model, data, b, |r, c, m| mass[(vo + r, vo + c)] += m);
+        inertia_jacobian_entries(model, data, b, |r, c, m| mass[(vo + r, vo + c)] += m);
     }
     let mut constraint_jacobian = Mat::zeros(l.nc, l.nv);
     jacobian_entries(model, data, |row, col, x| {

@@ -6,7 +6,7 @@
 //! │ B + (β'h/γ') K_B J       0     (β'h/γ') K_B J Bᵀ │    β' = β (1 − α_f)/(1 − α_m),  γ' = γ (1 − α_f)/(1 − α_m)
 //! └ B J                      0     B J Bᵀ           ┘
 //! ```
-//! `M` (from `body_mass_entries`) and `B` (from `jacobian_entries`) are exact, evaluated afresh at the
+//! `M` (from `inertia_jacobian_entries`: the mass matrix and the geometric stiffening's acceleration columns) and `B` (from `jacobian_entries`) are exact, evaluated afresh at the
 //! predictor of every step attempt. `K = ∂g/∂q` and `C = ∂g/∂v` of `g = M v̇ + h(q, v) − Q + Bᵀλ`, and
 //! `K_B = ∂(B v + Φ_t)/∂q`, are the linearization's
 //! ([`SparseLinearization`](crate::analysis::SparseLinearization): coloured finite differences, positions perturbed in velocity space like the step's own update); they are
@@ -29,7 +29,7 @@ use crate::integrate::iteration_matrix::keep_checkpoint_pivots;
 use crate::linalg::{SingularMatrix, SparseLu};
 use crate::math::{Mat3, Vec3};
 use crate::model::{Coupling, Model};
-use crate::stage::{body_mass_entries, jacobian_entries};
+use crate::stage::{inertia_jacobian_entries, jacobian_entries};
 
 /// The iteration matrix on its fixed sparse pattern, with the stored finite-difference parts.
 pub(crate) struct IterationMatrix {
@@ -180,7 +180,7 @@ impl IterationMatrix {
         for b in 0..model.bodies.len() {
             let vo = l.v_offset[b];
             let lu = &mut self.lu;
-            body_mass_entries(model, data, b, |r, col, m| lu.add(vo + r, vo + col, m));
+            inertia_jacobian_entries(model, data, b, |r, col, m| lu.add(vo + r, vo + col, m));
         }
         // B: velocity rows and λ columns as it is, position rows as B J.
         self.b_val.fill(0.0);
