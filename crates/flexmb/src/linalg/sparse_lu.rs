@@ -27,10 +27,11 @@ use super::dense_lu::DenseLu;
 use super::lu_refactorization::{InvalidPivots, LuFactors};
 
 /// Largest dimension of a matrix factored afresh ([`SparseLu::new`]) that is factored dense: about
-/// where the two cost the same. Generalized-α on the chain of spherical rods, instructions per step
-/// (valgrind, the steps between t = 0.05 and 0.1 s at rtol 1e-8): at 96 unknowns (8 rods) dense
-/// 1.30 M, sparse 2.11 M; at 192 (16 rods) dense 4.22 M, sparse 4.42 M.
-pub const DENSE_LIMIT: usize = 200;
+/// where the two cost the same. The Adams method on the chain of spherical rods (its accelerations'
+/// KKT matrix, 9 unknowns per rod; rtol = atol = 3e-9, 0.1 s, valgrind lackey, instructions of the run
+/// less those of its start): at 72 unknowns (8 rods) dense 37.3 M, sparse 45.1 M; at 144 (16 rods)
+/// dense 130.3 M, sparse 85.2 M. The crossover lies between; the limit was 200 before.
+pub const DENSE_LIMIT: usize = 96;
 
 /// Largest dimension of a matrix with kept pivots ([`SparseLu::with_kept_pivots`]) that is factored
 /// dense, afresh each time. Measured on the chain of spherical rods (BDF, rtol = atol = 3e-10, 0.1 s,
