@@ -201,6 +201,12 @@ impl LuFactors {
         self.l_rows.len() + self.u_rows.len() + 2 * self.n
     }
 
+    /// The most columns of one supernode of `L`.
+    #[cfg(test)]
+    pub fn widest_supernode(&self) -> usize {
+        (0..self.n).map(|k| self.supernode_last[k] - k + 1).max().unwrap_or(0)
+    }
+
     /// Multiply–adds of one refactorization: for each column `j`, the entries of `L(:, k)` for every
     /// `k` in `U(:, j)`'s pattern, and the divisions of `L(:, j)`.
     #[cfg(test)]

@@ -442,6 +442,33 @@ mod tests {
         assert_eq!(a.pivoting_factorizations(), 1);
     }
 
+    /// A block-tridiagonal matrix of dense 10 × 10 blocks (a chain's iteration matrix in miniature) has
+    /// supernodes of several columns, which the refactorization takes a run at a time: 10 value sets on
+    /// the kept pivots, each solved to round-off.
+    #[test]
+    fn a_refactorization_by_supernodes_solves_to_round_off() {
+        let (blocks, size): (usize, usize) = (8, 10);
+        let n = blocks * size;
+        let entries: Vec<(usize, usize)> = (0..blocks)
+            .flat_map(|b| (b.saturating_sub(1)..(b + 2).min(blocks)).map(move |c| (b, c)))
+            .flat_map(|(b, c)| (0..size).flat_map(move |i| (0..size).map(move |j| (b * size + i, c * size + j))))
+            .collect();
+        let mut a = SparseLu::with_kept_pivots(n, entries.iter().copied());
+        let mut seed = 11;
+        let b: Vec<f64> = (0..n).map(|k| (k as f64 * 0.29).sin()).collect();
+        for _ in 0..10 {
+            a.clear();
+            for &(r, c) in &entries {
+                a.add(r, c, if r == c { 40.0 } else { uniform(&mut seed) });
+            }
+            a.factor().unwrap();
+            let residual = residual_of_solution(&mut a, &b);
+            assert!(residual < 1e-13, "residual {residual:e}");
+        }
+        assert!(a.kept_factors().unwrap().widest_supernode() >= size, "{}", a.kept_factors().unwrap().widest_supernode());
+        assert_eq!(a.pivoting_factorizations(), 1);
+    }
+
     /// The factors are a function of the kept pivot sequence and the values: a second matrix given the
     /// first's pivots (as a checkpoint gives them) factors the same later values to the same solution,
     /// to the last bit, without a factorization with pivoting.
