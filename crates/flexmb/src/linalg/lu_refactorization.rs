@@ -63,6 +63,12 @@ pub struct LuFactors {
     u_diagonal: Vec<f64>,
     /// The dense column being eliminated (all zeros between calls).
     work: Vec<f64>,
+    /// The last column of each column's supernode: the columns `k..=last` of `L` in which `L(:, m)` is
+    /// `{m + 1} ∪ L(:, m + 1)`, so that they share the rows below the block.
+    supernode_last: Vec<usize>,
+    /// The shared rows of a run of a supernode's columns, gathered dense, and the run's multipliers.
+    shared: Vec<f64>,
+    run: Vec<f64>,
     /// Scratch of the symbolic analysis: the step that last marked each position, the reach, a stack.
     marked: Vec<usize>,
     reach: Vec<usize>,
@@ -141,8 +147,25 @@ impl LuFactors {
             values.reserve(rows.capacity());
             values.resize(rows.len(), 0.0);
         }
+        self.find_supernodes();
         self.loaded = true;
         Ok(())
+    }
+
+    /// The supernodes of `L` ([`supernode_last`](Self::supernode_last)), from its pattern.
+    fn find_supernodes(&mut self) {
+        let n = self.n;
+        let column = |k: usize| &self.l_rows[self.l_start[k]..self.l_start[k + 1]];
+        self.supernode_last.clear();
+        self.supernode_last.resize(n, 0);
+        for k in (0..n).rev() {
+            let continues = k + 1 < n && column(k).first() == Some(&(k + 1)) && column(k)[1..] == *column(k + 1);
+            self.supernode_last[k] = if continues { self.supernode_last[k + 1] } else { k };
+        }
+        self.shared.clear();
+        self.shared.resize(n, 0.0);
+        self.run.clear();
+        self.run.resize(n, 0.0);
     }
 
     /// The positions reached from the rows `rows` of `A` at step `j` (the rows of the column's `L`
@@ -178,6 +201,12 @@ impl LuFactors {
         self.l_rows.len() + self.u_rows.len() + 2 * self.n
     }
 
+    /// The most columns of one supernode of `L`.
+    #[cfg(test)]
+    pub fn widest_supernode(&self) -> usize {
+        (0..self.n).map(|k| self.supernode_last[k] - k + 1).max().unwrap_or(0)
+    }
+
     /// Multiply–adds of one refactorization: for each column `j`, the entries of `L(:, k)` for every
     /// `k` in `U(:, j)`'s pattern, and the divisions of `L(:, j)`.
     #[cfg(test)]
@@ -199,19 +228,36 @@ impl LuFactors {
         let (l_start, l_rows, l_values) = (&self.l_start[..], &self.l_rows[..], &mut self.l_values[..]);
         let (u_start, u_rows, u_values) = (&self.u_start[..], &self.u_rows[..], &mut self.u_values[..]);
         let (work, row_position, u_diagonal) = (&mut self.work[..], &self.row_position[..], &mut self.u_diagonal[..]);
+        let (supernode_last, shared, run) = (&self.supernode_last[..], &mut self.shared[..], &mut self.run[..]);
         for (j, &column) in self.column_order.iter().enumerate() {
             for (&r, &x) in a.row_idx_of_col_raw(column).iter().zip(a.val_of_col(column)) {
                 work[row_position[r]] = x;
             }
-            // x = L(0..j, 0..j)⁻¹ a_j over U(:, j)'s pattern, in increasing pivot order.
-            let column_of_u = u_start[j]..u_start[j + 1];
-            for (&k, u) in u_rows[column_of_u.clone()].iter().zip(&mut u_values[column_of_u]) {
-                let xk = std::mem::replace(&mut work[k], 0.0);
-                *u = xk;
-                let column_of_l = l_start[k]..l_start[k + 1];
-                for (&r, &l) in l_rows[column_of_l.clone()].iter().zip(&l_values[column_of_l]) {
-                    work[r] -= l * xk;
+            // x = L(0..j, 0..j)⁻¹ a_j over U(:, j)'s pattern, in increasing pivot order, a supernode's
+            // run of columns at a time (each row takes the same updates in the same order).
+            let pattern = &u_rows[u_start[j]..u_start[j + 1]];
+            let u_column = &mut u_values[u_start[j]..u_start[j + 1]];
+            let mut i = 0;
+            while i < pattern.len() {
+                let k = pattern[i];
+                let last = supernode_last[k].min(j - 1);
+                let width = last - k + 1;
+                debug_assert!(pattern[i..i + width].iter().copied().eq(k..=last), "a supernode's run is in the reach");
+                let run = &mut run[..width];
+                for m in k..=last {
+                    let xm = std::mem::replace(&mut work[m], 0.0);
+                    u_column[i + m - k] = xm;
+                    run[m - k] = xm;
+                    // The rows m + 1..=last of the run.
+                    let triangle = &l_values[l_start[m]..l_start[m] + (last - m)];
+                    for (w, &l) in work[m + 1..=last].iter_mut().zip(triangle) {
+                        *w -= l * xm;
+                    }
                 }
+                update_shared_rows(work, shared, &l_rows[l_start[last]..l_start[last + 1]], run, |m| {
+                    &l_values[l_start[k + m] + (last - k - m)..l_start[k + m + 1]]
+                });
+                i += width;
             }
             let pivot = std::mem::replace(&mut work[j], 0.0);
             u_diagonal[j] = pivot;
@@ -266,6 +312,35 @@ impl LuFactors {
         for (j, &c) in self.column_order.iter().enumerate() {
             rhs[c] = std::mem::replace(&mut y[j], 0.0);
         }
+    }
+}
+
+/// `work[rows] -= Σ_m column(m) · run[m]` for the rows `rows` that a run of a supernode's columns
+/// shares, each row updated by the columns in order (`column(m)` holds column `m`'s values in those rows)
+/// and a column with a zero multiplier skipped. A run of one column updates `work` in place; a longer one
+/// on a dense copy of the rows (`shared`), so that its inner loops touch contiguous numbers only.
+fn update_shared_rows<'a>(work: &mut [f64], shared: &mut [f64], rows: &[usize], run: &[f64], column: impl Fn(usize) -> &'a [f64]) {
+    if let [x] = run {
+        if *x != 0.0 {
+            for (&r, &l) in rows.iter().zip(column(0)) {
+                work[r] -= l * x;
+            }
+        }
+        return;
+    }
+    let shared = &mut shared[..rows.len()];
+    for (s, &r) in shared.iter_mut().zip(rows) {
+        *s = work[r];
+    }
+    for (m, &x) in run.iter().enumerate() {
+        if x != 0.0 {
+            for (s, &l) in shared.iter_mut().zip(column(m)) {
+                *s -= l * x;
+            }
+        }
+    }
+    for (&s, &r) in shared.iter().zip(rows) {
+        work[r] = s;
     }
 }
 

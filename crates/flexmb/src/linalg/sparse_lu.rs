@@ -27,10 +27,11 @@ use super::dense_lu::DenseLu;
 use super::lu_refactorization::{InvalidPivots, LuFactors};
 
 /// Largest dimension of a matrix factored afresh ([`SparseLu::new`]) that is factored dense: about
-/// where the two cost the same. Generalized-α on the chain of spherical rods, instructions per step
-/// (valgrind, the steps between t = 0.05 and 0.1 s at rtol 1e-8): at 96 unknowns (8 rods) dense
-/// 1.30 M, sparse 2.11 M; at 192 (16 rods) dense 4.22 M, sparse 4.42 M.
-pub const DENSE_LIMIT: usize = 200;
+/// where the two cost the same. The Adams method on the chain of spherical rods (its accelerations'
+/// KKT matrix, 9 unknowns per rod; rtol = atol = 3e-9, 0.1 s, valgrind lackey, instructions of the run
+/// less those of its start): at 72 unknowns (8 rods) dense 37.3 M, sparse 45.1 M; at 144 (16 rods)
+/// dense 130.3 M, sparse 85.2 M. The crossover lies between; the limit was 200 before.
+pub const DENSE_LIMIT: usize = 96;
 
 /// Largest dimension of a matrix with kept pivots ([`SparseLu::with_kept_pivots`]) that is factored
 /// dense, afresh each time. Measured on the chain of spherical rods (BDF, rtol = atol = 3e-10, 0.1 s,
@@ -438,6 +439,33 @@ mod tests {
             let residual = residual_of_solution(&mut a, &b);
             assert!(residual < 1e-13, "residual {residual:e}");
         }
+        assert_eq!(a.pivoting_factorizations(), 1);
+    }
+
+    /// A block-tridiagonal matrix of dense 10 × 10 blocks (a chain's iteration matrix in miniature) has
+    /// supernodes of several columns, which the refactorization takes a run at a time: 10 value sets on
+    /// the kept pivots, each solved to round-off.
+    #[test]
+    fn a_refactorization_by_supernodes_solves_to_round_off() {
+        let (blocks, size): (usize, usize) = (8, 10);
+        let n = blocks * size;
+        let entries: Vec<(usize, usize)> = (0..blocks)
+            .flat_map(|b| (b.saturating_sub(1)..(b + 2).min(blocks)).map(move |c| (b, c)))
+            .flat_map(|(b, c)| (0..size).flat_map(move |i| (0..size).map(move |j| (b * size + i, c * size + j))))
+            .collect();
+        let mut a = SparseLu::with_kept_pivots(n, entries.iter().copied());
+        let mut seed = 11;
+        let b: Vec<f64> = (0..n).map(|k| (k as f64 * 0.29).sin()).collect();
+        for _ in 0..10 {
+            a.clear();
+            for &(r, c) in &entries {
+                a.add(r, c, if r == c { 40.0 } else { uniform(&mut seed) });
+            }
+            a.factor().unwrap();
+            let residual = residual_of_solution(&mut a, &b);
+            assert!(residual < 1e-13, "residual {residual:e}");
+        }
+        assert!(a.kept_factors().unwrap().widest_supernode() >= size, "{}", a.kept_factors().unwrap().widest_supernode());
         assert_eq!(a.pivoting_factorizations(), 1);
     }
 
