@@ -39,8 +39,12 @@ const HODGES_RUTKOWSKI_NU_1: [f64; 3] = [3.6816, 22.1810, 61.8418];
 
 const ROTATING: &str = "crates/flexmb-cli/tests/models/linear_analysis/rotating_cantilever.toml";
 
+/// The frequencies found at the sweep's `k`-th value, in ascending order (the sweep's columns follow
+/// modes by their shapes, so a lead-lag mode and its flap mode, equal at rest, may take either column).
 fn sweep_frequencies(sweep: &Value, k: usize) -> Vec<f64> {
-    sweep["frequencies_hz"][k].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect()
+    let mut found: Vec<f64> = sweep["frequencies_hz"][k].as_array().unwrap().iter().filter_map(Value::as_f64).collect();
+    found.sort_by(f64::total_cmp);
+    found
 }
 
 /// The six bending frequencies of the spun beam, sorted: each lead-lag mode (in the plane of the
