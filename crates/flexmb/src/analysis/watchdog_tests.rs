@@ -1,5 +1,5 @@
 //! The physics watchdog's measures on states and powers made up for the purpose; a run that leaves
-//! physics is tested through `flexmb run` (crates/flexmb-cli/tests/physics_watchdog.rs).
+//! physics is tested through `flexmb run` (crates/flexmb-cli/tests/commands/physics_watchdog.rs).
 
 use super::watchdog::{Deflection, EnergyFlow, PhysicsLimits, Unphysical, Watchdog};
 use crate::analysis::test_models::double_pendulum_with_spring;

@@ -30,7 +30,7 @@
 //! step's own change of the solution, can be rounding.
 //!
 //! The second bound tells rounding from a motion that runs away (the flexible beam spun up past its
-//! limits, crates/flexmb-cli/tests/physics_watchdog.rs, at rtol 1e-6): its iterations fail at every step
+//! limits, crates/flexmb-cli/tests/commands/physics_watchdog.rs, at rtol 1e-6): its iterations fail at every step
 //! size too, with increments of 1e-12 to 1e-9 of the solution, under the first bound, and pairs of them
 //! stalled within [`STALL_RATIO`]. But they are what remains of a correction, and the step's change of the
 //! solution (predictor minus last solution, in tolerances) shrinks with the step as they do: the stalled
@@ -50,7 +50,7 @@ const FLOOR_DECAY: f64 = 0.5;
 /// Only increments below this fraction of the solution (in the error weights `atol + rtol |y|`, i.e.
 /// `rtol` times the level in tolerances) can be rounding: 4.5e6 units of rounding. The four-bar's were
 /// 5e-12 to 2e-11 up to 1 ms before its singular position, the chain's 2e-12; with 1e-8 a flexible beam
-/// spun up past its limits (crates/flexmb-cli/tests/physics_watchdog.rs), whose iteration fails because
+/// spun up past its limits (crates/flexmb-cli/tests/commands/physics_watchdog.rs), whose iteration fails because
 /// the motion runs away, passed steps at 1e-8 as rounding.
 const NOISE_CEILING: f64 = 1e-9;
 /// Only increments below this fraction of the step's change of the solution can be rounding: the double

@@ -3,7 +3,7 @@
 //! allocation of its 58 GB dense Jacobian when the analyses were dense; sparse, they need 446 MiB at
 //! most, linear in the bodies).
 
-mod program;
+use crate::program;
 
 use std::process::Command;
 

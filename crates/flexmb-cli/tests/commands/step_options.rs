@@ -3,7 +3,7 @@
 //! generalized-α), a largest step is never exceeded, and a fixed step with a method that has none is
 //! refused with a message naming the key.
 
-mod program;
+use crate::program;
 
 use program::{fail, scratch, succeed, workspace};
 

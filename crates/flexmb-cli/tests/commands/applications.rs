@@ -8,7 +8,7 @@
 //!   velocity carries a vibration near the arm's first in-plane bending frequency that the rigid one
 //!   lacks.
 
-mod program;
+use crate::program;
 
 use program::{largest_difference, scratch, succeed, ResultCsv};
 

@@ -32,6 +32,15 @@ pub fn succeed(args: &[&str]) -> String {
     text(&o.stdout)
 }
 
+/// Runs `flexmb run MODEL --integrator I --rtol T --atol T --quiet --out OUT` and any `extra` arguments;
+/// it must succeed.
+pub fn run_at_tolerance(model: &Path, integrator: &str, tolerance: &str, out: &Path, extra: &[&str]) -> String {
+    let (model, out) = (model.to_str().unwrap(), out.to_str().unwrap());
+    let mut args = vec!["run", model, "--integrator", integrator, "--rtol", tolerance, "--atol", tolerance, "--quiet", "--out", out];
+    args.extend_from_slice(extra);
+    succeed(&args)
+}
+
 /// Runs flexmb, which must fail without panicking, and returns its error message.
 pub fn fail(args: &[&str]) -> String {
     let o = flexmb(args);

@@ -2,7 +2,7 @@
 //! replaced, on every shipped model: at the initial poses (where the rows that do not hold are kept
 //! first) and at the assembled configuration.
 
-mod program;
+use crate::program;
 
 use flexmb::analysis::{assemble, gram_schmidt_redundant_rows, redundant_rows, AssemblySettings, RedundantConstraint, State};
 use flexmb::Data;

@@ -4,7 +4,7 @@
 //! its energy balance; the shipped models run without a warning; the thresholds are `[simulation]`
 //! settings.
 
-mod program;
+use crate::program;
 
 use std::path::Path;
 

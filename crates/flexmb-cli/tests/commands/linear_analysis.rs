@@ -9,7 +9,7 @@ use std::path::Path;
 use flexmb_files::matrix_market::read_matrix_market;
 use serde_json::Value;
 
-mod program;
+use crate::program;
 
 use program::{fail, flexmb, scratch, succeed, text, workspace};
 

@@ -10,9 +10,9 @@
 //! nothing, the monitor counting the age from the factorization; a second monitor now counts it from the
 //! parts' evaluation and learns from their failures.
 
-mod program;
+use crate::program;
 
-use program::{scratch, succeed, workspace, ResultCsv};
+use program::{run_at_tolerance, scratch, workspace, ResultCsv};
 
 /// The slider's height at 10 s, m: Adams and BDF at rtol = atol = 1e-12 (tests/published_benchmarks.rs).
 const SLIDER_AT_10_S: f64 = 0.61962291706;
@@ -22,21 +22,7 @@ const SLIDER_AT_10_S: f64 = 0.61962291706;
 fn run(integrator: &str, tolerance: &str) -> (u64, u64, f64) {
     let model = workspace().join("models/benchmarks/flyball_governor.toml");
     let out = scratch(&format!("rotating-stiff-spring-{integrator}-{tolerance}"));
-    succeed(&[
-        "run",
-        model.to_str().unwrap(),
-        "--integrator",
-        integrator,
-        "--rtol",
-        tolerance,
-        "--atol",
-        tolerance,
-        "--tolerance-span",
-        "1",
-        "--quiet",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    run_at_tolerance(&model, integrator, tolerance, &out, &["--tolerance-span", "1"]);
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("flyball_governor.json")).unwrap()).unwrap();
     let statistics = &summary["statistics"];

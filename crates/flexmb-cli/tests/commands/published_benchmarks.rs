@@ -5,7 +5,7 @@
 //! momentum about the shaft. Short runs at tight tolerances; the tolerances of the assertions are stated
 //! with what was measured.
 
-mod program;
+use crate::program;
 
 use program::{scratch, succeed, ResultCsv};
 

@@ -2,7 +2,7 @@
 //! asked for with something drawn on them, legends that name the runs, clear errors, and spectra that
 //! find known frequencies — of a sampled sinusoid, and of an oscillator model run through flexmb.
 
-mod program;
+use crate::program;
 
 use std::f64::consts::TAU;
 use std::path::Path;

@@ -3,7 +3,7 @@
 //! printed lines and the table come in the study's order; only the CPU column (each run's own
 //! integration time) may differ.
 
-mod program;
+use crate::program;
 
 use program::{scratch, succeed};
 

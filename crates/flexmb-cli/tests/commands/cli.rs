@@ -1,7 +1,7 @@
 //! The `flexmb` program as a new user runs it: shipped models, result files, and errors.
 
 
-mod program;
+use crate::program;
 
 use program::{flexmb, scratch, text};
 

@@ -4,7 +4,7 @@
 //! their Newton iteration about 11 steps after the Jacobian was evaluated. The BDF now learns an age limit
 //! from such a failure (`RateMonitor::age_limit`).
 
-mod program;
+use crate::program;
 
 use program::{scratch, succeed, workspace};
 

@@ -4,7 +4,7 @@
 //! marker's axes; user expressions; and `flexmb check` listing the columns `flexmb run` writes. Each is
 //! checked against a closed form or an identity at every output row.
 
-mod program;
+use crate::program;
 
 use std::path::Path;
 

@@ -2,7 +2,7 @@
 //! parameters, numbers and expressions of the model's parameters, reach the model, and the study
 //! writes a run, a table row and a curve for every case.
 
-mod program;
+use crate::program;
 
 use std::f64::consts::PI;
 use std::path::Path;

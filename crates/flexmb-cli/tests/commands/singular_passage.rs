@@ -5,7 +5,7 @@
 //! constraints amplified by it: they shrank neither with the iterations nor with the step, and the run
 //! stopped at t = 0.7116 s with the step size at 1.8e-14 s.
 
-mod program;
+use crate::program;
 
 use program::{scratch, succeed, workspace, ResultCsv};
 
@@ -81,19 +81,7 @@ fn every_method_passes_the_ten_singular_positions_at_its_finest_completing_toler
     let dir = scratch("singular-passage-whole-run");
     let run = |integrator: &str, tolerance: &str| {
         let out = dir.join(format!("{integrator}-{tolerance}"));
-        succeed(&[
-            "run",
-            model.to_str().unwrap(),
-            "--integrator",
-            integrator,
-            "--rtol",
-            tolerance,
-            "--atol",
-            tolerance,
-            "--quiet",
-            "--out",
-            out.to_str().unwrap(),
-        ]);
+        program::run_at_tolerance(&model, integrator, tolerance, &out, &[]);
         ResultCsv::read(&out.join("double_four_bar.csv"))
     };
     let reference = run("adams", "1e-12");

@@ -9,7 +9,7 @@ use std::path::Path;
 use flexmb_fem::reduction::{Basis, FlexibleBody};
 use flexmb_fem::MassModel;
 
-mod program;
+use crate::program;
 
 use program::{fail, flexmb, scratch, succeed, text, workspace};
 

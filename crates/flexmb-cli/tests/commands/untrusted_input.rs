@@ -2,7 +2,7 @@
 //! directories given as files, files over the size limit. Each command must end quickly with an error
 //! that names the file and what is wrong, never a panic.
 
-mod program;
+use crate::program;
 
 use program::{fail_within, scratch};
 

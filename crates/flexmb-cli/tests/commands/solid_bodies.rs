@@ -5,7 +5,7 @@
 
 use flexmb_fem::reduction::FlexibleBody;
 
-mod program;
+use crate::program;
 
 use program::{scratch, succeed};
 

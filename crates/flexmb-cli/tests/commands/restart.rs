@@ -3,7 +3,7 @@
 //! part's CSV followed by the second's — and the counters of the whole run; a checkpoint that is not
 //! one, or of another model or method, is a clean error naming the file.
 
-mod program;
+use crate::program;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};

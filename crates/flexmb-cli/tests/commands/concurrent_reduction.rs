@@ -2,7 +2,7 @@
 //! reduce its FE model once: the first takes the cache's lock and reduces, the others wait and read
 //! the reduced body from the cache, and every process reports the same model.
 
-mod program;
+use crate::program;
 
 use std::process::{Command, Stdio};
 

@@ -1,6 +1,6 @@
 //! `flexmb bench`: its arguments, and one small case measured (counts, never times, are checked).
 
-mod program;
+use crate::program;
 
 use program::{fail, scratch, succeed};
 

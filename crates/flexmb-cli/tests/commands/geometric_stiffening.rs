@@ -10,7 +10,7 @@
 
 use serde_json::Value;
 
-mod program;
+use crate::program;
 
 use program::{scratch, succeed, workspace, ResultCsv};
 

@@ -2,7 +2,7 @@
 //! a model file's `[parameters]` give, to the last digit written, the results of the file edited to
 //! those values; unknown names and bad values are refused with messages that say what to write.
 
-mod program;
+use crate::program;
 
 use std::path::Path;
 

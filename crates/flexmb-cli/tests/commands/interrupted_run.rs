@@ -2,7 +2,7 @@
 //! after its current step with whole CSV rows, a JSON summary that says `"status": "interrupted"`, when
 //! and why, a ParaView series that is complete up to its last frame, and the conventional exit status.
 
-mod program;
+use crate::program;
 
 use std::path::Path;
 use std::process::{Command, Stdio};

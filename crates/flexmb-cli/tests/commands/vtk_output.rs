@@ -3,7 +3,7 @@
 //! markers; `flexmb modes --vtk` adds an animation of each mode. The files are read back with `vtkio`
 //! and, when `meshio` is installed, by an independent reader (`tests/vtk/check_vtk.py`).
 
-mod program;
+use crate::program;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

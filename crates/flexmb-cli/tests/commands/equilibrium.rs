@@ -2,7 +2,7 @@
 //! the reactions, CSV of the outputs, ParaView), its motor torque the closed form `m g L / 2`; the
 //! wiper, whose motor turns the crank with nothing resisting at rest, refused with the motion named.
 
-mod program;
+use crate::program;
 
 use program::{flexmb, scratch, text};
 

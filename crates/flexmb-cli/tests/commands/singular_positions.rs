@@ -3,7 +3,7 @@
 //! equation must still hold after the assembly and the velocity analysis; where they cannot all hold
 //! the mechanism is at a singular position and `check` and `run` stop naming the equations.
 
-mod program;
+use crate::program;
 
 use program::{fail, scratch, succeed, ResultCsv};
 
