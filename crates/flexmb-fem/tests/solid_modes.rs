@@ -13,7 +13,7 @@ use flexmb_fem::modes::{vibration_modes, EigenSettings};
 use flexmb_fem::{BeamSection, Dof, DofSet, MassModel, ModelOptions, Support};
 use nalgebra::{Matrix3, Vector3};
 use solid_block::SolidBlock;
-use support::{cantilever, rel, E, NU, RHO};
+use support::{cantilever, rel, square_section, E, NU, RHO};
 
 /// The first frequency (Hz) of `block` with the consistent mass, and the rigid modes. With
 /// `beam_clamp`, the root face x = 0 is held as a beam's clamp (plane, free to contract): ux on the
@@ -47,16 +47,7 @@ fn first_frequency_with(block: &SolidBlock, count: usize, beam_clamp: bool, mass
 /// 200 of them, consistent mass.
 fn timoshenko_frequency() -> f64 {
     let h: f64 = 0.1;
-    let section = BeamSection {
-        name: "square".into(),
-        material: 0,
-        area: h * h,
-        iy: h.powi(4) / 12.0,
-        iz: h.powi(4) / 12.0,
-        torsion_constant: 0.1406 * h.powi(4),
-        orientation: Vector3::new(0.0, 1.0, 0.0),
-        shear_coefficient: Some(10.0 * (1.0 + NU) / (12.0 + 11.0 * NU)),
-    };
+    let section = BeamSection { shear_coefficient: Some(10.0 * (1.0 + NU) / (12.0 + 11.0 * NU)), ..square_section(h) };
     let mut model = cantilever(1.0, 200, section);
     model.options = ModelOptions { mass: MassModel::Consistent, rotary_inertia: true, ..ModelOptions::default() };
     vibration_modes(&model, 1, &EigenSettings::default()).unwrap().frequencies_hz[0]

@@ -23,41 +23,15 @@ fn model_file(name: &str) -> PathBuf {
 /// adds `P L / κ G A` ≈ 8e-5 of that: the tolerance is 2e-4.
 #[test]
 fn a_clamped_cantilever_bends_under_a_tip_load_as_euler_bernoulli_says() {
-    let text = r#"
-        [model]
-        name = "clamped cantilever"
-        gravity = [0, 0, 0]
-        [[flexible_body]]
-        name = "beam"
-        fe_model = "fe/cantilever.toml"
-        [[marker]]
-        name = "wall"
-        body = "ground"
-        [[marker]]
-        name = "root"
-        body = "beam"
-        node = "arm.start"
-        [[marker]]
-        name = "tip"
-        body = "beam"
-        node = "arm.end"
-        [[joint]]
-        name = "clamp"
-        type = "fixed"
-        i = "wall"
-        j = "root"
-        [[force]]
-        name = "load"
-        type = "force"
-        marker = "tip"
-        components = [0, 0, 10]
+    let text = clamped_cantilever("", 0.0, 10.0)
+        + r#"
         [[output]]
         type = "node_position"
         name = "tip"
         body = "beam"
         node = [1.0, 0.0, 0.0]
     "#;
-    let loaded = parse_model(text, model_file("cantilever_test.toml").to_str().unwrap()).unwrap();
+    let loaded = parse_model(&text, model_file("cantilever_test.toml").to_str().unwrap()).unwrap();
     let model = &loaded.model;
     let mut data = Data::new(model);
     let mut state = State::initial(model);
@@ -77,7 +51,22 @@ fn a_clamped_cantilever_bends_under_a_tip_load_as_euler_bernoulli_says() {
 /// static equilibrium with the mode set `modes`, gravity `g` along −z and a tip force `p` along z, by
 /// node label.
 fn equilibrium_deflection(modes: &str, g: f64, p: f64) -> Vec<(u64, [f64; 3])> {
-    let text = format!(
+    let text = clamped_cantilever(&format!("modes = \"{modes}\""), g, p);
+    let loaded = parse_model(&text, model_file("cantilever_test.toml").to_str().unwrap()).unwrap();
+    let model = &loaded.model;
+    let mut data = Data::new(model);
+    let mut state = State::initial(model);
+    static_equilibrium(model, &mut data, &mut state, 0.0, &EquilibriumSettings::default()).unwrap();
+    let beam = flexmb::model::BodyId(0);
+    let a = nalgebra::DVector::from_column_slice(&state.q[model.layout().modal_q_range(beam).unwrap()]);
+    let body = model.modal_body(beam).unwrap();
+    body.nodes.iter().map(|n| (n.label, (&n.psi * &a).into())).collect()
+}
+
+/// models/fe/cantilever.toml clamped at its start by a fixed joint, gravity `g` along −z, a force `p`
+/// along z at its end; `modes_line` (e.g. `modes = "4N"`, or empty) goes into the body's table.
+fn clamped_cantilever(modes_line: &str, g: f64, p: f64) -> String {
+    format!(
         r#"
         [model]
         name = "clamped cantilever"
@@ -85,7 +74,7 @@ fn equilibrium_deflection(modes: &str, g: f64, p: f64) -> Vec<(u64, [f64; 3])> {
         [[flexible_body]]
         name = "beam"
         fe_model = "fe/cantilever.toml"
-        modes = "{modes}"
+        {modes_line}
         [[marker]]
         name = "wall"
         body = "ground"
@@ -109,16 +98,7 @@ fn equilibrium_deflection(modes: &str, g: f64, p: f64) -> Vec<(u64, [f64; 3])> {
         components = [0, 0, {p}]
     "#,
         -g
-    );
-    let loaded = parse_model(&text, model_file("cantilever_test.toml").to_str().unwrap()).unwrap();
-    let model = &loaded.model;
-    let mut data = Data::new(model);
-    let mut state = State::initial(model);
-    static_equilibrium(model, &mut data, &mut state, 0.0, &EquilibriumSettings::default()).unwrap();
-    let beam = flexmb::model::BodyId(0);
-    let a = nalgebra::DVector::from_column_slice(&state.q[model.layout().modal_q_range(beam).unwrap()]);
-    let body = model.modal_body(beam).unwrap();
-    body.nodes.iter().map(|n| (n.label, (&n.psi * &a).into())).collect()
+    )
 }
 
 /// The static solution `K u = f` of the FE model itself (its supports clamp node 1) for gravity `g`

@@ -33,14 +33,6 @@ pub struct ModalGeometricStiffness {
     pub inertia_cases: Vec<DMatrix<f64>>,
 }
 
-impl ModalGeometricStiffness {
-    /// `K_G` for the factors `f` (`Σ_k f_k G_k`), e.g. to inspect the stiffness at a spin.
-    pub fn combined(&self, factors: &[f64; INERTIA_CASES]) -> DMatrix<f64> {
-        let m = self.inertia_cases.first().map_or(0, |g| g.nrows());
-        self.inertia_cases.iter().zip(factors).fold(DMatrix::zeros(m, m), |sum, (g, f)| sum + g * *f)
-    }
-}
-
 /// The factors `f_k` of the unit inertia cases: the frame's acceleration less gravity `ā` and its
 /// angular acceleration `ω̄̇`, angular velocity `ω̄` (all body axes).
 pub fn inertia_load_factors(acceleration: &Vec3, angular_acceleration: &Vec3, angular_velocity: &Vec3) -> [f64; INERTIA_CASES] {
