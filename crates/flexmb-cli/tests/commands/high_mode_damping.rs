@@ -41,7 +41,7 @@ fn relative_deviation(a: &[[f64; 3]], reference: &[[f64; 3]]) -> f64 {
 }
 
 /// The peer's beam pendulum as shipped (modes above 200 Hz damped) and undamped (the peer's model:
-/// the `high_mode_damping` line deleted), and the undamped file's text.
+/// the `high_mode_damping` line deleted).
 fn peer_beams() -> (LoadedModel, LoadedModel) {
     let (text, undamped_text) = peer_beam_texts();
     let damped = parse_model_in(&text, "flexible_pendulum.toml", &peer_dir()).unwrap();
@@ -60,13 +60,13 @@ fn peer_beam_texts() -> (String, String) {
 /// The beam pendulum at rtol = atol = 1e-4 (issue 16, point 5), against the undamped beam at 1e-8.
 ///
 /// - Damped above 200 Hz (the model file), 1,350 steps, the tip 1.5e-4 (relative) off: the error control
-///   gives about its tolerance, as it does at 1e-5 (3.0e-5) and 1e-6 (3.3e-6). The peer's accuracy
+///   gives about its tolerance, as it does at 1e-5 (3.1e-5) and 1e-6 (3.3e-6). The peer's accuracy
 ///   (8e-6 against the converged motion) is 0.08 of 1e-4, so it needs rtol 1e-6 (3,056 steps, the test
 ///   above), not 1e-4.
 /// - Undamped (the peer's model), 15,662 steps and the tip 1.5e-6 off: the steps are held by stability,
 ///   not by the tolerance. The pinned beam's highest natural frequency is 1357 Hz (`flexmb eigen`:
 ///   the hinge rotation against the first clamped-free mode, an artefact of the clamped-free basis;
-///   the pinned-free beam's fourth in-plane mode is about 850 Hz), and the mean step times its `ω` is
+///   the pinned-free Euler–Bernoulli beam's fourth in-plane mode is about 850 Hz), and the mean step times its `ω` is
 ///   0.53–0.55 at every rtol from 1e-3 to 1e-5: order 5's stability limit on an undamped oscillation
 ///   (unstable from `h ω` = 0.71, kept below 0.7 of a step found unstable; the order takes 75 % of the
 ///   steps, orders 3 and 4 are unstable from `h ω` = 0.01 and 0.04).
