@@ -272,6 +272,10 @@ enum Command {
         /// The longest chain the `chain` group runs (rods; default: all, 4 to 1024 doubling).
         #[arg(long)]
         max_links: Option<usize>,
+        /// The `chain` group as one chain of this many rods (any number from 1), e.g. `--case chain
+        /// --links 32` for the cost of one Newton iteration at n = 32.
+        #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+        links: Option<u64>,
     },
     /// Plot result columns against time (or another column); several result files are overlaid.
     Plot {
@@ -485,8 +489,9 @@ fn main() -> ExitCode {
             let options = CompareOptions { integrators, t_end, rtol, atol, spectral_radius };
             compare_model(&model, &options).map(|table| print!("{table}"))
         }
-        Command::Bench { case, integrator, repeat, json, max_links } => {
-            let options = BenchOptions { cases: case, integrators: integrator, repeat: repeat.max(1), json, max_links };
+        Command::Bench { case, integrator, repeat, json, max_links, links } => {
+            let links = links.map(|n| n as usize);
+            let options = BenchOptions { cases: case, integrators: integrator, repeat: repeat.max(1), json, max_links, links };
             run_benchmarks(&options).map_err(flexmb_cli::run::CliError)
         }
         Command::Plot { results, y, x, out, title, from, to, width, height } => {

@@ -141,6 +141,8 @@ pub struct BenchOptions {
     pub json: Option<PathBuf>,
     /// The longest chain of the `chain` group (rods); `None`: all of them, up to 1024.
     pub max_links: Option<usize>,
+    /// The `chain` group as the one chain of this many rods; `None`: 4 to 1024 doubling.
+    pub links: Option<usize>,
 }
 
 const SLIDER_CRANK: &str = include_str!("../../../../models/slider_crank.toml");
@@ -276,6 +278,10 @@ pub fn run_benchmarks(options: &BenchOptions) -> Result<(), String> {
     let asked: &[BenchCase] = if options.cases.is_empty() { &BenchCase::EVERYTHING } else { &options.cases };
     let mut jobs: Vec<Job> = Vec::new();
     for job in asked.iter().flat_map(|c| c.members()) {
+        let job = match (job, options.links) {
+            (Job::Chain(_), Some(n)) => Job::Chain(n),
+            _ => job,
+        };
         let too_long = matches!(job, Job::Chain(n) if options.max_links.is_some_and(|max| n > max));
         if !jobs.contains(&job) && !too_long {
             jobs.push(job);

@@ -12,6 +12,17 @@ fn unknown_cases_and_integrators_are_refused_with_the_names_it_knows() {
     assert!(e.contains("bdf") && e.contains("adams") && e.contains("gen-alpha"), "{e}");
     let e = fail(&["bench", "--case", "peer", "--repeat", "many"]);
     assert!(e.contains("--repeat"), "{e}");
+    let e = fail(&["bench", "--case", "chain", "--links", "0"]);
+    assert!(e.contains("--links") && e.contains('0'), "{e}");
+}
+
+/// `--links N` makes the chain group one chain of N rods, any N: one row, that chain's.
+#[test]
+fn the_chain_group_runs_one_chain_of_the_rods_asked_for() {
+    let stdout = succeed(&["bench", "--case", "chain", "--links", "6", "--integrator", "bdf", "--repeat", "1"]);
+    let rows: Vec<&str> = stdout.lines().filter(|l| l.starts_with("chain-")).collect();
+    assert_eq!(rows.len(), 1, "{stdout}");
+    assert!(rows[0].starts_with("chain-6 "), "{stdout}");
 }
 
 /// The rigid 3-D pendulum with two integrators, once each: a table row per integrator and a JSON
