@@ -79,7 +79,7 @@ fn a_rotating_solid_blade_has_the_beams_southwell_coefficient() {
 /// same with triangles (DKT, two per cell) within 2 %.
 #[test]
 fn a_simply_supported_plate_buckles_at_k_4() {
-    let (a, t, n) = (1.0, 0.01, 16);
+    let (a, t, n) = (1.0_f64, 0.01_f64, 16);
     let bending = E * t.powi(3) / (12.0 * (1.0 - NU * NU));
     let expected = 4.0 * std::f64::consts::PI.powi(2) * bending / (a * a);
     for (shape, tolerance) in [(ShellShape::Quadrilateral, 0.01), (ShellShape::Triangle, 0.02)] {
