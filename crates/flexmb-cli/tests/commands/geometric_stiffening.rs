@@ -342,31 +342,8 @@ fn an_axial_end_load_lowers_or_raises_the_bending_frequency() {
     let dir = scratch("stiffening_end_load");
     let (length, ei, rho_a) = (10.0_f64, 1.4e4_f64, 1.2_f64);
     let critical = std::f64::consts::PI.powi(2) * ei / (4.0 * length * length);
-    let fe = std::fs::read_to_string(workspace().join("models/fe/spin_up_beam.toml")).unwrap()
-        + "\n[[interface]]\nat = \"beam.end\"           # the tip: the end load acts there\n";
-    let fe_path = dir.join("loaded_beam.toml");
-    std::fs::write(&fe_path, fe).unwrap();
-    let model = |load: f64, switch: &str, through_joint: bool| {
-        let mut text = format!(
-            "[model]\nname = \"end load\"\ngravity = [0.0, 0.0, 0.0]\n\n[simulation]\nt_end = 1.0\noutput_step = 0.01\n\n\
-             [[flexible_body]]\nname = \"beam\"\nfe_model = {:?}\n{switch}\n\n\
-             [[marker]]\nname = \"clamp_ground\"\nbody = \"ground\"\n\n[[marker]]\nname = \"clamp_beam\"\nbody = \"beam\"\nnode = \"beam.start\"\n\n\
-             [[joint]]\nname = \"clamp\"\ntype = \"fixed\"\ni = \"clamp_ground\"\nj = \"clamp_beam\"\n\n\
-             [[marker]]\nname = \"tip\"\nbody = \"beam\"\nnode = \"beam.end\"\n\n",
-            fe_path.to_str().unwrap()
-        );
-        let loaded = if through_joint {
-            text += &format!(
-                "[[body]]\nname = \"loader\"\nmass = 1e-4\ninertia = [1e-6, 1e-6, 1e-6]\nposition = [{length:?}, 0.0, 0.0]\n\n\
-                 [[marker]]\nname = \"loader\"\nbody = \"loader\"\n\n\
-                 [[joint]]\nname = \"weld\"\ntype = \"fixed\"\ni = \"tip\"\nj = \"loader\"\n\n"
-            );
-            "loader"
-        } else {
-            "tip"
-        };
-        text + &format!("[[force]]\nname = \"end_load\"\ntype = \"force\"\nmarker = \"{loaded}\"\ncomponents = [{:?}, 0.0, 0.0]\n", -load)
-    };
+    let fe_path = loaded_beam(&dir);
+    let model = |load: f64, switch: &str, through_joint: bool| end_load_model(&fe_path, load, switch, through_joint, "0.0");
     let first = |name: &str, load: f64, through_joint: bool| eigen_frequencies(&dir, name, &model(load, "", through_joint))[0] * std::f64::consts::TAU;
 
     // Unloaded: the interface terms have a zero factor.
@@ -400,4 +377,70 @@ fn an_axial_end_load_lowers_or_raises_the_bending_frequency() {
         by_joint / by_force - 1.0
     );
     assert!((by_joint / by_force - 1.0).abs() < 1e-3, "through the joint {by_joint} rad/s, by the force element {by_force}");
+}
+
+/// The spin-up beam's FE model with its tip an interface node, written to `dir`.
+fn loaded_beam(dir: &std::path::Path) -> std::path::PathBuf {
+    let fe = std::fs::read_to_string(workspace().join("models/fe/spin_up_beam.toml")).unwrap()
+        + "\n[[interface]]\nat = \"beam.end\"           # the tip: the end load acts there\n";
+    let path = dir.join("loaded_beam.toml");
+    std::fs::write(&path, fe).unwrap();
+    path
+}
+
+/// The beam of `fe` clamped at its root under the dead axial end load `load` (N, compression
+/// positive) and the transverse force `transverse` (N, a function of `t`) at its tip: by a force
+/// element on the tip, or (`through_joint`) on a 0.1 g body welded to the tip. `switch` is added to
+/// the flexible body's table.
+fn end_load_model(fe: &std::path::Path, load: f64, switch: &str, through_joint: bool, transverse: &str) -> String {
+    let mut text = format!(
+        "[model]\nname = \"end load\"\ngravity = [0.0, 0.0, 0.0]\n\n[simulation]\nt_end = 5.0\noutput_step = 0.01\n\n\
+         [[flexible_body]]\nname = \"beam\"\nfe_model = {:?}\n{switch}\n\n\
+         [[marker]]\nname = \"clamp_ground\"\nbody = \"ground\"\n\n[[marker]]\nname = \"clamp_beam\"\nbody = \"beam\"\nnode = \"beam.start\"\n\n\
+         [[joint]]\nname = \"clamp\"\ntype = \"fixed\"\ni = \"clamp_ground\"\nj = \"clamp_beam\"\n\n\
+         [[marker]]\nname = \"tip\"\nbody = \"beam\"\nnode = \"beam.end\"\n\n\
+         [[output]]\ntype = \"node_deformation\"\nbody = \"beam\"\nnode = \"beam.end\"\n\n",
+        fe.to_str().unwrap()
+    );
+    let loaded = if through_joint {
+        text += "[[body]]\nname = \"loader\"\nmass = 1e-4\ninertia = [1e-6, 1e-6, 1e-6]\nposition = [10.0, 0.0, 0.0]\n\n\
+                 [[marker]]\nname = \"loader\"\nbody = \"loader\"\n\n\
+                 [[joint]]\nname = \"weld\"\ntype = \"fixed\"\ni = \"tip\"\nj = \"loader\"\n\n";
+        "loader"
+    } else {
+        "tip"
+    };
+    text + &format!("[[force]]\nname = \"end_load\"\ntype = \"force\"\nmarker = \"{loaded}\"\ncomponents = [{:?}, \"{transverse}\", 0.0]\n", -load)
+}
+
+/// The end-loaded cantilever (`P_cr/2`, compression) shaken at its tip by `0.5 sin 2t` N for 5 s, the
+/// end load by a force element or through a joint (the `λ` columns of the Newton matrices), BDF and
+/// generalized-α: the tip deflections agree (to 5e-3 of the peak: the welded body's mass and the
+/// integrators' tolerances), and each run's energy balance `E − E0 − W_nc`, which counts the interface term's
+/// power, closes to 1e-3 of the energy that flowed.
+#[test]
+fn an_end_load_through_a_joint_runs_as_by_a_force_element() {
+    let dir = scratch("stiffening_end_load_run");
+    let fe = loaded_beam(&dir);
+    let load = 0.5 * std::f64::consts::PI.powi(2) * 1.4e4 / 400.0;
+    let run = |name: &str, through_joint: bool, integrator: &str| {
+        let path = dir.join(format!("{name}.toml"));
+        std::fs::write(&path, end_load_model(&fe, load, "", through_joint, "0.5*sin(2*t)")).unwrap();
+        let out = dir.join(name);
+        succeed(&["run", path.to_str().unwrap(), "--integrator", integrator, "--out", out.to_str().unwrap()]);
+        let summary: Value = serde_json::from_str(&std::fs::read_to_string(out.join(format!("{name}.json"))).unwrap()).unwrap();
+        let energy = &summary["energy"];
+        let balance = energy["balance_error"].as_f64().unwrap() / energy["nonconservative_work"].as_f64().unwrap().abs();
+        (ResultCsv::read(&out.join(format!("{name}.csv"))).column("beam.node21.deformation.y"), balance)
+    };
+    let (reference, reference_balance) = run("force_bdf", false, "bdf");
+    let peak = reference.iter().fold(0.0_f64, |m, y| m.max(y.abs()));
+    assert!(peak > 0.01, "the tip moves: {peak} m");
+    for (name, through_joint, integrator) in [("joint_bdf", true, "bdf"), ("joint_gen_alpha", true, "gen-alpha"), ("force_gen_alpha", false, "gen-alpha")] {
+        let (deflection, balance) = run(name, through_joint, integrator);
+        let difference = program::largest_difference(&deflection, &reference) / peak;
+        eprintln!("{name}: tip deflection within {difference:.1e} of the peak {peak:.4} m of the force element's BDF run; energy balance {balance:.1e} of the work (BDF, force element: {reference_balance:.1e})");
+        assert!(difference < 5e-3, "{name}: {difference:.2e} of the peak");
+        assert!(balance.abs() < 1e-3 && reference_balance.abs() < 1e-3, "{name}: energy balance {balance:.2e}");
+    }
 }
