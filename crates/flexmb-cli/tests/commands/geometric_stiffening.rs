@@ -444,3 +444,45 @@ fn an_end_load_through_a_joint_runs_as_by_a_force_element() {
         assert!(balance.abs() < 1e-3 && reference_balance.abs() < 1e-3, "{name}: energy balance {balance:.2e}");
     }
 }
+
+/// The tip deflection of a cantilever (`l`, `ei`) under the uniform transverse load `q` (N/m) and the
+/// dead axial end load `p` (N, compression), the beam-column's closed form: with `k² = P/EI` and
+/// `u = L − x`, `EI w'' = q u²/2 + P (δ − w)` gives `w = C₁ cos ku + C₂ sin ku + q u²/2P + δ − q EI/P²`,
+/// `C₁ = q EI/P²` (w = δ at the tip), and the clamp (`w = w' = 0` at `u = L`) gives `C₂` and `δ`.
+fn beam_column_tip_deflection(l: f64, ei: f64, q: f64, p: f64) -> f64 {
+    let k = (p / ei).sqrt();
+    let c1 = q * ei / (p * p);
+    let c2 = (c1 * k * (k * l).sin() - q * l / p) / (k * (k * l).cos());
+    q * ei / (p * p) - q * l * l / (2.0 * p) - c1 * (k * l).cos() - c2 * (k * l).sin()
+}
+
+/// The end-loaded cantilever (`P_cr/2`, compression) sagging under its own weight across its axis
+/// (`flexmb equilibrium`): the tip deflection of the beam-column's closed form (1.96 times the
+/// unloaded `qL⁴/8EI`), within 1 % by the force element on the tip, and the same to 1e-3 with the end
+/// load through the welded joint, whose reaction (the equilibrium's `λ`) stiffens the body there.
+#[test]
+fn an_end_loaded_cantilever_sags_as_the_beam_column() {
+    let dir = scratch("stiffening_end_load_sag");
+    let fe = loaded_beam(&dir);
+    let (length, ei, q) = (10.0_f64, 1.4e4_f64, 1.2 * 9.81);
+    let load = 0.5 * std::f64::consts::PI.powi(2) * ei / (4.0 * length * length);
+    let sag = |name: &str, through_joint: bool| {
+        let path = dir.join(format!("{name}.toml"));
+        let model = end_load_model(&fe, load, "", through_joint, "0.0").replace("gravity = [0.0, 0.0, 0.0]", "gravity = [0.0, -9.81, 0.0]");
+        std::fs::write(&path, model).unwrap();
+        let out = dir.join(name);
+        succeed(&["equilibrium", path.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+        -ResultCsv::read(&out.join("equilibrium.csv")).column("beam.node21.deformation.y")[0]
+    };
+    let expected = beam_column_tip_deflection(length, ei, q, load);
+    let unloaded = q * length.powi(4) / (8.0 * ei);
+    let (by_force, by_joint) = (sag("force", false), sag("joint", true));
+    eprintln!(
+        "end-loaded cantilever under its weight: tip sag {by_force:.5} m (force element), {by_joint:.5} m (through the joint), \
+         beam-column {expected:.5} m ({:+.1e}), without the end load {unloaded:.5} m",
+        by_force / expected - 1.0
+    );
+    assert!(expected > 1.9 * unloaded);
+    assert!((by_force / expected - 1.0).abs() < 0.01, "{by_force} m against {expected} m");
+    assert!((by_joint / by_force - 1.0).abs() < 1e-3, "through the joint {by_joint} m, by the force element {by_force} m");
+}
