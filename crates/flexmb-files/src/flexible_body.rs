@@ -1,8 +1,8 @@
 //! From the preprocessor's flexible-body file to the engine's modal body: the invariants, modal
-//! stiffness and damping, the geometric stiffness of the unit inertia loads (when the file has it),
+//! stiffness and damping, the geometric stiffness of the unit inertia and interface loads (when the file has it),
 //! and the nodes where markers attach.
 
-use flexmb::body::{ModalBody, ModalDamping, ModalGeometricStiffness, ModalInvariants, ModalNode};
+use flexmb::body::{InterfaceGeometricStiffness, ModalBody, ModalDamping, ModalGeometricStiffness, ModalInvariants, ModalNode};
 use flexmb_fem::reduction::FlexibleBody;
 use nalgebra::{DMatrix, DVector, Matrix3xX};
 
@@ -45,10 +45,24 @@ pub fn modal_body(body: &FlexibleBody, damping: &ModalDamping) -> Result<ModalBo
         mode_labels: body.modes.iter().map(|mode| mode.label.clone()).collect(),
         initial_coordinates: DVector::zeros(m),
         initial_rates: DVector::zeros(m),
-        geometric_stiffness: body.geometric_stiffness.as_ref().map(|g| ModalGeometricStiffness {
-            inertia_cases: g.acceleration.iter().chain(&g.angular_acceleration).chain(&g.centrifugal).cloned().collect(),
-        }),
+        geometric_stiffness: None,
     };
+    if let Some(g) = &body.geometric_stiffness {
+        let interface = g
+            .interface
+            .iter()
+            .map(|case| {
+                let node = body.nodes.iter().position(|n| n.label == case.node).ok_or_else(|| {
+                    format!("the geometric stiffness names interface node {}, which is not a node of the body", case.node)
+                })?;
+                Ok(InterfaceGeometricStiffness { node, loads: case.loads.clone() })
+            })
+            .collect::<Result<Vec<_>, String>>()?;
+        modal.geometric_stiffness = Some(ModalGeometricStiffness {
+            inertia_cases: g.acceleration.iter().chain(&g.angular_acceleration).chain(&g.centrifugal).cloned().collect(),
+            interface,
+        });
+    }
     modal.damping = modal.damping_matrix(damping).map_err(|e| e.to_string())?;
     Ok(modal)
 }

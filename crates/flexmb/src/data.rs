@@ -25,6 +25,9 @@ pub struct Data {
     pub(crate) equations: Vec<EquationTerms>,
     /// Generalized applied forces `Q`, length `nv` (forces).
     pub(crate) applied: Vec<f64>,
+    /// The force elements' part of the interface geometric stiffening `K_G a` (modal rows; length
+    /// `nv`, included in `applied` with the opposite sign), for the energy balance (forces).
+    pub(crate) interface_stiffening: Vec<f64>,
     /// Inertia forces `M v̇ + h(q, v)`, length `nv` (inertia).
     pub(crate) inertia: Vec<f64>,
     /// `Φ_qᵀ`-times-vector scratch, length `nv` (residual).
@@ -37,13 +40,19 @@ impl Data {
         let nv = model.layout.nv;
         Self {
             bodies: vec![BodyState::default(); model.bodies.len()],
-            modal: (0..model.bodies.len()).map(|b| ModalState::new(model.layout.modes[b])).collect(),
+            modal: (0..model.bodies.len())
+                .map(|b| {
+                    let cases = model.modal[b].as_ref().and_then(|m| m.geometric_stiffness.as_ref()).map_or(0, |g| g.case_count());
+                    ModalState::new(model.layout.modes[b], cases)
+                })
+                .collect(),
             markers: vec![MarkerState::default(); model.markers.len()],
             measures: vec![0.0; model.measures.len()],
             parameters: model.parameters.iter().map(|p| p.value).collect(),
             angle_reference: vec![0.0; model.joints.len()],
             equations: vec![EquationTerms::default(); model.layout.nc],
             applied: vec![0.0; nv],
+            interface_stiffening: vec![0.0; nv],
             inertia: vec![0.0; nv],
             scratch_v: vec![0.0; nv],
         }

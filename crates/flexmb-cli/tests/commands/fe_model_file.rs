@@ -664,6 +664,21 @@ fn node_reference_far_from_every_node() {
     assert_eq!(parse(&text).model.mesh.point_masses[0].node, 2);
 }
 
+/// `[[interface]]`: a node or every node of a set, each once; a node that is not there is an error at
+/// its line.
+#[test]
+fn interface_nodes_by_label_and_set() {
+    let text = format!("{}\n[[interface]]\nat = \"arm.end\"\n\n[[interface]]\nat = \"arm\"\n\n[[interface]]\nat = 1\n", arm());
+    let loaded = parse(&text);
+    let end = loaded.model.mesh.node_sets["arm.end"][0];
+    assert_eq!(loaded.model.interface_nodes.len(), 5);
+    assert_eq!(loaded.model.interface_nodes[0], end);
+    let text = format!("{}\n[[interface]]\nat = 9\n", arm());
+    assert_error(&text, line_of(&text, "at = 9"), "interface[0].at", &["no node labelled 9 (the mesh has 5 nodes, labelled 1 to 5)"]);
+    let text = format!("{}\n[[interface]]\nnode = 2\n", arm());
+    assert_error(&text, line_of(&text, "node = 2"), "interface[0].node", &["unknown key `node`", "`at`"]);
+}
+
 #[test]
 fn node_references_by_label_and_set() {
     let text = format!("{}\n[[mass]]\nat = 9\nmass = 1\n", arm());

@@ -6,7 +6,10 @@
 //! - the spin-up beam (models/spin_up_beam.toml, one flexible body of six modes) against a chain of
 //!   rigid links with rotational springs, geometrically exact, made and converged here;
 //! - a clamped cantilever vibrating without rotation or acceleration: the same with the terms as
-//!   without them, to round-off; and the switch `geometric_stiffening = false`.
+//!   without them, to round-off; and the switch `geometric_stiffening = false`;
+//! - a cantilever under an axial end load at its tip (an interface node), compressive and tensile,
+//!   applied by a force element or through a joint: its first bending frequency against the exact
+//!   frequency equation of the beam-column.
 
 use serde_json::Value;
 
@@ -278,4 +281,208 @@ fn a_column_under_its_own_weight_buckles_at_greenhills_load() {
     assert!(below_damping.abs() < 1e-6 && below < 0.3 * unloaded, "stable, slow below the load: {below} Hz, ζ = {below_damping}");
     assert!(above_damping < -0.99, "a growing (real, positive) eigenvalue above the load: ζ = {above_damping}");
     assert!(hanging > 1.3 * unloaded, "tension raises the frequency: {hanging} Hz against {unloaded} Hz");
+}
+
+/// The lowest bending frequency (rad/s) of a clamped-free Euler–Bernoulli beam (length `l`, `ei`,
+/// `rho_a`) under the dead axial end load `p` (N, compression positive): the lowest root `ω` of the
+/// frequency equation of `EI w'''' + P w'' − ρA ω² w = 0` with `w(0) = w'(0) = 0`, `w''(L) = 0` and
+/// `EI w'''(L) + P w'(L) = 0` (the end force keeps its direction). With `w = A cosh αx + B sinh αx
+/// + C cos βx + D sin βx`, `α², β² = (∓P/EI + √((P/EI)² + 4ρAω²/EI))/2`, the clamp gives `C = −A`,
+/// `D = −αB/β` and the free end a 2 × 2 determinant; at `P = 0` it is `1 + cosh λ cos λ = 0`. Found by
+/// scanning `ω` in steps of 1e-3 of the unloaded frequency and bisecting the first change of sign.
+fn beam_column_frequency(l: f64, ei: f64, rho_a: f64, p: f64) -> f64 {
+    let det = |w: f64| {
+        let (load, k4) = (p / ei, rho_a * w * w / ei);
+        let root = (load * load + 4.0 * k4).sqrt();
+        let (a, b) = (((root - load) / 2.0).sqrt(), ((root + load) / 2.0).sqrt());
+        let (ch, sh, c, s) = ((a * l).cosh(), (a * l).sinh(), (b * l).cos(), (b * l).sin());
+        (a * a * ch + b * b * c) * (a.powi(3) * ch + a * b * b * c + load * a * (ch - c))
+            - (a * a * sh + a * b * s) * (a.powi(3) * sh - b.powi(3) * s + load * (a * sh + b * s))
+    };
+    let step = 1e-3 * 1.875_104_068_7_f64.powi(2) * (ei / (rho_a * l.powi(4))).sqrt();
+    let (mut lo, mut hi) = (step, 2.0 * step);
+    while det(lo) * det(hi) > 0.0 {
+        (lo, hi) = (hi, hi + step);
+    }
+    for _ in 0..100 {
+        let mid = 0.5 * (lo + hi);
+        if det(lo) * det(mid) <= 0.0 {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+/// The frequencies (Hz) of `flexmb eigen` on the model text `model`, written to `dir/name.toml`,
+/// ascending.
+fn eigen_frequencies(dir: &std::path::Path, name: &str, model: &str) -> Vec<f64> {
+    let path = dir.join(format!("{name}.toml"));
+    std::fs::write(&path, model).unwrap();
+    let out = dir.join(name);
+    succeed(&["eigen", path.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let eigen: Value = serde_json::from_str(&std::fs::read_to_string(out.join("eigen.json")).unwrap()).unwrap();
+    let mut found: Vec<f64> = eigen["modes"].as_array().unwrap().iter().map(|m| m["frequency_hz"].as_f64().unwrap()).collect();
+    found.sort_by(f64::total_cmp);
+    found
+}
+
+/// The spin-up beam's FE model (10 m, EI = 1.4e4 N m², ρA = 1.2 kg/m, six bending modes) clamped at
+/// its root, with its tip an interface node, under the dead axial end load `P` (compression positive)
+/// of a force element at the tip: its first bending frequency (`flexmb eigen`, at the loaded
+/// equilibrium) against the beam-column's frequency equation ([`beam_column_frequency`]) within 2 %
+/// at `P = ±P_cr/4, ±P_cr/2` (`P_cr = π² EI / 4L²`); compression lowers it, tension raises it. (The
+/// rule `ω² = ω₀² (1 − P/P_cr)` is exact for a pinned beam only: for the cantilever it errs by 3.8 %
+/// in `ω²` at `P_cr/2`.) The same load passed to the tip through a fixed joint from a small rigid
+/// body (the reaction's `λ` carries it) gives the same frequency to the small body's mass. Unloaded,
+/// the frequencies with the terms are those without them to round-off.
+#[test]
+fn an_axial_end_load_lowers_or_raises_the_bending_frequency() {
+    let dir = scratch("stiffening_end_load");
+    let (length, ei, rho_a) = (10.0_f64, 1.4e4_f64, 1.2_f64);
+    let critical = std::f64::consts::PI.powi(2) * ei / (4.0 * length * length);
+    let fe_path = loaded_beam(&dir);
+    let model = |load: f64, switch: &str, through_joint: bool| end_load_model(&fe_path, load, switch, through_joint, "0.0");
+    let first = |name: &str, load: f64, through_joint: bool| eigen_frequencies(&dir, name, &model(load, "", through_joint))[0] * std::f64::consts::TAU;
+
+    // Unloaded: the interface terms have a zero factor.
+    let with = eigen_frequencies(&dir, "unloaded", &model(0.0, "", false));
+    let without = eigen_frequencies(&dir, "unloaded_off", &model(0.0, "geometric_stiffening = false", false));
+    let unloaded_difference = with.iter().zip(&without).map(|(a, b)| (a / b - 1.0).abs()).fold(0.0_f64, f64::max);
+    assert_eq!(with.len(), without.len());
+    assert!(unloaded_difference < 1e-12, "unloaded, the terms changed the frequencies by {unloaded_difference:.1e}");
+    let unloaded = with[0] * std::f64::consts::TAU;
+
+    let mut worst = 0.0_f64;
+    for fraction in [-0.5, -0.25, 0.25, 0.5] {
+        let load = fraction * critical;
+        let found = first(&format!("load{fraction}"), load, false);
+        let exact = beam_column_frequency(length, ei, rho_a, load);
+        let error = found / exact - 1.0;
+        worst = worst.max(error.abs());
+        eprintln!(
+            "end load P = {fraction:+} P_cr: first bending frequency {found:.5} rad/s against {exact:.5} (beam-column), error {error:+.2e}; \
+             ω²/ω₀² = {:.4}, 1 − P/P_cr = {:.4}",
+            (found / unloaded).powi(2),
+            1.0 - fraction
+        );
+        assert!(error.abs() < 0.02, "P = {fraction} P_cr: {found} rad/s against {exact}");
+        assert!(if fraction > 0.0 { found < unloaded } else { found > unloaded });
+    }
+    let by_joint = first("joint", 0.5 * critical, true);
+    let by_force = first("load0.5", 0.5 * critical, false);
+    eprintln!(
+        "end load through a fixed joint (λ): {by_joint:.6} rad/s against {by_force:.6} by the force element ({:+.1e}); worst error against the beam-column {worst:.2e}",
+        by_joint / by_force - 1.0
+    );
+    assert!((by_joint / by_force - 1.0).abs() < 1e-3, "through the joint {by_joint} rad/s, by the force element {by_force}");
+}
+
+/// The spin-up beam's FE model with its tip an interface node, written to `dir`.
+fn loaded_beam(dir: &std::path::Path) -> std::path::PathBuf {
+    let fe = std::fs::read_to_string(workspace().join("models/fe/spin_up_beam.toml")).unwrap()
+        + "\n[[interface]]\nat = \"beam.end\"           # the tip: the end load acts there\n";
+    let path = dir.join("loaded_beam.toml");
+    std::fs::write(&path, fe).unwrap();
+    path
+}
+
+/// The beam of `fe` clamped at its root under the dead axial end load `load` (N, compression
+/// positive) and the transverse force `transverse` (N, a function of `t`) at its tip: by a force
+/// element on the tip, or (`through_joint`) on a 0.1 g body welded to the tip. `switch` is added to
+/// the flexible body's table.
+fn end_load_model(fe: &std::path::Path, load: f64, switch: &str, through_joint: bool, transverse: &str) -> String {
+    let mut text = format!(
+        "[model]\nname = \"end load\"\ngravity = [0.0, 0.0, 0.0]\n\n[simulation]\nt_end = 5.0\noutput_step = 0.01\n\n\
+         [[flexible_body]]\nname = \"beam\"\nfe_model = {:?}\n{switch}\n\n\
+         [[marker]]\nname = \"clamp_ground\"\nbody = \"ground\"\n\n[[marker]]\nname = \"clamp_beam\"\nbody = \"beam\"\nnode = \"beam.start\"\n\n\
+         [[joint]]\nname = \"clamp\"\ntype = \"fixed\"\ni = \"clamp_ground\"\nj = \"clamp_beam\"\n\n\
+         [[marker]]\nname = \"tip\"\nbody = \"beam\"\nnode = \"beam.end\"\n\n\
+         [[output]]\ntype = \"node_deformation\"\nbody = \"beam\"\nnode = \"beam.end\"\n\n",
+        fe.to_str().unwrap()
+    );
+    let loaded = if through_joint {
+        text += "[[body]]\nname = \"loader\"\nmass = 1e-4\ninertia = [1e-6, 1e-6, 1e-6]\nposition = [10.0, 0.0, 0.0]\n\n\
+                 [[marker]]\nname = \"loader\"\nbody = \"loader\"\n\n\
+                 [[joint]]\nname = \"weld\"\ntype = \"fixed\"\ni = \"tip\"\nj = \"loader\"\n\n";
+        "loader"
+    } else {
+        "tip"
+    };
+    text + &format!("[[force]]\nname = \"end_load\"\ntype = \"force\"\nmarker = \"{loaded}\"\ncomponents = [{:?}, \"{transverse}\", 0.0]\n", -load)
+}
+
+/// The end-loaded cantilever (`P_cr/2`, compression) shaken at its tip by `0.5 sin 2t` N for 5 s, the
+/// end load by a force element or through a joint (the `λ` columns of the Newton matrices), BDF and
+/// generalized-α: the tip deflections agree (to 5e-3 of the peak: the welded body's mass and the
+/// integrators' tolerances), and each run's energy balance `E − E0 − W_nc`, which counts the interface term's
+/// power, closes to 1e-3 of the energy that flowed.
+#[test]
+fn an_end_load_through_a_joint_runs_as_by_a_force_element() {
+    let dir = scratch("stiffening_end_load_run");
+    let fe = loaded_beam(&dir);
+    let load = 0.5 * std::f64::consts::PI.powi(2) * 1.4e4 / 400.0;
+    let run = |name: &str, through_joint: bool, integrator: &str| {
+        let path = dir.join(format!("{name}.toml"));
+        std::fs::write(&path, end_load_model(&fe, load, "", through_joint, "0.5*sin(2*t)")).unwrap();
+        let out = dir.join(name);
+        succeed(&["run", path.to_str().unwrap(), "--integrator", integrator, "--out", out.to_str().unwrap()]);
+        let summary: Value = serde_json::from_str(&std::fs::read_to_string(out.join(format!("{name}.json"))).unwrap()).unwrap();
+        let energy = &summary["energy"];
+        let balance = energy["balance_error"].as_f64().unwrap() / energy["nonconservative_work"].as_f64().unwrap().abs();
+        (ResultCsv::read(&out.join(format!("{name}.csv"))).column("beam.node21.deformation.y"), balance)
+    };
+    let (reference, reference_balance) = run("force_bdf", false, "bdf");
+    let peak = reference.iter().fold(0.0_f64, |m, y| m.max(y.abs()));
+    assert!(peak > 0.01, "the tip moves: {peak} m");
+    for (name, through_joint, integrator) in [("joint_bdf", true, "bdf"), ("joint_gen_alpha", true, "gen-alpha"), ("force_gen_alpha", false, "gen-alpha")] {
+        let (deflection, balance) = run(name, through_joint, integrator);
+        let difference = program::largest_difference(&deflection, &reference) / peak;
+        eprintln!("{name}: tip deflection within {difference:.1e} of the peak {peak:.4} m of the force element's BDF run; energy balance {balance:.1e} of the work (BDF, force element: {reference_balance:.1e})");
+        assert!(difference < 5e-3, "{name}: {difference:.2e} of the peak");
+        assert!(balance.abs() < 1e-3 && reference_balance.abs() < 1e-3, "{name}: energy balance {balance:.2e}");
+    }
+}
+
+/// The tip deflection of a cantilever (`l`, `ei`) under the uniform transverse load `q` (N/m) and the
+/// dead axial end load `p` (N, compression), the beam-column's closed form: with `k² = P/EI` and
+/// `u = L − x`, `EI w'' = q u²/2 + P (δ − w)` gives `w = C₁ cos ku + C₂ sin ku + q u²/2P + δ − q EI/P²`,
+/// `C₁ = q EI/P²` (w = δ at the tip), and the clamp (`w = w' = 0` at `u = L`) gives `C₂` and `δ`.
+fn beam_column_tip_deflection(l: f64, ei: f64, q: f64, p: f64) -> f64 {
+    let k = (p / ei).sqrt();
+    let c1 = q * ei / (p * p);
+    let c2 = (c1 * k * (k * l).sin() - q * l / p) / (k * (k * l).cos());
+    q * ei / (p * p) - q * l * l / (2.0 * p) - c1 * (k * l).cos() - c2 * (k * l).sin()
+}
+
+/// The end-loaded cantilever (`P_cr/2`, compression) sagging under its own weight across its axis
+/// (`flexmb equilibrium`): the tip deflection of the beam-column's closed form (1.96 times the
+/// unloaded `qL⁴/8EI`), within 1 % by the force element on the tip, and the same to 1e-3 with the end
+/// load through the welded joint, whose reaction (the equilibrium's `λ`) stiffens the body there.
+#[test]
+fn an_end_loaded_cantilever_sags_as_the_beam_column() {
+    let dir = scratch("stiffening_end_load_sag");
+    let fe = loaded_beam(&dir);
+    let (length, ei, q) = (10.0_f64, 1.4e4_f64, 1.2 * 9.81);
+    let load = 0.5 * std::f64::consts::PI.powi(2) * ei / (4.0 * length * length);
+    let sag = |name: &str, through_joint: bool| {
+        let path = dir.join(format!("{name}.toml"));
+        let model = end_load_model(&fe, load, "", through_joint, "0.0").replace("gravity = [0.0, 0.0, 0.0]", "gravity = [0.0, -9.81, 0.0]");
+        std::fs::write(&path, model).unwrap();
+        let out = dir.join(name);
+        succeed(&["equilibrium", path.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+        -ResultCsv::read(&out.join("equilibrium.csv")).column("beam.node21.deformation.y")[0]
+    };
+    let expected = beam_column_tip_deflection(length, ei, q, load);
+    let unloaded = q * length.powi(4) / (8.0 * ei);
+    let (by_force, by_joint) = (sag("force", false), sag("joint", true));
+    eprintln!(
+        "end-loaded cantilever under its weight: tip sag {by_force:.5} m (force element), {by_joint:.5} m (through the joint), \
+         beam-column {expected:.5} m ({:+.1e}), without the end load {unloaded:.5} m",
+        by_force / expected - 1.0
+    );
+    assert!(expected > 1.9 * unloaded);
+    assert!((by_force / expected - 1.0).abs() < 0.01, "{by_force} m against {expected} m");
+    assert!((by_joint / by_force - 1.0).abs() < 1e-3, "through the joint {by_joint} m, by the force element {by_force} m");
 }

@@ -8,6 +8,7 @@
 //! | membrane | constant-strain triangle | QM6 (incompatible modes) | `shell/membrane.rs` |
 //! | bending | DKT (Kirchhoff) | MITC4 (Mindlin, assumed shear) | `shell/dkt.rs`, `shell/mitc4.rs` |
 //! | drilling | Hughes–Brezzi penalty + spring | the same | `shell/drilling.rs` |
+//! | geometric stiffness | membrane stress, linear | membrane stress, bilinear | `shell/geometric_stiffness.rs` |
 //!
 //! Membrane and bending are uncoupled in the element plane (a flat, homogeneous section). The
 //! local degrees of freedom of a node are `u v w θx θy θz` along and about the element axes
@@ -45,12 +46,14 @@ mod bilinear;
 mod dkt;
 mod drilling;
 mod frame;
+mod geometric_stiffness;
 mod membrane;
 mod mitc4;
 
 use nalgebra::{DMatrix, Matrix3, Matrix6, Vector2, Vector3};
 
 pub use frame::WARP_TOLERANCE;
+pub use geometric_stiffness::shell_geometric_stiffness;
 
 use super::validate::{non_negative, positive, Elastic};
 use super::{ElementError, ElementMatrices, MassPoint, NodalMass};

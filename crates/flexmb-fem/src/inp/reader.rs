@@ -1426,6 +1426,7 @@ impl Reader {
                 mesh,
                 supports,
                 static_loads: Vec::new(),
+                interface_nodes: Vec::new(),
                 options: Default::default(),
             },
             warnings: self.warnings,

@@ -367,7 +367,7 @@ impl Default for ModelOptions {
 }
 
 /// A flexible body's FE model: the mesh, the supports of the mode analysis, the unit loads of the
-/// static correction modes, and the modelling options.
+/// static correction modes, the interface nodes, and the modelling options.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct FeModel {
     /// Nodes, materials, sections, elements, point masses.
@@ -376,6 +376,9 @@ pub struct FeModel {
     pub supports: Vec<Support>,
     /// The unit loads of the static correction modes.
     pub static_loads: Vec<StaticLoad>,
+    /// The interface nodes (mesh indices, each once): the nodes where joints and force elements act
+    /// on the body. The geometric-stiffness terms get six unit load cases at each.
+    pub interface_nodes: Vec<usize>,
     /// Mass model, rotary inertia, drilling stiffness.
     pub options: ModelOptions,
 }

@@ -54,8 +54,8 @@ impl Mesh {
 }
 
 impl FeModel {
-    /// Checks the mesh's references ([`Mesh::check_references`]) and that every support and static
-    /// load acts at a node of the mesh.
+    /// Checks the mesh's references ([`Mesh::check_references`]) and that every support, static
+    /// load and interface node is a node of the mesh.
     pub fn check_references(&self) -> Result<(), FemError> {
         self.mesh.check_references()?;
         let nodes = self.mesh.nodes.len();
@@ -64,6 +64,9 @@ impl FeModel {
         }
         for l in &self.static_loads {
             known(|| format!("static load '{}'", l.name), "node", l.node, nodes)?;
+        }
+        for &n in &self.interface_nodes {
+            known(|| "an interface".to_string(), "node", n, nodes)?;
         }
         Ok(())
     }

@@ -14,6 +14,13 @@
 //! - `ω̄_j²` and `ω̄_j ω̄_k` (centrifugal, in the order `xx yy zz xy yz zx`): `−mᵢ (e_j e_jᵀ − I) s̄ᵢ`
 //!   and `−mᵢ (e_j e_kᵀ + e_k e_jᵀ) s̄ᵢ`.
 //!
+//! **Interface cases.** At each interface node of the FE model (the `[[interface]]` tables: where
+//! joints and force elements act on the body), six unit loads in body axes, the forces `F_x F_y F_z`
+//! and the moments `M_x M_y M_z`, each with its own `G`. At run time their factors are the force and
+//! moment the mechanism applies at the node. A unit load on a held dof (a support or a completing
+//! dof) is reacted where it acts and stresses nothing: its `G` is zero; a moment at a node without
+//! rotational dofs (solids only) likewise.
+//!
 //! **Support.** Every case is solved with the supports of the mode analysis, completed, when they
 //! leave rigid motions (the door's hinge line, a free body), by as many held dofs as there are
 //! motions, chosen by pivoting on them (the static correction modes' extra supports): a statically
@@ -21,12 +28,12 @@
 //! body's frame-defining nodes. This is the stress state of a body carried at those nodes, which is
 //! what a body attached to the mechanism there is (a blade at its root, a beam on a hub). Inertia
 //! relief was not chosen: it makes the stress of the inertia cases vanish (each balances itself) and
-//! then needs the loads at the frame-defining nodes as interface cases, which these terms do not yet
-//! hold. A hyperstatic support set (more than the six rigid motions held) is used as it is.
+//! then needs the loads at the frame-defining nodes as interface cases of their own. A hyperstatic support set (more than the six rigid motions held) is used as it is.
 //!
 //! **Elements.** Beams give their geometric stiffness under their axial force
-//! ([`beam_geometric_stiffness`](crate::element::beam::beam_geometric_stiffness)); a body with
-//! shells gets no terms (their membrane geometric stiffness is not implemented).
+//! ([`beam_geometric_stiffness`](crate::element::beam::beam_geometric_stiffness)), shells under their
+//! membrane stress ([`shell_geometric_stiffness`](crate::element::shell::shell_geometric_stiffness)),
+//! solids under their stress ([`solid_geometric_stiffness`](crate::element::solid::solid_geometric_stiffness)).
 
 use faer::Mat;
 use nalgebra::{DMatrix, Matrix3, Vector3, Vector6};
@@ -35,13 +42,18 @@ use serde::{Deserialize, Serialize};
 use super::serde_matrix;
 use crate::assembly::AssembledModel;
 use crate::element::beam::{axial_force, beam_geometric_stiffness};
+use crate::element::shell::shell_geometric_stiffness;
+use crate::element::solid::solid_geometric_stiffness;
 use crate::error::FemError;
-use crate::mesh::{ElementKind, FeModel};
+use crate::mesh::{Element, ElementKind, FeModel, Mesh};
 use crate::modes::rigid::pivot_dofs;
 use crate::static_correction::solve_with_extra_supports;
 
 /// The names of the six centrifugal cases, in order.
 pub const CENTRIFUGAL_CASES: [&str; 6] = ["xx", "yy", "zz", "xy", "yz", "zx"];
+
+/// The number of unit load cases at an interface node: three forces, three moments.
+pub const INTERFACE_CASES: usize = 6;
 
 /// The index pairs `(j, k)` of the six centrifugal cases.
 const CENTRIFUGAL_PAIRS: [(usize, usize); 6] = [(0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (2, 0)];
@@ -59,6 +71,20 @@ pub struct GeometricStiffness {
     /// `G` of the centrifugal products `ω̄ₓ²`, `ω̄ᵧ²`, `ω̄𝓏²`, `ω̄ₓω̄ᵧ`, `ω̄ᵧω̄𝓏`, `ω̄𝓏ω̄ₓ` (per rad²/s²).
     #[serde(with = "serde_matrix::dmatrix_list")]
     pub centrifugal: Vec<DMatrix<f64>>,
+    /// The interface cases, one entry per interface node (none without `[[interface]]` tables).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub interface: Vec<InterfaceStiffness>,
+}
+
+/// The modal geometric stiffness of the six unit loads at one interface node.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct InterfaceStiffness {
+    /// The node's label in the FE model.
+    pub node: u64,
+    /// `G` of a unit force `F_x`, `F_y`, `F_z` (per N) and a unit moment `M_x`, `M_y`, `M_z` (per N m)
+    /// at the node, body axes.
+    #[serde(with = "serde_matrix::dmatrix_list")]
+    pub loads: Vec<DMatrix<f64>>,
 }
 
 impl GeometricStiffness {
@@ -73,53 +99,110 @@ impl GeometricStiffness {
                 return Err(format!("geometric_stiffness.{name} holds a {}×{} matrix, expected {m}×{m}", g.nrows(), g.ncols()));
             }
         }
+        for case in &self.interface {
+            if case.loads.len() != INTERFACE_CASES {
+                return Err(format!(
+                    "geometric_stiffness.interface of node {} has {} matrices, expected {INTERFACE_CASES}",
+                    case.node,
+                    case.loads.len()
+                ));
+            }
+            if let Some(g) = case.loads.iter().find(|g| g.shape() != (m, m)) {
+                return Err(format!(
+                    "geometric_stiffness.interface of node {} holds a {}×{} matrix, expected {m}×{m}",
+                    case.node,
+                    g.nrows(),
+                    g.ncols()
+                ));
+            }
+        }
         Ok(())
     }
 }
 
 /// The geometric-stiffness terms of `model` (prepared: supports complete but for the free rigid
 /// motions `rigid`) for the mode shapes `nodal_modes` (one vector of all `6 n_nodes` nodal dofs per
-/// mode); `None` if the model has elements other than beams.
+/// mode).
 pub(crate) fn geometric_stiffness(
     model: &FeModel,
     assembled: &AssembledModel,
     rigid: &Mat<f64>,
     nodal_modes: &[Vec<f64>],
-) -> Result<Option<GeometricStiffness>, FemError> {
+) -> Result<GeometricStiffness, FemError> {
     let mesh = &model.mesh;
-    if mesh.elements.iter().any(|e| !matches!(e.kind, ElementKind::Beam { .. })) {
-        return Ok(None);
-    }
-    let loads = unit_inertia_loads(assembled);
+    let inertia = unit_inertia_loads(assembled);
+    let interface = unit_interface_loads(model, assembled);
+    let loads = Mat::from_fn(inertia.nrows(), 12 + interface.ncols(), |i, j| if j < 12 { inertia[(i, j)] } else { interface[(i, j - 12)] });
     let held = pivot_dofs(rigid);
     let displacements = solve_with_extra_supports(assembled, &held, &loads, rigid.ncols())?;
     let m = nodal_modes.len();
-    let mut terms: Vec<DMatrix<f64>> = Vec::with_capacity(12);
-    for case in 0..12 {
+    let mut terms: Vec<DMatrix<f64>> = Vec::with_capacity(loads.ncols());
+    for case in 0..loads.ncols() {
         let free: Vec<f64> = (0..displacements.nrows()).map(|i| displacements[(i, case)]).collect();
         let u = assembled.dofs.expand(&free);
         let mut g = DMatrix::zeros(m, m);
         for element in &mesh.elements {
-            let ElementKind::Beam { section } = element.kind else { continue };
-            let section = &mesh.beam_sections[section];
-            let material = &mesh.materials[section.material];
-            let (na, nb) = (element.nodes[0], element.nodes[1]);
-            let (a, b) = (mesh.nodes[na].position, mesh.nodes[nb].position);
-            let translation = |n: usize| Vector3::new(u[6 * n], u[6 * n + 1], u[6 * n + 2]);
-            let element_error = |source| FemError::Element { label: element.label, source };
-            let force = axial_force(&a, &b, section, material, &translation(na), &translation(nb)).map_err(element_error)?;
-            if force == 0.0 {
-                continue;
-            }
-            let k_geo = beam_geometric_stiffness(&a, &b, section, force).map_err(element_error)?;
-            let phi = DMatrix::from_fn(12, m, |r, j| nodal_modes[j][6 * element.nodes[r / 6] + r % 6]);
+            let Some(k_geo) = element_geometric_stiffness(mesh, element, &u)? else { continue };
+            let phi = DMatrix::from_fn(6 * element.nodes.len(), m, |r, j| nodal_modes[j][6 * element.nodes[r / 6] + r % 6]);
             g += phi.transpose() * k_geo * phi;
         }
         terms.push((&g + g.transpose()) * 0.5);
     }
+    let interface_terms = terms.split_off(12);
+    let interface = model
+        .interface_nodes
+        .iter()
+        .zip(interface_terms.chunks(INTERFACE_CASES))
+        .map(|(&node, loads)| InterfaceStiffness { node: mesh.nodes[node].label, loads: loads.to_vec() })
+        .collect();
     let centrifugal = terms.split_off(6);
     let angular_acceleration = terms.split_off(3);
-    Ok(Some(GeometricStiffness { acceleration: terms, angular_acceleration, centrifugal }))
+    Ok(GeometricStiffness { acceleration: terms, angular_acceleration, centrifugal, interface })
+}
+
+/// The geometric stiffness (`6n × 6n`, body frame, the element's nodes in order) of `element` under
+/// the stress of the nodal displacements `u` (all `6 n_nodes` dofs); `None` for a beam without axial
+/// force.
+fn element_geometric_stiffness(mesh: &Mesh, element: &Element, u: &[f64]) -> Result<Option<DMatrix<f64>>, FemError> {
+    let element_error = |source| FemError::Element { label: element.label, source };
+    let points: Vec<Vector3<f64>> = element.nodes.iter().map(|&n| mesh.nodes[n].position).collect();
+    let translations: Vec<Vector3<f64>> = element.nodes.iter().map(|&n| Vector3::new(u[6 * n], u[6 * n + 1], u[6 * n + 2])).collect();
+    let k_geo = match element.kind {
+        ElementKind::Beam { section } => {
+            let section = &mesh.beam_sections[section];
+            let material = &mesh.materials[section.material];
+            let force = axial_force(&points[0], &points[1], section, material, &translations[0], &translations[1]).map_err(element_error)?;
+            if force == 0.0 {
+                return Ok(None);
+            }
+            beam_geometric_stiffness(&points[0], &points[1], section, force)
+        }
+        ElementKind::Shell { section } => {
+            let section = &mesh.shell_sections[section];
+            shell_geometric_stiffness(&points, section, &mesh.materials[section.material], &translations)
+        }
+        ElementKind::Solid { section, formulation } => {
+            let material = &mesh.materials[mesh.solid_sections[section].material];
+            solid_geometric_stiffness(&points, formulation, material, &translations)
+        }
+    };
+    k_geo.map(Some).map_err(element_error)
+}
+
+/// The unit loads at the interface nodes over the free dofs (`n_free × 6 n_interface`, forces then
+/// moments at each node): a load on a dependent dof (a rigid coupling) goes to its reference node's
+/// equations; one on a held or absent dof is left out (it stresses nothing).
+fn unit_interface_loads(model: &FeModel, assembled: &AssembledModel) -> Mat<f64> {
+    let dofs = &assembled.dofs;
+    let mut loads = Mat::zeros(dofs.n_free(), INTERFACE_CASES * model.interface_nodes.len());
+    for (k, &node) in model.interface_nodes.iter().enumerate() {
+        for d in 0..INTERFACE_CASES {
+            for (e, c) in dofs.terms(6 * node + d) {
+                loads[(e, INTERFACE_CASES * k + d)] += c;
+            }
+        }
+    }
+    loads
 }
 
 /// The twelve unit inertia loads over the free dofs (`n_free × 12`, module documentation), summed

@@ -15,7 +15,7 @@ pub use flexible_body::{
     Basis, BodyElement, BodyFileError, BodyMassProperties, BodyNode, FlexibleBody, ModeInfo, ModeKind, ModeShape,
     FORMAT, VERSION,
 };
-pub use geometric_stiffness::{GeometricStiffness, CENTRIFUGAL_CASES};
+pub use geometric_stiffness::{GeometricStiffness, InterfaceStiffness, CENTRIFUGAL_CASES, INTERFACE_CASES};
 pub use invariants::InertiaInvariants;
 pub use mode_set::{ModeGroup, ModeSet};
 
@@ -185,7 +185,7 @@ pub fn reduce(model: &FeModel, name: &str, settings: &ReductionSettings) -> Resu
         reduced_frequencies_hz,
         &fe_modes,
     )?;
-    body.geometric_stiffness = geometric_stiffness::geometric_stiffness(model, assembled, rigid, &nodal_modes(assembled, &basis))?;
+    body.geometric_stiffness = Some(geometric_stiffness::geometric_stiffness(model, assembled, rigid, &nodal_modes(assembled, &basis))?);
     Ok(Reduction { body, fe_modes, static_modes, basis_independence, warnings })
 }
 

@@ -12,7 +12,7 @@ use flexmb_fem::input::Quantity;
 
 use super::names::Registry;
 use super::schema::FeModelFile;
-use super::{elements, generators, masses, materials, mesh_file, nodes, options, sections, static_loads, supports};
+use super::{elements, generators, interfaces, masses, materials, mesh_file, nodes, options, sections, static_loads, supports};
 use super::{LoadedFeModel, ModesDefaults};
 use crate::model_file::build::context::Context;
 use crate::model_file::build::names::NameTable;
@@ -146,6 +146,7 @@ pub(crate) fn build<'a>(
     masses::add_masses(&mut b, &file.mass)?;
     supports::add_supports(&mut b, &file.support)?;
     static_loads::add_static_loads(&mut b, &file.static_load)?;
+    interfaces::add_interfaces(&mut b, &file.interface)?;
     let defaults: ModesDefaults = options::modes_defaults(&b, file.modes.as_ref())?;
     warn_unused(&mut b);
     Ok(LoadedFeModel { name, model: b.model, defaults, warnings: b.warnings, sources: b.sources })

@@ -11,6 +11,7 @@ mod build;
 mod elements;
 pub(crate) mod format;
 mod generators;
+mod interfaces;
 mod masses;
 mod materials;
 mod mesh_file;

@@ -41,6 +41,8 @@ pub(crate) struct FeModelFile {
     pub support: Vec<Spanned<SupportSection>>,
     #[serde(default)]
     pub static_load: Vec<Spanned<StaticLoadSection>>,
+    #[serde(default)]
+    pub interface: Vec<Spanned<InterfaceSection>>,
 }
 
 /// `[fe_model]`.
@@ -170,4 +172,11 @@ pub(crate) struct StaticLoadSection {
     pub at: Spanned<NodeRef>,
     pub force: Option<Vector>,
     pub torque: Option<Vector>,
+}
+
+/// `[[interface]]`: nodes where joints and force elements act on the body.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct InterfaceSection {
+    pub at: Spanned<NodeRef>,
 }

@@ -11,6 +11,7 @@
 use crate::data::Data;
 use crate::linalg::{SingularMatrix, SparseLu};
 use crate::model::{Model, SizeCheck, SizeMismatch};
+use crate::stage::geometric_stiffening::interface_reaction_entries;
 use crate::stage::{inertia_jacobian_entries, jacobian_entries, run_force_stages, run_kinematic_stages};
 
 /// Result of an acceleration solve.
@@ -68,6 +69,11 @@ impl KktMatrix {
         jacobian_entries(model, data, |r, c, x| {
             if active[r] {
                 lu.add(nv + r, c, x);
+                lu.add(c, nv + r, x);
+            }
+        });
+        interface_reaction_entries(model, data, |r, c, x| {
+            if active[r] {
                 lu.add(c, nv + r, x);
             }
         });

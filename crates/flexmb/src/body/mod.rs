@@ -7,7 +7,7 @@ mod marker;
 mod modal;
 mod rigid;
 
-pub use geometric_stiffness::{inertia_load_factors, ModalGeometricStiffness, INERTIA_CASES};
+pub use geometric_stiffness::{inertia_load_factors, InterfaceGeometricStiffness, ModalGeometricStiffness, INERTIA_CASES, INTERFACE_CASES};
 pub use high_mode_damping::HighModeDamping;
 pub use marker::Marker;
 pub use modal::{LumpedNode, ModalBody, ModalDamping, ModalError, ModalInvariants, ModalNode};

@@ -585,7 +585,7 @@ fn geometric_stiffening_adds_its_term_and_its_acceleration_columns() {
         b.add_flexible_body("flex", InitialState::default(), body).unwrap();
         b.build().unwrap()
     };
-    let stiffened = build(ModalBody { geometric_stiffness: Some(ModalGeometricStiffness { inertia_cases: cases.clone() }), ..plain.clone() });
+    let stiffened = build(ModalBody { geometric_stiffness: Some(ModalGeometricStiffness::of_inertia_cases(cases.clone())), ..plain.clone() });
     let unstiffened = build(plain);
     let (q, v, vdot) = random_state(&stiffened, &mut rng);
     let forces = |model: &Model, vdot: &[f64]| {

@@ -40,7 +40,22 @@ pub(super) fn check_flexible_body(body: &RigidBody, modal: &ModalBody) -> Result
         if terms.inertia_cases.len() != crate::body::INERTIA_CASES || terms.inertia_cases.iter().any(|g| g.shape() != (m, m)) {
             return Err(bad(name, format!("the geometric stiffness must hold {} matrices of {m}×{m}", crate::body::INERTIA_CASES)));
         }
-        if !terms.inertia_cases.iter().all(|g| g.iter().all(|x| x.is_finite())) {
+        for i in &terms.interface {
+            if i.node >= modal.nodes.len() {
+                return Err(bad(name, format!("the geometric stiffness names interface node {} of {}", i.node, modal.nodes.len())));
+            }
+            if i.loads.len() != crate::body::INTERFACE_CASES || i.loads.iter().any(|g| g.shape() != (m, m)) {
+                return Err(bad(
+                    name,
+                    format!(
+                        "the geometric stiffness of interface node {} must hold {} matrices of {m}×{m}",
+                        modal.nodes[i.node].label,
+                        crate::body::INTERFACE_CASES
+                    ),
+                ));
+            }
+        }
+        if !terms.cases().all(|g| g.iter().all(|x| x.is_finite())) {
             return Err(bad(name, "the geometric stiffness is not finite".into()));
         }
     }

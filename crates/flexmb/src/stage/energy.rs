@@ -7,6 +7,7 @@ use crate::joint::Equation;
 use crate::model::Model;
 use crate::stage::body_mass_entries;
 use crate::stage::forces::applied_load;
+use crate::stage::geometric_stiffening::interface_reaction_entries;
 
 /// Mechanical energy of a state (J).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -68,7 +69,8 @@ pub(crate) fn energy(model: &Model, data: &Data, q: &[f64], v: &[f64]) -> Energy
 /// Power of the non-conservative forces (W) at the state of the last kinematics, measures and
 /// constraint stages, with multipliers `lambda`: the dampers' and actuators' part of the spring-dampers,
 /// applied forces and torques, modal damping `−ȧᵀ D ȧ`, and the constraints that depend on time
-/// (drivers), `λᵀ Φ_t` (the constraint forces are `−Φ_qᵀ λ` and `Φ_q v = −Φ_t`). Gravity, spring
+/// (drivers), `λᵀ Φ_t` (the constraint forces are `−Φ_qᵀ λ` and `Φ_q v = −Φ_t`), and the geometric
+/// stiffening of the loads at interface nodes ([`interface_stiffening_power`]). Gravity, spring
 /// stiffness and strain are conservative: their work is in the potential and strain energy. So
 /// `dE/dt = P` along a solution, and `E(t) − E(0) − ∫ P dt` measures how well a run keeps its energy
 /// balance.
@@ -110,5 +112,27 @@ pub(crate) fn nonconservative_power(model: &Model, data: &Data, t: f64, lambda: 
             }
         };
     }
-    p + data.equations.iter().zip(lambda).map(|(e, l)| l * e.phi_t).sum::<f64>()
+    p + data.equations.iter().zip(lambda).map(|(e, l)| l * e.phi_t).sum::<f64>() + interface_stiffening_power(model, data, lambda)
+}
+
+/// The power `−ȧᵀ K_G,I a` of the geometric stiffening of the loads at interface nodes (force
+/// elements' and joints'): the work those loads do through the second-order (foreshortening)
+/// displacement of their nodes, which the linear modal kinematics leave out of `F · ṙ`.
+fn interface_stiffening_power(model: &Model, data: &Data, lambda: &[f64]) -> f64 {
+    let l = &model.layout;
+    let mut p = 0.0;
+    for (b, modal) in model.modal.iter().enumerate() {
+        if modal.is_some() {
+            let o = l.v_offset[b] + 6;
+            p -= data.modal[b].a_dot.iter().enumerate().map(|(k, x)| x * data.interface_stiffening[o + k]).sum::<f64>();
+        }
+    }
+    if lambda.is_empty() {
+        return p;
+    }
+    interface_reaction_entries(model, data, |row, c, x| {
+        let b = l.velocity_body(c);
+        p -= lambda[row] * x * data.modal[b].a_dot[c - l.v_offset[b] - 6];
+    });
+    p
 }

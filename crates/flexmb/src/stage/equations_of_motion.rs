@@ -1,7 +1,9 @@
 //! The equations of motion in residual form, the function the linearization differentiates and the
 //! generalized-α step solves: `g = [M v̇ + h(q, v) − Q(q, v, t) + Bᵀλ; B v + Φ_t]`, the
-//! Lagrange-multiplier equations of motion (Haug 1989) with the constraints at velocity level.
+//! Lagrange-multiplier equations of motion (Haug 1989) with the constraints at velocity level. `Bᵀλ`
+//! includes the geometric stiffening of the joints' reactions at interface nodes (`stage::geometric_stiffening`).
 
+use super::geometric_stiffening::add_interface_reactions;
 use super::{add_jacobian_transpose, run_forward};
 use crate::data::Data;
 use crate::model::Model;
@@ -27,6 +29,7 @@ pub(crate) fn equations_of_motion(
         g[k] = data.inertia[k] - data.applied[k];
     }
     add_jacobian_transpose(model, data, lambda, &mut g[..nv]);
+    add_interface_reactions(model, data, lambda, &mut g[..nv]);
     for (row, terms) in data.equations.iter().enumerate() {
         let (j, _) = model.layout.equations[row];
         let joint = &model.joints[j.0];

@@ -7,12 +7,14 @@ use crate::force::{ForceFrame, ForceKind};
 use crate::joint::Equation;
 use crate::math::{Mat3, Vec3};
 use crate::model::{MarkerId, Model};
-use crate::stage::{modal_row, MarkerState};
+use crate::stage::geometric_stiffening::interface_stiffening;
+use crate::stage::{modal_row, MarkerState, ModalState};
 
 /// Fills `data.applied` with `Q(q, v, t)`.
 pub(crate) fn applied_forces(model: &Model, data: &mut Data, t: f64) {
-    let Data { bodies, markers, measures, angle_reference, applied, modal: modal_states, .. } = data;
+    let Data { bodies, markers, measures, angle_reference, applied, interface_stiffening, modal: modal_states, .. } = data;
     applied.fill(0.0);
+    interface_stiffening.fill(0.0);
     let g = model.gravity;
     for (b, body) in model.bodies.iter().enumerate() {
         let o = model.layout.v_offset[b];
@@ -40,6 +42,7 @@ pub(crate) fn applied_forces(model: &Model, data: &mut Data, t: f64) {
             }
         }
     }
+    let modal_states: &[ModalState] = modal_states;
     for force in &model.forces {
         match &force.kind {
             ForceKind::TranslationalSpringDamper { marker_i, marker_j, stiffness, damping, free_length, actuator } => {
@@ -53,8 +56,8 @@ pub(crate) fn applied_forces(model: &Model, data: &mut Data, t: f64) {
                 let l_rate = u.dot(&(mj.velocity - mi.velocity));
                 let act = actuator.as_ref().map_or(0.0, |e| e.eval(t, measures));
                 let f = -stiffness * (l - free_length) - damping * l_rate + act;
-                add_at(model, applied, mj, &(f * u), &Vec3::zeros());
-                add_at(model, applied, mi, &(-f * u), &Vec3::zeros());
+                add_at(model, modal_states, applied, interface_stiffening, mj, &(f * u), &Vec3::zeros());
+                add_at(model, modal_states, applied, interface_stiffening, mi, &(-f * u), &Vec3::zeros());
             }
             ForceKind::RotationalSpringDamper { joint, stiffness, damping, free_angle, actuator } => {
                 let jt = &model.joints[joint.0];
@@ -65,18 +68,18 @@ pub(crate) fn applied_forces(model: &Model, data: &mut Data, t: f64) {
                 let act = actuator.as_ref().map_or(0.0, |e| e.eval(t, measures));
                 let torque = -stiffness * (theta - free_angle) - damping * rate + act;
                 let axis: Vec3 = mi.axes.column(2).into();
-                add_at(model, applied, mj, &Vec3::zeros(), &(torque * axis));
-                add_at(model, applied, mi, &Vec3::zeros(), &(-torque * axis));
+                add_at(model, modal_states, applied, interface_stiffening, mj, &Vec3::zeros(), &(torque * axis));
+                add_at(model, modal_states, applied, interface_stiffening, mi, &Vec3::zeros(), &(-torque * axis));
             }
             ForceKind::AppliedForce { marker, components, frame } => {
                 let m = &markers[marker.0];
                 let f = in_global(model, bodies, *marker, m, *frame, components, t, measures);
-                add_at(model, applied, m, &f, &Vec3::zeros());
+                add_at(model, modal_states, applied, interface_stiffening, m, &f, &Vec3::zeros());
             }
             ForceKind::AppliedTorque { marker, components, frame } => {
                 let m = &markers[marker.0];
                 let tau = in_global(model, bodies, *marker, m, *frame, components, t, measures);
-                add_at(model, applied, m, &Vec3::zeros(), &tau);
+                add_at(model, modal_states, applied, interface_stiffening, m, &Vec3::zeros(), &tau);
             }
         }
     }
@@ -117,9 +120,10 @@ fn in_global(
 }
 
 /// Adds a global force at a marker origin and a global torque to the marker's body (and, at a node
-/// of a flexible body, to its modal forces).
+/// of a flexible body, to its modal forces, with the geometric stiffening of the load at an
+/// interface node, which also goes to `stiffening`).
 #[inline]
-fn add_at(model: &Model, applied: &mut [f64], m: &MarkerState, f: &Vec3, tau: &Vec3) {
+fn add_at(model: &Model, modal_states: &[ModalState], applied: &mut [f64], stiffening: &mut [f64], m: &MarkerState, f: &Vec3, tau: &Vec3) {
     if let Some(b) = m.body {
         let q = m.generalized_force(f, tau);
         let o = model.layout.v_offset[b.0];
@@ -127,5 +131,9 @@ fn add_at(model: &Model, applied: &mut [f64], m: &MarkerState, f: &Vec3, tau: &V
             applied[o + k] += q[k];
         }
         modal_row(model, m, f, tau, |j, x| applied[o + 6 + j] += x);
+        interface_stiffening(model, modal_states, m, f, tau, |j, x| {
+            applied[o + 6 + j] -= x;
+            stiffening[o + 6 + j] += x;
+        });
     }
 }

@@ -9,7 +9,7 @@ mod energy;
 mod equations_of_motion;
 mod forces;
 mod forward;
-mod geometric_stiffening;
+pub(crate) mod geometric_stiffening;
 mod inertia;
 mod kinematics;
 mod lie_group;

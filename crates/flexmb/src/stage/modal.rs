@@ -8,7 +8,7 @@
 
 use nalgebra::{DMatrix, DVector, Matrix3xX};
 
-use crate::body::{ModalBody, INERTIA_CASES};
+use crate::body::ModalBody;
 use crate::math::{skew, Mat3, Vec3};
 use crate::model::Model;
 use crate::stage::MarkerState;
@@ -29,13 +29,15 @@ pub struct ModalState {
     pub coupling: Matrix3xX<f64>,
     /// `Eⱼ = Σₖ aₖ C5(j,k)`.
     pub c5a: Vec<Mat3>,
-    /// `G_k a` (m × 12), column k for the k-th unit inertia case of the body's geometric stiffness;
+    /// `G_k a` (m × cases), column k for the k-th case of the body's geometric stiffness (the 12
+    /// unit inertia cases, then six per interface node, [`ModalGeometricStiffness::cases`](crate::body::ModalGeometricStiffness::cases));
     /// zero without one.
     pub stiffening_columns: DMatrix<f64>,
 }
 
 impl ModalState {
-    pub(crate) fn new(modes: usize) -> Self {
+    /// The state of a body with `modes` modes and `cases` geometric-stiffness cases.
+    pub(crate) fn new(modes: usize, cases: usize) -> Self {
         Self {
             a: DVector::zeros(modes),
             a_dot: DVector::zeros(modes),
@@ -43,7 +45,7 @@ impl ModalState {
             inertia: Mat3::zeros(),
             coupling: Matrix3xX::zeros(modes),
             c5a: vec![Mat3::zeros(); modes],
-            stiffening_columns: DMatrix::zeros(modes, INERTIA_CASES),
+            stiffening_columns: DMatrix::zeros(modes, cases),
         }
     }
 
@@ -72,7 +74,7 @@ impl ModalState {
         }
         self.inertia = -j + inv.rotary_inertia;
         if let Some(terms) = &body.geometric_stiffness {
-            for (k, g) in terms.inertia_cases.iter().enumerate() {
+            for (k, g) in terms.cases().enumerate() {
                 for r in 0..m {
                     self.stiffening_columns[(r, k)] = (0..m).map(|c| g[(r, c)] * a[c]).sum();
                 }

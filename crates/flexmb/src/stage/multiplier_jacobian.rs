@@ -4,7 +4,7 @@
 //! of the multipliers themselves.
 //!
 //! ```text
-//! ∂(M v̇ + h − Q + Bᵀλ)/∂λ = Bᵀ                                    (dynamic rows)
+//! ∂(M v̇ + h − Q + Bᵀλ)/∂λ = Bᵀ (+ the joints' interface stiffening)  (dynamic rows)
 //! ∂(q̇ − T(q) v − Φ̂_qᵀ μ)/∂μ_k = −[B_k,R; 2 Gᵀ(p) B_k,ω̄; B_k,a]   (kinematic rows: Ṙ, ṗ, ȧ)
 //! ∂(q̇ − …)/∂μ_norm,b = −2 p_b                                    (normalization of body b)
 //! ∂λ_k/∂λ_k = ∂μ_k/∂μ_k = 1                                       (rows switched off)
@@ -15,6 +15,7 @@ use crate::data::Data;
 use crate::math::euler_parameters::g_matrix;
 use crate::math::Vec4;
 use crate::model::Model;
+use crate::stage::geometric_stiffening::interface_reaction_entries;
 use crate::stage::{jacobian_entries, YLayout};
 
 /// Calls `f(row, column, value)` (indices into `y = [q, v, λ, μ]` of `yl`) for every entry of the
@@ -52,6 +53,7 @@ pub(crate) fn multiplier_jacobian_entries(
             _ => f(qo + local + 1, mu, -x),
         }
     });
+    interface_reaction_entries(model, data, |row, c, x| f(yl.v.start + c, yl.lambda.start + row, x));
     for b in 0..model.bodies.len() {
         let p = euler_parameters(q, l.q_offset[b]);
         let column = yl.mu.start + l.nc + b;

@@ -18,6 +18,7 @@ use crate::data::Data;
 use crate::math::euler_parameters::g_matrix;
 use crate::math::{Vec3, Vec4};
 use crate::model::Model;
+use crate::stage::geometric_stiffening::add_interface_reactions;
 use crate::stage::{add_jacobian_transpose, euler_parameter_rates, run_forward};
 
 /// Ranges of the blocks of `y = [q, v, λ, μ]` (and of the matching residual rows).
@@ -67,6 +68,7 @@ pub(crate) fn residual(
     let mut bt = std::mem::take(&mut data.scratch_v);
     bt.fill(0.0);
     add_jacobian_transpose(model, data, lambda, &mut bt);
+    add_interface_reactions(model, data, lambda, &mut bt);
     let res_v = &mut res[yl.v.clone()];
     for k in 0..res_v.len() {
         res_v[k] = data.inertia[k] - data.applied[k] + bt[k];

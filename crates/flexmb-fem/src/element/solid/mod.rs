@@ -16,6 +16,7 @@
 //!
 //! The integration points are CalculiX's (`quadrature.rs`); the Jacobian, the strain–displacement
 //! product `Bᵀ D B` of an isotropic material and the mass points are shared (`isoparametric.rs`).
+//! The geometric (initial-stress) stiffness under the element's stress is `geometric_stiffness.rs`.
 //!
 //! **Which 8-node brick.** C3D8 (full integration) locks in bending: a cantilever of one brick
 //! through the thickness is several times too stiff. Of the two remedies CalculiX offers, flexmb
@@ -48,6 +49,7 @@
 //! (nodes out of order: inverted; or collapsed) is refused with that determinant; a Poisson's ratio
 //! of ½ (incompressible) is refused (λ would be infinite).
 
+mod geometric_stiffness;
 mod hexahedron;
 mod incompatible_modes;
 mod isoparametric;
@@ -60,6 +62,7 @@ use nalgebra::{DMatrix, Matrix3, Vector3};
 use super::validate::Elastic;
 use super::{ElementError, ElementMatrices, MassPoint, NodalMass};
 use crate::mesh::{MassModel, Material, ModelOptions, SolidFormulation};
+pub use geometric_stiffness::solid_geometric_stiffness;
 use isoparametric::{lame, mass_points, stiffness, ShapeFunctionsAt};
 use quadrature::IntegrationPoint;
 

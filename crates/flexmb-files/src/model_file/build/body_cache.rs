@@ -2,7 +2,7 @@
 //! next to it, as a flexible-body file named `<fe stem>-<modes>-<basis>-<hash>.json`, where the hash
 //! (FNV-1a, 64 bits) covers the bytes of the FE model file and of every file it read (the mesh file and
 //! its includes), the mode set, the basis, the flexible-body format version, the terms the reduction
-//! computes (the geometric stiffness of the unit inertia loads) and the program's version.
+//! computes (the geometric stiffness of the unit inertia and interface loads) and the program's version.
 //! A changed input gives another name, so a stale file is never read; it is removed when the new one
 //! is written. A cache that cannot be written only costs the next run a new reduction. The file is
 //! written to a temporary file and renamed into place, so a reader sees all of it or nothing, and
@@ -118,8 +118,10 @@ fn cache_hash(loaded: &LoadedFeModel, set: &ModeSet, basis: Basis) -> Option<u64
     let mut hash = Fnv1a::new();
     hash.field(b"flexmb reduced flexible body");
     hash.field(&VERSION.to_le_bytes());
-    // Reductions hold the geometric stiffness of the unit inertia loads: caches made before do not.
+    // Reductions hold the geometric stiffness of the unit inertia and interface loads, of beams,
+    // shells and solids: caches made before do not (or only a beam model's inertia loads).
     hash.field(b"geometric stiffness: inertia loads");
+    hash.field(b"geometric stiffness: interface loads; beams, shells and solids");
     hash.field(env!("CARGO_PKG_VERSION").as_bytes());
     hash.field(set.to_string().as_bytes());
     hash.field(basis_name(basis).as_bytes());

@@ -348,8 +348,8 @@ impl Table<'_> {
         match self.f.geometric_stiffening {
             Some(false) => modal.geometric_stiffness = None,
             Some(true) if modal.geometric_stiffness.is_none() => warnings.push(
-                "geometric_stiffening = true, but the body has no geometric-stiffness terms (a body with shells, or a \
-                 flexible-body file written before them): it keeps its unstressed stiffness"
+                "geometric_stiffening = true, but the body has no geometric-stiffness terms (a flexible-body file \
+                 written before them): it keeps its unstressed stiffness"
                     .to_string(),
             ),
             _ => {}

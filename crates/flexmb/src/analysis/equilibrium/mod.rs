@@ -357,7 +357,8 @@ impl<'a> Iteration<'a> {
         let n = &point.null_space;
         let closing: Vec<f64> = point.least_change(&point.phi).into_iter().map(|x| -x).collect();
         let closing_col = Mat::from_fn(l.nv, 1, |i, _| closing[i]);
-        let f = Mat::from_fn(l.nv, 1, |i, _| point.force[i]);
+        // `Nᵀ (f + Bᵀλ + W λ) = Nᵀ (f + W λ)`: the residual carries the joints' interface stiffening.
+        let f = Mat::from_fn(l.nv, 1, |i, _| point.residual[i]);
         let rhs = -(n.transpose() * (&f + &k * &closing_col));
         Tangent { stiffness: n.transpose() * &k * n, mass: n.transpose() * &m * n, rhs, closing }
     }

@@ -1,18 +1,23 @@
 //! The static equations at one configuration: the generalized forces `f = h(q, 0) − Q(q, 0, t)` (no
 //! inertia, `v = 0`, `v̇ = 0`), the constraint Jacobian `B` of the rows in force, the basis `N` of its
 //! null space (the motions the constraints allow), the multipliers that balance `f` best,
-//! `λ = argmin ‖f + Bᵀλ‖`, and the residual `f + Bᵀλ` that is left: zero at a static equilibrium.
+//! `λ = argmin ‖f + Bᵀλ‖` (with the joints' interface stiffening `W λ` added to `f`), and the residual
+//! `f + Bᵀλ + W λ` that is left: zero at a static equilibrium.
 
 use faer::Mat;
 
 use crate::analysis::State;
 use crate::data::Data;
 use crate::model::Model;
+use crate::stage::geometric_stiffening::add_interface_reactions;
 use crate::stage::{jacobian_entries, run_force_stages, run_kinematic_stages};
 
 /// Singular values of `B` below this fraction of the largest are taken as zero (the rows in force are
 /// independent after the assembly; this only guards the least-squares multipliers).
 const RANK_TOLERANCE: f64 = 1e-10;
+
+/// Passes of the multipliers' fixed-point iteration with the joints' interface stiffening.
+const INTERFACE_PASSES: usize = 4;
 
 /// The static equations at one configuration.
 pub(super) struct StaticPoint {
@@ -27,7 +32,7 @@ pub(super) struct StaticPoint {
     pub phi: Vec<f64>,
     /// Multipliers, one per constraint row (zero for the rows switched off).
     pub lambda: Vec<f64>,
-    /// `f + Bᵀλ` (length `nv`).
+    /// `f + Bᵀλ + W λ` (length `nv`).
     pub residual: Vec<f64>,
 }
 
@@ -51,12 +56,25 @@ impl StaticPoint {
         run_force_stages(model, data, state.t, &zero);
         let force: Vec<f64> = (0..l.nv).map(|k| data.inertia[k] - data.applied[k]).collect();
         let (null_space, pseudo_inverse) = null_space_and_pseudo_inverse(&jacobian);
-        // λ = −(B⁺)ᵀ f minimizes ‖f + Bᵀλ‖.
+        // λ = −(B⁺)ᵀ f minimizes ‖f + Bᵀλ‖. The joints' loads at interface nodes stiffen their
+        // bodies by `W λ` (linear in λ, of the order of the deflection): λ = −(B⁺)ᵀ (f + W λ) by a
+        // fixed-point iteration, which `W`'s smallness makes converge at once (without interface
+        // nodes `W = 0` and the first pass is the answer).
         let mut lambda = vec![0.0; l.nc];
-        for (k, x) in pseudo_inverse.transpose_apply(&force).into_iter().enumerate() {
-            lambda[rows[k]] = -x;
+        let mut loaded = force.clone();
+        for _ in 0..INTERFACE_PASSES {
+            for (k, x) in pseudo_inverse.transpose_apply(&loaded).into_iter().enumerate() {
+                lambda[rows[k]] = -x;
+            }
+            let mut reactions = vec![0.0; l.nv];
+            add_interface_reactions(model, data, &lambda, &mut reactions);
+            if reactions.iter().all(|&x| x == 0.0) {
+                break;
+            }
+            loaded.iter_mut().zip(force.iter().zip(&reactions)).for_each(|(y, (f, w))| *y = f + w);
         }
         let mut residual = force.clone();
+        add_interface_reactions(model, data, &lambda, &mut residual);
         for (k, &r) in rows.iter().enumerate() {
             for c in 0..l.nv {
                 residual[c] += jacobian[(k, c)] * lambda[r];

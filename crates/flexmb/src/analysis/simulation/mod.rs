@@ -102,8 +102,9 @@ pub struct Simulation {
     values: Vec<f64>,
     q: Vec<f64>,
     v: Vec<f64>,
-    /// Whether a joint of the model is a driver (whose power needs the multipliers).
-    has_drivers: bool,
+    /// Whether a joint of the model is a driver or a flexible body has interface geometric stiffness
+    /// (whose power needs the multipliers and the force stage).
+    power_needs_multipliers: bool,
     /// Whether the model has laws given as code, whose failures stop the run.
     has_user_laws: bool,
     /// The counters of the integrators [`set_state`](Self::set_state) replaced (added to the
@@ -176,7 +177,8 @@ impl Simulation {
             end_reported: false,
             failed: false,
             parameters: model.parameters.iter().map(|p| p.value).collect(),
-            has_drivers: model.joints.iter().any(|j| j.kind.is_driver()),
+            power_needs_multipliers: model.joints.iter().any(|j| j.kind.is_driver())
+                || model.modal.iter().flatten().filter_map(|m| m.geometric_stiffness.as_ref()).any(|g| !g.interface.is_empty()),
             has_user_laws: !model.user_laws().is_empty(),
             restarted_stats: crate::integrate::Stats::default(),
             model,
@@ -550,11 +552,12 @@ impl Simulation {
 
     /// The power of the non-conservative forces at the accepted step that ended at `t` (the state in
     /// `self.q`, `self.v`, whose kinematics and constraints `check_step` evaluated). The drivers' power
-    /// needs the multipliers, solved for only in a model that has drivers; other constraints do no work.
+    /// and the interface stiffening's need the multipliers and the force stage, solved for only in a
+    /// model that has them; other constraints do no work.
     fn step_power(&mut self, t: f64) -> Result<f64, SimulationFailure> {
         let model = &*self.model;
         let data = self.integrator.data_mut();
-        Ok(if self.has_drivers {
+        Ok(if self.power_needs_multipliers {
             let acc = self
                 .accelerations
                 .solve_at(model, data, t, &self.q, &self.v, &self.active)

@@ -29,6 +29,7 @@ use crate::integrate::iteration_matrix::keep_checkpoint_pivots;
 use crate::linalg::{SingularMatrix, SparseLu};
 use crate::math::{Mat3, Vec3};
 use crate::model::{Coupling, Model};
+use crate::stage::geometric_stiffening::interface_reaction_entries;
 use crate::stage::{inertia_jacobian_entries, jacobian_entries};
 
 /// The iteration matrix on its fixed sparse pattern, with the stored finite-difference parts.
@@ -205,6 +206,15 @@ impl IterationMatrix {
                     }
                 } else {
                     position_part[lu.slot(nv + nc + row, col).expect("B entry is in the pattern")] += x;
+                }
+            });
+        }
+        // The joints' interface stiffening, linear in λ: beside Bᵀ in the dynamic rows.
+        {
+            let lu = &mut self.lu;
+            interface_reaction_entries(model, data, |row, col, x| {
+                if active[row] {
+                    lu.add(col, nv + row, x);
                 }
             });
         }
