@@ -28,7 +28,8 @@ use crate::assembly::supported_dofs;
 use crate::error::FemError;
 use crate::mesh::{Dof, FeModel};
 use crate::modes::rigid::pivot_dofs;
-use crate::modes::{prepare, vibration_modes_of, EigenSettings, EigenSolver, PreparedModel, VibrationModes};
+use crate::modes::shift_invert::ShiftInvert;
+use crate::modes::{prepare, vibration_modes_and_operator, vibration_modes_of, EigenSettings, EigenSolver, PreparedModel, VibrationModes};
 use crate::static_correction::{m_orthogonal_to, solve_with_extra_supports, static_correction_modes, static_responses, StaticModes};
 
 use super::ModeSet;
@@ -107,14 +108,16 @@ pub(super) fn interface_basis(
     };
     let mut columns: Vec<Mat<f64>> = Vec::new();
     let mut fe_modes = None;
+    let mut fixed_interface_operator = None;
     let mut static_modes = None;
     let mut rigid_in_span = 0;
     for group in &set.groups {
         match group.letter() {
             'N' => {
-                let modes = vibration_modes_of(&supported.assembled, &supported.rigid, group.count(), eigen)?;
+                let (modes, operator) = vibration_modes_and_operator(&supported.assembled, &supported.rigid, group.count(), eigen)?;
                 columns.push(lift(&modes.shapes));
                 fe_modes = Some(modes);
+                fixed_interface_operator = Some(operator);
             }
             'S' => {
                 let statics = static_correction_modes(&supported.model, &supported.assembled, &supported.rigid)?;
@@ -122,7 +125,8 @@ pub(super) fn interface_basis(
                 static_modes = Some(statics);
             }
             'C' => {
-                columns.push(constraint_modes(&free, supported, &interface, &to_supported, &lift)?);
+                let operator = fixed_interface_operator.as_ref();
+                columns.push(constraint_modes(&free, supported, operator, &interface, &to_supported, &lift)?);
                 rigid_in_span = free.rigid.ncols().saturating_sub(supported.rigid.ncols());
             }
             'F' => {
@@ -156,10 +160,12 @@ pub(super) fn interface_basis(
 }
 
 /// The Craig–Bampton constraint modes over the free model's dofs: for each interface dof `b`, the
-/// interior's static response to `b` displaced by 1 with the other interface dofs held.
+/// interior's static response to `b` displaced by 1 with the other interface dofs held. The
+/// fixed-interface modes' factor of `K_ii` (`operator`, when it is unshifted) is reused.
 fn constraint_modes(
     free: &PreparedModel,
     supported: &PreparedModel,
+    operator: Option<&ShiftInvert>,
     interface: &[usize],
     to_supported: &[Option<usize>],
     lift: &dyn Fn(&Mat<f64>) -> Mat<f64>,
@@ -174,7 +180,14 @@ fn constraint_modes(
         }
     }
     let rigid = &supported.rigid;
-    let interior = solve_with_extra_supports(&supported.assembled, &pivot_dofs(rigid), &loads, rigid.ncols())?;
+    let interior = match operator {
+        Some(operator) if operator.shift == 0.0 && rigid.ncols() == 0 => {
+            let mut x = loads;
+            operator.solve_in_place(x.as_mut());
+            x
+        }
+        _ => solve_with_extra_supports(&supported.assembled, &pivot_dofs(rigid), &loads, rigid.ncols())?,
+    };
     let interior = if rigid.ncols() > 0 { m_orthogonal_to(&supported.assembled, rigid, &interior)? } else { interior };
     let mut modes = lift(&interior);
     for (j, &b) in interface.iter().enumerate() {
