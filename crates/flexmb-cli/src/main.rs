@@ -209,7 +209,8 @@ enum Command {
     Modes {
         /// FE model file (TOML, see docs/fe-model-file.md) or an Abaqus/CalculiX .inp mesh.
         fe_model: PathBuf,
-        /// Mode set: N vibration and S static correction modes, e.g. 6N, 5S, 4N5S; default from the
+        /// Mode set: N vibration and S static correction modes, e.g. 6N, 5S, 4N5S; Craig–Bampton
+        /// 20N12C (C: constraint modes of the held dofs); free interface 20F12A; default from the
         /// file's [modes] set.
         #[arg(long)]
         modes: Option<String>,

@@ -188,8 +188,9 @@ pub fn assemble(model: &FeModel) -> Result<AssembledModel, FemError> {
     let mesh = &model.mesh;
     let n_nodes = mesh.nodes.len();
     let present = present_dofs(mesh);
-    let dependent = dependent_dofs(model, &present)?;
-    let dofs = DofMap::with_couplings(n_nodes, &supported_dofs(model), &present, &dependent);
+    let supported = supported_dofs(model);
+    let dependent = dependent_dofs(model, &present, &supported)?;
+    let dofs = DofMap::with_couplings(n_nodes, &supported, &present, &dependent);
     if dofs.n_free() == 0 {
         return Err(FemError::NoFreeDofs);
     }

@@ -78,6 +78,14 @@ pub enum FemError {
         /// Why.
         reason: String,
     },
+    /// A distributing coupling that cannot be formed.
+    #[error("the distributing coupling of reference node {reference}: {reason}")]
+    InvalidDistributingCoupling {
+        /// The reference node's label.
+        reference: u64,
+        /// Why.
+        reason: String,
+    },
     /// A point mass with rotary inertia at a node that only solid elements touch (no rotations).
     #[error("node {label}: a point mass with rotary inertia at a node of solid elements only, which has no rotations; put it at a reference node coupled to the solid, or give the mass alone")]
     RotaryInertiaWithoutRotations {

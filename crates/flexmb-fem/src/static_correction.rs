@@ -83,7 +83,19 @@ pub fn static_correction_modes(
     rigid: &Mat<f64>,
 ) -> Result<StaticModes, FemError> {
     let names: Vec<String> = model.static_loads.iter().map(|l| l.name.clone()).collect();
-    let mut loads = load_vectors(model, assembled)?;
+    let loads = load_vectors(model, assembled)?;
+    let (shapes, rigid_load_fractions, max_residual) = static_responses(assembled, rigid, loads)?;
+    Ok(StaticModes { names, shapes, rigid_load_fractions, max_residual })
+}
+
+/// The static responses to the columns of `loads` (over the free dofs), each balanced by inertia
+/// relief where it excites the rigid motions `rigid` and made M-orthogonal to them; with each
+/// load's fraction `‖Rᵀf‖ / ‖f‖` so balanced and the largest relative residual.
+pub(crate) fn static_responses(
+    assembled: &AssembledModel,
+    rigid: &Mat<f64>,
+    mut loads: Mat<f64>,
+) -> Result<(Mat<f64>, Vec<f64>, f64), FemError> {
     let s = loads.ncols();
     let mut rigid_load_fractions = vec![0.0; s];
     if rigid.ncols() > 0 {
@@ -101,7 +113,7 @@ pub fn static_correction_modes(
     for j in 0..s {
         max_residual = max_residual.max(residual.col(j).norm_l2() / loads.col(j).norm_l2().max(f64::MIN_POSITIVE));
     }
-    Ok(StaticModes { names, shapes, rigid_load_fractions, max_residual })
+    Ok((shapes, rigid_load_fractions, max_residual))
 }
 
 /// `f − M R (RᵀMR)⁻¹ Rᵀ f`: the load balanced by the rigid-body inertia forces it causes.
@@ -114,7 +126,7 @@ fn inertia_relief(assembled: &AssembledModel, rigid: &Mat<f64>, loads: &Mat<f64>
 }
 
 /// `x − R (RᵀMR)⁻¹ RᵀM x`: the part of `x` M-orthogonal to the rigid motions.
-fn m_orthogonal_to(assembled: &AssembledModel, rigid: &Mat<f64>, x: &Mat<f64>) -> Result<Mat<f64>, FemError> {
+pub(crate) fn m_orthogonal_to(assembled: &AssembledModel, rigid: &Mat<f64>, x: &Mat<f64>) -> Result<Mat<f64>, FemError> {
     let m_r = &assembled.mass * rigid;
     let rigid_mass = rigid.transpose() * &m_r;
     let mut coefficients = m_r.transpose() * x;

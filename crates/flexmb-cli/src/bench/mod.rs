@@ -13,7 +13,9 @@
 //! - `applications`: the shipped slider-crank for 10 s, a spatial chain of 20 bodies on spherical
 //!   joints falling under gravity for 5 s, the seed's door (4N5S) and wiper for 2 s with their model
 //!   files' settings ([`applications`]);
-//! - `plate-modes`: the lowest 20 modes of a plate of about 50,000 dofs ([`plate_modes`]).
+//! - `plate-modes`: the lowest 20 modes of a plate of about 50,000 dofs ([`plate_modes`]);
+//! - `solid-reduction`: a solid of about 220,000 dofs reduced to 20 fixed-interface modes and the
+//!   constraint modes of two interface nodes ([`solid_reduction`]).
 //!
 //! Each case runs `repeat` times; the fastest run is reported (the others measure the machine's
 //! noise, not the code). `--json FILE` writes every measurement, so that runs can be compared.
@@ -27,6 +29,7 @@ pub mod peer;
 pub mod pendulums;
 pub mod plate_modes;
 pub mod shipped_models;
+pub mod solid_reduction;
 
 use std::path::PathBuf;
 
@@ -86,6 +89,8 @@ pub enum BenchCase {
     Wiper,
     /// The lowest 20 modes of a 90 × 90 shell plate (about 49,000 dofs).
     PlateModes,
+    /// A 220,000-dof solid reduced to 20N12C (Craig–Bampton with two interface nodes).
+    SolidReduction,
 }
 
 impl BenchCase {
@@ -107,6 +112,7 @@ impl BenchCase {
             C::PeerSliderCrank3d => vec![Job::Peer(PeerCase::SliderCrank3d)],
             C::PeerFlexiblePendulum => vec![Job::Peer(PeerCase::FlexiblePendulum)],
             C::PlateModes => vec![Job::PlateModes],
+            C::SolidReduction => vec![Job::SolidReduction],
             other => vec![Job::Shipped(other)],
         }
     }
@@ -125,6 +131,7 @@ enum Job {
     /// One of the cases on the shipped and seed models with their own settings.
     Shipped(BenchCase),
     PlateModes,
+    SolidReduction,
 }
 
 /// What `flexmb bench` is asked to run.
@@ -269,6 +276,7 @@ fn run_job(job: Job, integrators: &[BenchIntegrator], repeat: usize, out: &mut V
             }
         }
         Job::PlateModes => plate_modes::run(repeat)?,
+        Job::SolidReduction => solid_reduction::run(repeat)?,
     }
     Ok(())
 }
@@ -292,7 +300,7 @@ pub fn run_benchmarks(options: &BenchOptions) -> Result<(), String> {
     println!("{}", Measurement::header());
     let mut measured = Vec::new();
     for job in jobs {
-        if job == Job::PlateModes {
+        if matches!(job, Job::PlateModes | Job::SolidReduction) {
             println!();
         }
         run_job(job, &options.integrators, repeat, &mut measured)?;

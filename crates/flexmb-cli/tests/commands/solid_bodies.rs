@@ -1,13 +1,14 @@
 //! Solid flexible bodies as a new user meets them: `flexmb modes` on the shipped deck of a steel link
 //! of C3D20 bricks gives the beam-theory frequencies and VTK hexahedra, and the mechanism that hangs
 //! the link from a revolute joint at the reference node of its rigid coupling swings as the compound
-//! pendulum it is.
+//! pendulum it is — and so does the link with distributing (RBE3) interface nodes reduced by
+//! Craig–Bampton (`models/fe/solid_link_interfaces.toml`).
 
 use flexmb_fem::reduction::FlexibleBody;
 
 use crate::program;
 
-use program::{scratch, succeed};
+use program::{scratch, succeed, workspace};
 
 /// Euler–Bernoulli frequency (Hz) of the 0.5 m steel link with eigenvalue βL and second moment `i`.
 fn beam_hz(beta_l: f64, i: f64) -> f64 {
@@ -49,7 +50,27 @@ fn modes_of_the_shipped_solid_link() {
 fn the_solid_pendulum_swings_as_a_compound_pendulum() {
     let out = scratch("solid-pendulum");
     succeed(&["run", "models/solid_pendulum.toml", "--out", out.to_str().unwrap()]);
-    let csv = std::fs::read_to_string(out.join("solid_pendulum.csv")).unwrap();
+    swings_as_a_compound_pendulum(&out.join("solid_pendulum.csv"));
+}
+
+/// The same pendulum with the link of two distributing interface nodes, reduced by Craig–Bampton
+/// (8N12C): the hinge acts at the reference node 1000 of the hinge face's distributing coupling.
+#[test]
+fn the_solid_pendulum_on_a_distributing_coupling_swings_as_a_compound_pendulum() {
+    let out = scratch("solid-pendulum-rbe3");
+    let shipped = std::fs::read_to_string(workspace().join("models/solid_pendulum.toml")).unwrap();
+    let interfaces = workspace().join("models/fe/solid_link_interfaces.toml");
+    let text = shipped.replace("\"fe/solid_link.toml\"", &format!("{:?}", interfaces.to_str().unwrap()));
+    assert_ne!(text, shipped);
+    let model = out.join("solid_pendulum.toml");
+    std::fs::write(&model, text).unwrap();
+    let stdout = succeed(&["run", model.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    println!("{stdout}");
+    swings_as_a_compound_pendulum(&out.join("solid_pendulum.csv"));
+}
+
+fn swings_as_a_compound_pendulum(csv: &std::path::Path) {
+    let csv = std::fs::read_to_string(csv).unwrap();
     let mut lines = csv.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     let column = |name: &str| header.iter().position(|h| *h == name).unwrap();

@@ -31,6 +31,10 @@
 //! * `*KINEMATIC COUPLING, REF NODE=` with lines `node or node set, 1, 3` (or `1, 6`), and
 //!   `*RIGID BODY, NSET=, REF NODE=`: rigid couplings to a reference node
 //!   ([`RigidCoupling`](crate::mesh::RigidCoupling)).
+//! * `*DISTRIBUTING COUPLING, ELSET=` with lines `node or node set, weight`, the set holding one
+//!   `DCOUP3D` element whose node is the reference node: a distributing coupling
+//!   ([`DistributingCoupling`](crate::mesh::DistributingCoupling)). `*COUPLING` (with `*KINEMATIC` or
+//!   `*DISTRIBUTING`) is refused with a message that names these forms.
 //! * `*MASS, ELSET=` (mass) and `*ROTARY INERTIA, ELSET=` (I₁₁, I₂₂, I₃₃ in global axes; I₁₂, I₁₃, I₂₃
 //!   must be zero) for `MASS` / `ROTARYI` elements, which become [`PointMass`](crate::mesh::PointMass)es.
 //! * `*BOUNDARY` lines `node or node set, first dof[, last dof[, value]]` or `node, ENCASTRE`

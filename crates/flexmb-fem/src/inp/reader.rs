@@ -11,12 +11,12 @@ use super::{InpError, InpModel};
 use crate::input::Quantity;
 use crate::mesh::{
     BeamSection, DofSet, Element, ElementKind, FeModel, Material, Mesh, Node, PointMass,
-    RigidCoupling, ShellSection, SolidFormulation, SolidSection, Support,
+    DistributingCoupling, RigidCoupling, ShellSection, SolidFormulation, SolidSection, Support,
 };
 
 /// The element types flexmb reads, as listed in messages.
 pub(super) const SUPPORTED_TYPES: &str =
-    "B31, B31H, B33, B33H, S3, S3R, S4, S4R, C3D4, C3D10, C3D6, C3D15, C3D8, C3D8I, C3D20, C3D20R, MASS, ROTARYI";
+    "B31, B31H, B33, B33H, S3, S3R, S4, S4R, C3D4, C3D10, C3D6, C3D15, C3D8, C3D8I, C3D20, C3D20R, MASS, ROTARYI, DCOUP3D";
 
 /// Abaqus' default first section direction n₁ of beams, used when `*BEAM SECTION` gives none.
 pub const DEFAULT_N1: [f64; 3] = [0.0, 0.0, -1.0];
@@ -31,6 +31,8 @@ enum Kind {
     Solid(SolidFormulation),
     Mass,
     RotaryInertia,
+    /// `DCOUP3D`: the reference node of a `*DISTRIBUTING COUPLING`.
+    DistributingCoupling,
 }
 
 impl Kind {
@@ -41,7 +43,7 @@ impl Kind {
             Kind::Shell if type_name.starts_with("S3") => 3,
             Kind::Shell => 4,
             Kind::Solid(formulation) => formulation.node_count(),
-            Kind::Mass | Kind::RotaryInertia => 1,
+            Kind::Mass | Kind::RotaryInertia | Kind::DistributingCoupling => 1,
         }
     }
 }
@@ -52,6 +54,7 @@ fn element_kind(type_name: &str) -> Result<Kind, String> {
         "S3" | "S3R" | "S4" | "S4R" => Ok(Kind::Shell),
         "MASS" => Ok(Kind::Mass),
         "ROTARYI" => Ok(Kind::RotaryInertia),
+        "DCOUP3D" => Ok(Kind::DistributingCoupling),
         _ => {
             if let Some(formulation) = SolidFormulation::from_abaqus_name(type_name) {
                 return Ok(Kind::Solid(formulation));
@@ -172,6 +175,14 @@ struct RawBoundary {
     loc: Loc,
 }
 
+/// A `*DISTRIBUTING COUPLING, ELSET=…`: the element set of its `DCOUP3D` element (the reference
+/// node), and the coupled nodes or node sets with their weights.
+struct RawDistributingCoupling {
+    elset: String,
+    targets: Vec<(Target, f64, Loc)>,
+    loc: Loc,
+}
+
 /// A `*KINEMATIC COUPLING` or `*RIGID BODY`: the reference node, the coupled nodes and sets, and
 /// whether the coupled nodes' rotations are tied too.
 struct RawCoupling {
@@ -199,6 +210,7 @@ struct Reader {
     sections: Vec<RawSection>,
     boundaries: Vec<RawBoundary>,
     couplings: Vec<RawCoupling>,
+    distributing_couplings: Vec<RawDistributingCoupling>,
     in_step: bool,
 }
 
@@ -331,6 +343,11 @@ impl Reader {
             "BOUNDARY" => self.boundary(card),
             "KINEMATIC COUPLING" => self.kinematic_coupling(card),
             "RIGID BODY" => self.rigid_body(card),
+            "DISTRIBUTING COUPLING" => self.distributing_coupling(card),
+            "COUPLING" | "KINEMATIC" | "DISTRIBUTING" => Err(card.error(format!(
+                "*{} is not read by flexmb: write a rigid coupling as *KINEMATIC COUPLING, REF NODE=… (or *RIGID BODY) and a distributing one as *DISTRIBUTING COUPLING, ELSET=… with a DCOUP3D element for the reference node",
+                card.keyword
+            ))),
             "HEADING" => Ok(()),
             keyword => {
                 match keyword {
@@ -885,6 +902,30 @@ impl Reader {
         Ok(())
     }
 
+    /// `*DISTRIBUTING COUPLING, ELSET=e` with data lines `node or node set, weight` (CalculiX's and
+    /// Abaqus' form): the element set holds one `DCOUP3D` element, whose node is the reference node.
+    fn distributing_coupling(&mut self, card: &Card) -> Result<(), InpError> {
+        let elset = card.required("ELSET")?.to_string();
+        self.check_params(card, &["ELSET"], &[])?;
+        let mut targets = Vec::new();
+        for line in card.lines() {
+            let target = self.target(line, "DISTRIBUTING COUPLING")?;
+            let weight = match line.fields.get(1).map(String::as_str) {
+                None | Some("") => 1.0,
+                Some(_) => real(line, 1, "the weight", "DISTRIBUTING COUPLING")?,
+            };
+            if !(weight.is_finite() && weight > 0.0) {
+                return Err(line.loc.error(format!("*DISTRIBUTING COUPLING: the weight must be positive, got {weight}")));
+            }
+            targets.push((target, weight, line.loc.clone()));
+        }
+        if targets.is_empty() {
+            return Err(card.error("missing data lines (the coupled nodes or node sets and their weights)"));
+        }
+        self.distributing_couplings.push(RawDistributingCoupling { elset, targets, loc: card.loc.clone() });
+        Ok(())
+    }
+
     /// `*RIGID BODY, NSET=set, REF NODE=r`: the nodes of the set tied rigidly to the reference node.
     fn rigid_body(&mut self, card: &Card) -> Result<(), InpError> {
         let reference = parse_label(card.required("REF NODE")?)
@@ -1235,6 +1276,10 @@ impl Reader {
                 .iter()
                 .map(|&l| self.node_of(l, &element.loc, &what))
                 .collect::<Result<_, _>>()?;
+            if element.kind == Kind::DistributingCoupling {
+                // The reference node of a distributing coupling, read below.
+                continue;
+            }
             let point = matches!(element.kind, Kind::Mass | Kind::RotaryInertia);
             let section = if point {
                 element
@@ -1250,6 +1295,7 @@ impl Reader {
                     Kind::Shell => "*SHELL SECTION",
                     Kind::Solid(_) => "*SOLID SECTION",
                     Kind::Mass | Kind::RotaryInertia => "*MASS or *ROTARY INERTIA",
+                    Kind::DistributingCoupling => "*DISTRIBUTING COUPLING",
                 };
                 return Err(element.loc.error(format!(
                     "element {} ({}) has no section: no {hint} names an element set that contains it",
@@ -1350,6 +1396,7 @@ impl Reader {
                         nodes,
                     });
                 }
+                Kind::DistributingCoupling => {}
                 Kind::Mass | Kind::RotaryInertia => mesh.point_masses.push(PointMass {
                     node: nodes[0],
                     mass: element.mass.map_or(0.0, |(m, _)| m),
@@ -1384,6 +1431,40 @@ impl Reader {
             let mut seen = HashSet::from([reference]);
             nodes.retain(|&n| seen.insert(n));
             mesh.rigid_couplings.push(RigidCoupling { reference, nodes, rotations: c.rotations });
+        }
+
+        // Distributing couplings.
+        for c in &self.distributing_couplings {
+            let kw = "*DISTRIBUTING COUPLING";
+            let Some(set) = self.elsets.get(&c.elset) else {
+                return Err(c.loc.error(format!("{kw}: element set {} is not defined", c.elset)));
+            };
+            let members: Vec<&RawElement> = set.members.iter().filter_map(|(label, _)| self.element_index.get(label).map(|&e| &self.elements[e])).collect();
+            let [element] = members.as_slice() else {
+                return Err(c.loc.error(format!("{kw}: element set {} must hold exactly one DCOUP3D element (the reference node), it holds {}", c.elset, members.len())));
+            };
+            if element.kind != Kind::DistributingCoupling {
+                return Err(c.loc.error(format!("{kw}: element {} of set {} is a {}, not a DCOUP3D", element.label, c.elset, element.type_name)));
+            }
+            let reference = self.node_of(element.nodes[0], &element.loc, &format!("element {}", element.label))?;
+            let (mut nodes, mut weights): (Vec<usize>, Vec<f64>) = (Vec::new(), Vec::new());
+            for (target, weight, loc) in &c.targets {
+                let members = match target {
+                    Target::Node(label) => vec![self.node_of(*label, loc, kw)?],
+                    Target::Set(name) => match mesh.node_sets.iter().find(|(k, _)| k.eq_ignore_ascii_case(name)) {
+                        Some((_, members)) => members.clone(),
+                        None => return Err(loc.error(format!("{kw}: node set {name} is not defined"))),
+                    },
+                };
+                for node in members {
+                    if node == reference || nodes.contains(&node) {
+                        return Err(loc.error(format!("{kw}: node {} is named twice (or is the reference node)", mesh.nodes[node].label)));
+                    }
+                    nodes.push(node);
+                    weights.push(*weight);
+                }
+            }
+            mesh.distributing_couplings.push(DistributingCoupling { reference, nodes, weights });
         }
 
         // Supports, merged per node, in order of first appearance.

@@ -9,6 +9,7 @@
 //! Elements refer to nodes by index into [`Mesh::nodes`]; each node also keeps the label it has in
 //! the user's input (an `.inp` node number or a generated one), which is what messages show.
 
+mod distributing_coupling;
 mod dof;
 mod generate;
 mod references;
@@ -18,6 +19,7 @@ use std::collections::BTreeMap;
 
 use nalgebra::Vector3;
 
+pub use distributing_coupling::DistributingCoupling;
 pub use dof::{Dof, DofSet};
 pub use generate::ShellShape;
 pub use rigid_coupling::RigidCoupling;
@@ -248,6 +250,9 @@ pub struct Mesh {
     pub node_sets: BTreeMap<String, Vec<usize>>,
     /// Rigid couplings of nodes to reference nodes (`*KINEMATIC COUPLING`, `*RIGID BODY`).
     pub rigid_couplings: Vec<RigidCoupling>,
+    /// Distributing couplings of reference nodes to the weighted average motion of nodes
+    /// (`*DISTRIBUTING COUPLING`).
+    pub distributing_couplings: Vec<DistributingCoupling>,
 }
 
 impl Mesh {

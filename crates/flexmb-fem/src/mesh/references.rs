@@ -46,6 +46,11 @@ impl Mesh {
             known(part, "node", coupling.reference, nodes)?;
             coupling.nodes.iter().try_for_each(|&n| known(part, "node", n, nodes))?;
         }
+        for coupling in &self.distributing_couplings {
+            let part = || format!("the distributing coupling of reference node index {}", coupling.reference);
+            known(part, "node", coupling.reference, nodes)?;
+            coupling.nodes.iter().try_for_each(|&n| known(part, "node", n, nodes))?;
+        }
         for (name, members) in &self.node_sets {
             members.iter().try_for_each(|&n| known(|| format!("node set '{name}'"), "node", n, nodes))?;
         }

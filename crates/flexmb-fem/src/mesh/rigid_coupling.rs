@@ -8,6 +8,7 @@
 //! their own, and everything that acts on them (stiffness, mass, loads) acts through these relations
 //! on the reference node's dofs (constraint elimination, `u = T u_r`).
 
+use super::distributing_coupling::append_dependent_dofs;
 use super::{Dof, DofSet, FeModel, Mesh};
 use crate::error::FemError;
 
@@ -25,8 +26,35 @@ pub struct RigidCoupling {
 /// A dependent global dof (`6 node + dof`) and its combination of the reference node's global dofs.
 pub(crate) type DependentDof = (usize, Vec<(usize, f64)>);
 
-/// The dependent dofs of the couplings of `model`, given the dofs every node has (`present`).
-pub(crate) fn dependent_dofs(model: &FeModel, present: &[DofSet]) -> Result<Vec<DependentDof>, FemError> {
+/// Checks that reference node `r` has rotations and is not coupled itself, and that each of `nodes`
+/// is neither `r`, nor coupled before (by any coupling; marked now in `coupled_to`), nor a reference
+/// node.
+pub(crate) fn check_coupling(mesh: &Mesh, present: &[DofSet], coupled_to: &mut [Option<usize>], r: usize, nodes: &[usize]) -> Result<(), String> {
+    if !present[r].contains(Dof::Rx) {
+        return Err("the reference node is a node of solid elements only, without rotations: give it a node of its own".into());
+    }
+    if coupled_to[r].is_some() {
+        return Err("the reference node is itself coupled to another reference node".into());
+    }
+    let references = || mesh.rigid_couplings.iter().map(|c| c.reference).chain(mesh.distributing_couplings.iter().map(|c| c.reference));
+    for &s in nodes {
+        let label = mesh.nodes[s].label;
+        if s == r {
+            return Err("the reference node is among the coupled nodes".into());
+        }
+        if let Some(other) = coupled_to[s].replace(r) {
+            return Err(format!("node {label} is coupled twice (also to reference node {})", mesh.nodes[other].label));
+        }
+        if references().any(|x| x == s) {
+            return Err(format!("node {label} is the reference node of another coupling"));
+        }
+    }
+    Ok(())
+}
+
+/// The dependent dofs of the rigid and distributing couplings of `model`, given the dofs every node
+/// has (`present`) and those its supports hold (`supported`).
+pub(crate) fn dependent_dofs(model: &FeModel, present: &[DofSet], supported: &[DofSet]) -> Result<Vec<DependentDof>, FemError> {
     let mesh: &Mesh = &model.mesh;
     let mut coupled_to: Vec<Option<usize>> = vec![None; mesh.nodes.len()];
     let mut dependent = Vec::new();
@@ -34,24 +62,10 @@ pub(crate) fn dependent_dofs(model: &FeModel, present: &[DofSet]) -> Result<Vec<
         let r = coupling.reference;
         let label = mesh.nodes[r].label;
         let invalid = |reason: String| FemError::InvalidCoupling { reference: label, reason };
-        if !present[r].contains(Dof::Rx) {
-            return Err(invalid("the reference node is a node of solid elements only, without rotations: give it a node of its own".into()));
-        }
-        if coupled_to[r].is_some() {
-            return Err(invalid("the reference node is itself coupled to another reference node".into()));
-        }
         let reference_dof = |dof: Dof| 6 * r + dof.index();
+        check_coupling(mesh, present, &mut coupled_to, r, &coupling.nodes).map_err(invalid)?;
         for &s in &coupling.nodes {
             let slave = mesh.nodes[s].label;
-            if s == r {
-                return Err(invalid("the reference node is among the coupled nodes".into()));
-            }
-            if let Some(other) = coupled_to[s].replace(r) {
-                return Err(invalid(format!("node {slave} is coupled twice (also to reference node {})", mesh.nodes[other].label)));
-            }
-            if mesh.rigid_couplings.iter().any(|c| c.reference == s) {
-                return Err(invalid(format!("node {slave} is the reference node of another coupling")));
-            }
             if model.supports.iter().any(|support| support.node == s && !support.dofs.is_empty()) {
                 return Err(invalid(format!("node {slave} is coupled and supported: support the reference node instead")));
             }
@@ -73,5 +87,6 @@ pub(crate) fn dependent_dofs(model: &FeModel, present: &[DofSet]) -> Result<Vec<
             }
         }
     }
+    append_dependent_dofs(mesh, present, supported, &mut coupled_to, &mut dependent)?;
     Ok(dependent)
 }

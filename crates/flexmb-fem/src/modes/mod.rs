@@ -148,6 +148,17 @@ pub fn vibration_modes_of(
     count: usize,
     settings: &EigenSettings,
 ) -> Result<VibrationModes, FemError> {
+    vibration_modes_and_operator(assembled, rigid, count, settings).map(|(modes, _)| modes)
+}
+
+/// [`vibration_modes_of`], and the factored operator it used: `K + σM` with `σ = 0` when the supports
+/// leave no rigid motion and `K` is regular, so that static solutions can reuse the factor.
+pub fn vibration_modes_and_operator(
+    assembled: &AssembledModel,
+    rigid: &Mat<f64>,
+    count: usize,
+    settings: &EigenSettings,
+) -> Result<(VibrationModes, ShiftInvert), FemError> {
     let n = assembled.dofs.n_free();
     let available = massive_dofs(assembled).saturating_sub(rigid.ncols());
     if count > available {
@@ -200,7 +211,7 @@ pub fn vibration_modes_of(
         }
     }
     let frequencies_hz = eigenvalues.iter().map(|l| l.max(0.0).sqrt() / (2.0 * std::f64::consts::PI)).collect();
-    Ok(VibrationModes {
+    let modes = VibrationModes {
         eigenvalues,
         frequencies_hz,
         shapes,
@@ -208,7 +219,8 @@ pub fn vibration_modes_of(
         solver,
         max_residual: max_residual.1,
         max_orthogonality_error,
-    })
+    };
+    Ok((modes, operator))
 }
 
 /// Factors `K` (no rigid motions) or `K + σM` with a small shift (rigid motions present, or `K`

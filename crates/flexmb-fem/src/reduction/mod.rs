@@ -4,6 +4,7 @@
 
 mod flexible_body;
 mod geometric_stiffness;
+mod interface_modes;
 mod invariants;
 mod mode_set;
 mod serde_matrix;
@@ -16,6 +17,7 @@ pub use flexible_body::{
     FORMAT, VERSION,
 };
 pub use geometric_stiffness::{GeometricStiffness, InterfaceStiffness, CENTRIFUGAL_CASES, INTERFACE_CASES};
+pub use interface_modes::interface_dofs;
 pub use invariants::InertiaInvariants;
 pub use mode_set::{ModeGroup, ModeSet};
 
@@ -133,6 +135,9 @@ pub fn reduce(model: &FeModel, name: &str, settings: &ReductionSettings) -> Resu
             "the supports leave {rigid_count} rigid motion(s) (zero-frequency mechanisms); they are excluded from the vibration modes"
         ));
     }
+    if set.uses_interface() {
+        return reduce_on_interface(model, &prepared, name, settings, warnings);
+    }
     let fe_count = set.len().max(set.vibration());
     let mut fe_modes = vibration_modes_of(assembled, rigid, fe_count, &settings.eigen)?;
     fe_modes.rigid_modes = rigid_count;
@@ -189,6 +194,54 @@ pub fn reduce(model: &FeModel, name: &str, settings: &ReductionSettings) -> Resu
     Ok(Reduction { body, fe_modes, static_modes, basis_independence, warnings })
 }
 
+/// [`reduce`] for a Craig–Bampton or free-interface set ([`interface_modes`]).
+fn reduce_on_interface(
+    model: &FeModel,
+    supported: &crate::modes::PreparedModel,
+    name: &str,
+    settings: &ReductionSettings,
+    warnings: Vec<String>,
+) -> Result<Reduction, FemError> {
+    let set = &settings.mode_set;
+    if settings.basis == Basis::Raw {
+        return Err(FemError::ModeSet {
+            text: set.to_string(),
+            message: "Craig–Bampton and free-interface sets are orthonormalized (their span holds rigid motions, which the floating frame carries): use the orthonormal basis".into(),
+        });
+    }
+    let raw = interface_modes::interface_basis(model, supported, set, &settings.eigen)?;
+    let free = &raw.free;
+    let (eigenvalues, basis, basis_independence) = interface_modes::orthonormal_elastic_span(free, &raw.basis, raw.rigid_in_span, set)?;
+    let mut warnings = warnings;
+    if basis_independence < NEARLY_DEPENDENT {
+        warnings.push(format!(
+            "the modes of {set} are nearly dependent (scaled Gram eigenvalue {basis_independence:.1e}) once their rigid motions are removed"
+        ));
+    }
+    let modal_mass = basis.transpose() * (&free.assembled.mass * &basis);
+    let modal_stiffness = basis.transpose() * (&free.assembled.stiffness * &basis);
+    let reduced_frequencies_hz: Vec<f64> = eigenvalues.iter().map(|l| hz(*l)).collect();
+    let modes = reduced_frequencies_hz
+        .iter()
+        .enumerate()
+        .map(|(j, f)| ModeInfo { label: format!("O{}", j + 1), kind: ModeKind::Orthonormal, frequency_hz: Some(*f), load: None })
+        .collect();
+    // The geometric stiffness of the unit inertia loads is that of the supported body's statics;
+    // an interface set has none (absent, as for solids).
+    let body = flexible_body(
+        &free.model,
+        &free.assembled,
+        name,
+        settings,
+        &basis,
+        modes,
+        (&modal_mass, &modal_stiffness),
+        reduced_frequencies_hz,
+        &raw.fe_modes,
+    )?;
+    Ok(Reduction { body, fe_modes: raw.fe_modes, static_modes: raw.static_modes, basis_independence, warnings })
+}
+
 fn hz(eigenvalue: f64) -> f64 {
     eigenvalue.max(0.0).sqrt() / (2.0 * std::f64::consts::PI)
 }
@@ -205,6 +258,9 @@ fn raw_basis(set: &ModeSet, fe: &VibrationModes, statics: Option<&StaticModes>) 
                     columns.push((0..n).map(|i| fe.shapes[(i, j)]).collect());
                     modes.push(ModeInfo { label: format!("N{}", j + 1), kind: ModeKind::Vibration, frequency_hz: Some(fe.frequencies_hz[j]), load: None });
                 }
+            }
+            ModeGroup::Constraint(_) | ModeGroup::FreeVibration(_) | ModeGroup::Attachment(_) => {
+                unreachable!("interface sets are reduced by reduce_on_interface")
             }
             ModeGroup::Static(count) => {
                 let statics = statics.expect("static modes computed when the set has any");
