@@ -5,6 +5,7 @@
 mod flexible_body;
 mod geometric_stiffness;
 mod invariants;
+mod modal_stress;
 mod mode_set;
 mod serde_matrix;
 
@@ -17,6 +18,7 @@ pub use flexible_body::{
 };
 pub use geometric_stiffness::{GeometricStiffness, CENTRIFUGAL_CASES};
 pub use invariants::InertiaInvariants;
+pub use modal_stress::{add_modal_stresses, von_mises, ModalStresses};
 pub use mode_set::{ModeGroup, ModeSet};
 
 use crate::assembly::{AssembledModel, MassProperties};
@@ -84,6 +86,7 @@ const DEPENDENT: f64 = 1e-12;
 ///         torsion_constant: 0.1406 * h.powi(4),
 ///         orientation: Vector3::new(0.0, 1.0, 0.0),
 ///         shear_coefficient: None,
+///         outline: Default::default(),
 ///     }],
 ///     ..Default::default()
 /// };
@@ -371,5 +374,6 @@ fn flexible_body(
             inertia: properties.inertia,
         },
         geometric_stiffness: None,
+        stresses: None,
     })
 }

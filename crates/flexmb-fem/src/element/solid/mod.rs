@@ -52,6 +52,7 @@ mod hexahedron;
 mod incompatible_modes;
 mod isoparametric;
 mod quadrature;
+mod stress;
 mod tetrahedron;
 mod wedge;
 
@@ -62,6 +63,8 @@ use super::{ElementError, ElementMatrices, MassPoint, NodalMass};
 use crate::mesh::{MassModel, Material, ModelOptions, SolidFormulation};
 use isoparametric::{lame, mass_points, stiffness, ShapeFunctionsAt};
 use quadrature::IntegrationPoint;
+
+pub use stress::solid_stress_matrix;
 
 /// How an element's mass is lumped at its nodes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -138,6 +141,16 @@ pub fn solid_matrices(
         lumped_mass: lumped.into_iter().map(|mass| NodalMass { mass, rotary_inertia: Matrix3::zeros() }).collect(),
         consistent_mass: if options.mass == MassModel::Consistent { consistent } else { Vec::new() },
     })
+}
+
+/// The natural coordinates of the nodes of `formulation`, in its node order.
+fn natural_nodes(formulation: SolidFormulation) -> Vec<[f64; 3]> {
+    let n = formulation.node_count();
+    match formulation {
+        SolidFormulation::LinearTetrahedron | SolidFormulation::QuadraticTetrahedron => tetrahedron::NODES[..n].to_vec(),
+        SolidFormulation::LinearWedge | SolidFormulation::QuadraticWedge => wedge::NODES[..n].to_vec(),
+        _ => hexahedron::NODES[..n].to_vec(),
+    }
 }
 
 fn node_count_name(count: usize) -> &'static str {
