@@ -51,6 +51,9 @@ pub fn run_modes(path: &Path, options: &ModesOptions) -> Result<String, CliError
     }
     reduction.body.write(&out).map_err(|e| CliError(e.to_string()))?;
     let mut report = describe(path, &loaded, &reduction, seconds);
+    if let Some(stresses) = &reduction.body.stresses {
+        let _ = writeln!(report, "modal stresses: {} stress points × {} modes", stresses.len(), reduction.body.mode_count());
+    }
     let _ = writeln!(report, "wrote {}", out.display());
     if let Some(dir) = &options.vtk {
         let file = flexmb_files::vtk::write_mode_shapes(&reduction.body, dir).map_err(CliError)?;
