@@ -231,8 +231,9 @@ enum Command {
         /// Eigensolver: dense for small models, Lanczos (shift-invert, sparse Cholesky) for large.
         #[arg(long, value_enum, default_value_t = SolverArg::Auto)]
         solver: SolverArg,
-        /// Store each mode's stresses in the flexible-body file (σ at the nodes of solids), for a
-        /// run's stress output; default from the file's [modes] stresses.
+        /// Store each mode's stresses in the flexible-body file (at the nodes of solids, the
+        /// surfaces of shells, the fibres of beams), for a run's stress output; default from the
+        /// file's [modes] stresses.
         #[arg(long)]
         stresses: bool,
     },

@@ -6,7 +6,7 @@
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 
-use super::{beam, element_points, lookup, solid, ElementError};
+use super::{beam, element_points, lookup, shell, solid, ElementError};
 use crate::mesh::{Element, ElementKind, Mesh};
 
 /// Where at a node a recovered stress is.
@@ -15,6 +15,10 @@ use crate::mesh::{Element, ElementKind, Mesh};
 pub enum StressPlace {
     /// In a solid.
     Solid,
+    /// On a shell's top surface (the side its normal points to).
+    Top,
+    /// On a shell's bottom surface.
+    Bottom,
     /// At extreme fibre k of a beam's section (see `element::beam::beam_stress_matrix`).
     Fibre(u8),
 }
@@ -24,6 +28,8 @@ impl std::fmt::Display for StressPlace {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             StressPlace::Solid => write!(f, "solid"),
+            StressPlace::Top => write!(f, "top"),
+            StressPlace::Bottom => write!(f, "bottom"),
             StressPlace::Fibre(k) => write!(f, "fibre {}", k + 1),
         }
     }
@@ -43,7 +49,8 @@ pub struct ElementStress {
     pub shared: bool,
 }
 
-/// The stress recovery of `element` of `mesh`; `None` for elements without one (shells for now).
+/// The stress recovery of `element` of `mesh` (every kind has one; `None` is kept for kinds that
+/// may come without).
 pub fn element_stress(mesh: &Mesh, element: &Element) -> Result<Option<ElementStress>, ElementError> {
     let points = element_points(mesh, element)?;
     match element.kind {
@@ -63,6 +70,10 @@ pub fn element_stress(mesh: &Mesh, element: &Element) -> Result<Option<ElementSt
             }
             beam::beam_stress_matrix(&points[0], &points[1], section, material).map(Some)
         }
-        ElementKind::Shell { .. } => Ok(None),
+        ElementKind::Shell { section } => {
+            let section = lookup(&mesh.shell_sections, "shell section", section)?;
+            let material = lookup(&mesh.materials, "material", section.material)?;
+            shell::shell_stress_matrix(&points, section, material).map(Some)
+        }
     }
 }

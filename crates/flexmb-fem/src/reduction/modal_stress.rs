@@ -126,7 +126,7 @@ impl ModalStresses {
 /// no element of the model recovers stresses (then `body.stresses` stays `None`).
 pub fn add_modal_stresses(model: &FeModel, body: &mut FlexibleBody) -> Result<Option<String>, FemError> {
     body.stresses = ModalStresses::recover(model, body)?;
-    Ok(body.stresses.is_none().then(|| "stresses were asked for, but no element of the model recovers them (solids and beams do)".to_string()))
+    Ok(body.stresses.is_none().then(|| "stresses were asked for, but no element of the model recovers them (solids, beams and shells do)".to_string()))
 }
 
 /// The von Mises equivalent stress of `[σxx, σyy, σzz, σxy, σyz, σzx]`:

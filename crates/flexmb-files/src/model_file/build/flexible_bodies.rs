@@ -390,7 +390,7 @@ impl Table<'_> {
                 match self.f.body_file.is_some() {
                     true => "the flexible-body file holds no modal stresses: write it with `flexmb modes --stresses` \
                              (or `stresses = true` in the FE model file's [modes] table)",
-                    false => "the FE model has no element whose stresses are recovered (solid elements are)",
+                    false => "the FE model has no element whose stresses are recovered (solids, beams and shells are)",
                 },
             )),
         }
