@@ -142,3 +142,33 @@ components = [0, {force}, 0]
         }
     }
 }
+
+/// `stresses = true` on a body read from a flexible-body file written without them is an error at
+/// that key that says how to write them; with them (`flexmb modes --stresses`) the run follows them.
+#[test]
+fn stresses_of_a_body_file_need_flexmb_modes_stresses() {
+    let dir = scratch("stress-body-file");
+    let (without, with) = (dir.join("link.json"), dir.join("link_stresses.json"));
+    succeed(&["modes", "models/fe/solid_link.toml", "--out", without.to_str().unwrap()]);
+    let stdout = succeed(&["modes", "models/fe/solid_link.toml", "--stresses", "--out", with.to_str().unwrap()]);
+    assert!(stdout.contains("modal stresses: 203 stress points × 4 modes"), "{stdout}");
+    let model = |body: &std::path::Path| {
+        format!(
+            "[model]\ngravity = [0, -9.81, 0]\n[simulation]\nt_end = 0.004\noutput_step = 0.001\n\n[[flexible_body]]\nname = \"link\"\nbody_file = \"{}\"\nstresses = true\n",
+            body.display()
+        )
+    };
+    let bad = dir.join("bad.toml");
+    std::fs::write(&bad, model(&without)).unwrap();
+    let error = crate::program::fail(&["run", bad.to_str().unwrap(), "--out", dir.join("out").to_str().unwrap()]);
+    assert!(error.contains("flexible_body[0].stresses") && error.contains("flexmb modes --stresses"), "{error}");
+    let good = dir.join("good.toml");
+    std::fs::write(&good, model(&with)).unwrap();
+    let stdout = succeed(&["run", good.to_str().unwrap(), "--out", dir.join("out").to_str().unwrap()]);
+    assert!(stdout.contains("stress hot spot of link: von Mises"), "{stdout}");
+    // Falling freely, the link is not stressed: gravity and the frame's acceleration balance in every
+    // mass point (to round-off: the hanging link's static stress is of order 1e5 Pa).
+    let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("out/good.json")).unwrap()).unwrap();
+    let von_mises = summary["stress_hot_spots"][0]["von_mises"].as_f64().unwrap();
+    assert!(von_mises < 1.0, "{von_mises} Pa");
+}
