@@ -27,3 +27,9 @@ $RENDER "$W/fp_vtk/flexible_pendulum.pvd" 0.3 docs/images/flexible_pendulum_fram
 $FLEXMB modes models/door/door_fe.toml --modes 4N5S --out "$W/out/door_4N5S.json" --vtk "$W/modes_vtk" > /dev/null
 $RENDER "$W/modes_vtk/door_mode_O1.pvd" 0.25 docs/images/door_mode_shape.png --array displacement \
     --undeformed --view=-1,0.5,-0.4 --size 900 1000 --title "door (4N5S): mode O1, 12.56 Hz, a twist"
+
+# 5. the solid pendulum's link 3 ms after its release, coloured by von Mises stress (its hot spot)
+$FLEXMB run models/solid_pendulum.toml --vtk "$W/link_vtk" --out "$W/out" --vtk-step 0.001 --t-end 0.02 --quiet
+$RENDER "$W/link_vtk/solid_pendulum.pvd" 0.003 docs/images/solid_link_stress.png --color von_mises \
+    --warp 1000 --undeformed --view=0.35,-0.5,-1 --up=0,1,0 --size 1200 600 \
+    --title "solid link (20 C3D20, 4N): von Mises stress at t = 3 ms"

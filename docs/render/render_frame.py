@@ -16,6 +16,8 @@ Options:
                     are always the true magnitude.
   --array NAME      the vector to colour and warp by (default elastic_displacement; use
                     `displacement` for a mode animation of `flexmb modes`)
+  --color NAME      colour the flexible bodies by this point scalar instead (e.g. von_mises, the
+                    von Mises stress of a body whose table asks for stresses; colour bar in Pa)
   --undeformed      also draw the undeformed mesh (positions minus the array) in thin grey
   --view V          the direction the camera looks along: iso (default), +x, -x, +y, -y, +z, -z,
                     or three numbers "dx,dy,dz" (write --view=-z, with "=", for a leading minus)
@@ -68,6 +70,7 @@ def parse():
     p.add_argument('pvd'), p.add_argument('time', type=float), p.add_argument('out')
     p.add_argument('--warp', type=float, default=1.0)
     p.add_argument('--array', default='elastic_displacement')
+    p.add_argument('--color')
     p.add_argument('--undeformed', action='store_true')
     p.add_argument('--view', default='iso', type=direction)
     p.add_argument('--up', type=direction)
@@ -113,17 +116,19 @@ def points(src, t):
     return [leaf.GetPoint(i) for leaf in leaves for i in range(leaf.GetNumberOfPoints())]
 
 
-def colour_bar(view, array, vmax):
+def colour_bar(view, array, vmax, scalar=False):
     lut = GetColorTransferFunction(array)
     lut.ApplyPreset('Viridis (matplotlib)', True)
     lut.AutomaticRescaleRangeMode = 'Never'
     lut.RescaleTransferFunction(0.0, vmax)
     bar = GetScalarBar(lut, view)
-    bar.Title, bar.ComponentTitle = '%s, magnitude [m]' % array.replace('_', ' '), ''
+    what = '%s [Pa]' if scalar else '%s, magnitude [m]'
+    bar.Title, bar.ComponentTitle = what % array.replace('_', ' '), ''
     bar.TitleColor = bar.LabelColor = DARK
     bar.TitleFontSize, bar.LabelFontSize = 18, 16
     bar.AutomaticLabelFormat = 0                       # fixed point, two significant digits at the top
-    bar.RangeLabelFormat = bar.LabelFormat = '%%.%df' % max(0, 1 - math.floor(math.log10(vmax)))
+    bar.RangeLabelFormat = bar.LabelFormat = '%.2e' if vmax >= 1e4 else \
+        '%%.%df' % max(0, 1 - math.floor(math.log10(vmax)))
     bar.WindowLocation, bar.ScalarBarLength = 'Lower Right Corner', 0.45
     return bar
 
@@ -203,10 +208,11 @@ def main():
         r.Representation = 'Surface'
         r.LineWidth, r.RenderLinesAsTubes = 5, 1       # beams
         r.Ambient, r.Diffuse = 0.3, 0.8
-        ColorBy(r, ('POINTS', a.array, 'Magnitude'))
-        vmax = a.range or max(b.GetPointData().GetArray(a.array).GetRange(-1)[1]
-                              for b in names.values() if b.GetPointData().GetArray(a.array)) or 1e-12
-        colour_bar(view, a.array, vmax)
+        colour = a.color or a.array
+        ColorBy(r, ('POINTS', colour) if a.color else ('POINTS', a.array, 'Magnitude'))
+        vmax = a.range or max(b.GetPointData().GetArray(colour).GetRange(-1)[1]
+                              for b in names.values() if b.GetPointData().GetArray(colour)) or 1e-12
+        colour_bar(view, colour, vmax, scalar=bool(a.color))
         r.SetScalarBarVisibility(view, True)
         shown.append(flex)
 
@@ -238,7 +244,8 @@ def main():
             lines.append('deformation drawn %g x its size (warp)' % a.warp)
         elif not mode:
             lines.append('deformation drawn to scale')
-        lines.append('colour: %s%s, max %.3g m' % ('' if mode else 'true ', a.array.replace('_', ' '), vmax))
+        lines.append('colour: %s%s, max %.3g %s' % ('' if mode else 'true ', (a.color or a.array).replace('_', ' '),
+                                                  vmax, 'Pa' if a.color else 'm'))
     legend = (['thin grey: undeformed mesh'] if a.undeformed and groups['flex'] else []) \
         + (['red spheres: joints'] if groups['joint'] else []) + ([a.note] if a.note else [])
     for words, corner, justify in ((lines, 'Upper Left Corner', 'Left'),

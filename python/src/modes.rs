@@ -64,7 +64,7 @@ pub fn modes(
         Some(other) => return Err(model_error(format!("solver: expected \"auto\", \"dense\" or \"lanczos\", got {other:?}"))),
     };
     let memory_limit = flexmb::analysis::MemoryLimit::Available.bytes();
-    let request = ReductionRequest { mode_set, basis, mass, eigen: EigenSettings { solver, memory_limit, ..Default::default() } };
+    let request = ReductionRequest { mode_set, basis, mass, eigen: EigenSettings { solver, memory_limit, ..Default::default() }, stresses: None };
     let reduced = py.detach(|| reduce_fe_model_file(&fe_model, &request)).map_err(|e| match e {
         ReduceFileError::NoModeSet { file } => {
             model_error(format!("{file}: no mode set: give modes= (e.g. \"6N\", \"5S\" or \"4N5S\") or `set` in the file's [modes] table"))

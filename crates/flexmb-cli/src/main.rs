@@ -232,6 +232,11 @@ enum Command {
         /// Eigensolver: dense for small models, Lanczos (shift-invert, sparse Cholesky) for large.
         #[arg(long, value_enum, default_value_t = SolverArg::Auto)]
         solver: SolverArg,
+        /// Store each mode's stresses in the flexible-body file (at the nodes of solids, the
+        /// surfaces of shells, the fibres of beams), for a run's stress output; default from the
+        /// file's [modes] stresses.
+        #[arg(long)]
+        stresses: bool,
     },
     /// Run a model with several integrators and compare cost and accuracy against a tight reference.
     Compare {
@@ -465,7 +470,7 @@ fn main() -> ExitCode {
                 flexmb_cli::eigen::run_eigen(&point.model, &options)
             })
             .map(|report| print!("{report}")),
-        Command::Modes { fe_model, modes, basis, mass, out, vtk, solver } => {
+        Command::Modes { fe_model, modes, basis, mass, out, vtk, solver, stresses } => {
             let options = ModesOptions {
                 mode_set: modes,
                 basis: basis.map(|b| match b {
@@ -483,6 +488,7 @@ fn main() -> ExitCode {
                     SolverArg::Dense => EigenSolver::Dense,
                     SolverArg::Lanczos => EigenSolver::Lanczos,
                 },
+                stresses,
             };
             run_modes(&fe_model, &options).map(|report| print!("{report}"))
         }

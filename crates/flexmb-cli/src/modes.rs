@@ -26,6 +26,9 @@ pub struct ModesOptions {
     /// Directory for the mode shapes as VTK.
     pub vtk: Option<PathBuf>,
     pub solver: EigenSolver,
+    /// Store each mode's stresses in the flexible-body file (`--stresses`), else the file's
+    /// `[modes] stresses`.
+    pub stresses: bool,
 }
 
 /// Runs `flexmb modes` on the FE model at `path`; returns the printed report.
@@ -35,7 +38,7 @@ pub fn run_modes(path: &Path, options: &ModesOptions) -> Result<String, CliError
         None => None,
     };
     let eigen = EigenSettings { solver: options.solver, memory_limit: crate::limits::memory_limit()?.bytes(), ..Default::default() };
-    let request = ReductionRequest { mode_set, basis: options.basis, mass: options.mass, eigen };
+    let request = ReductionRequest { mode_set, basis: options.basis, mass: options.mass, eigen, stresses: options.stresses.then_some(true) };
     let ReducedFeModel { loaded, reduction, seconds } = reduce_fe_model_file(path, &request).map_err(|e| match e {
         ReduceFileError::NoModeSet { file } => CliError(format!(
             "{file}: no mode set: give --modes (e.g. 6N, 5S or 4N5S) or `set` in the file's [modes] table"
@@ -48,6 +51,9 @@ pub fn run_modes(path: &Path, options: &ModesOptions) -> Result<String, CliError
     }
     reduction.body.write(&out).map_err(|e| CliError(e.to_string()))?;
     let mut report = describe(path, &loaded, &reduction, seconds);
+    if let Some(stresses) = &reduction.body.stresses {
+        let _ = writeln!(report, "modal stresses: {} stress points × {} modes", stresses.len(), reduction.body.mode_count());
+    }
     let _ = writeln!(report, "wrote {}", out.display());
     if let Some(dir) = &options.vtk {
         let file = flexmb_files::vtk::write_mode_shapes(&reduction.body, dir).map_err(CliError)?;

@@ -189,7 +189,7 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
     let restart = Restart { resume: options.resume.as_deref(), save_state: options.save_state.as_deref(), pause_at };
     let run = record_model_run(&loaded, &settings, &file_name, &outputs, restart, observe, &|| received().map(|s| s.name().to_string()));
     bar.finish_and_clear();
-    let RecordedRun { report, error, rows, paraview } = run?;
+    let RecordedRun { report, error, rows, paraview, hot_spots } = run?;
     let interrupted = report.interrupted.as_ref().and(received());
     let RunOutputs { csv: csv_path, summary: summary_path, .. } = outputs;
     if !options.quiet {
@@ -199,6 +199,7 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
             (None, None) => println!("run completed:"),
         }
         println!("{}", summary_text(&report));
+        print!("{}", flexmb_files::body_stress::hot_spot_text(&hot_spots));
         println!("results: {} ({rows} rows), {}", csv_path.display(), summary_path.display());
         if let (Some(file), None) = (&options.save_state, &error) {
             println!("state saved: {}", file.display());

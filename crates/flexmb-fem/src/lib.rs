@@ -40,6 +40,6 @@ pub use error::FemError;
 
 pub use mesh::{
     BeamSection, Dof, DofSet, Element, ElementKind, FeModel, Material, Mesh, Node, PointMass,
-    DistributingCoupling, MassModel, ModelOptions, RigidCoupling, ShellSection, SolidFormulation, SolidSection, StaticLoad,
+    DistributingCoupling, MassModel, ModelOptions, RigidCoupling, SectionOutline, ShellSection, SolidFormulation, SolidSection, StaticLoad,
     StaticLoadKind, Support,
 };

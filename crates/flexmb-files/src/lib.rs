@@ -6,7 +6,8 @@
 //!   [`flexmb::Model`] plus its `[simulation]` settings ([`load_model`], [`load_model_with`]);
 //! - [`fe_model_file`]: FE model files (`docs/fe-model-file.md`) for the preprocessor, and
 //!   [`flexible_body`], the reduced flexible body turned into the engine's modal body;
-//! - [`results`]: a run recorded to a result CSV and a JSON summary ([`record_model_run`]), and
+//! - [`results`]: a run recorded to a result CSV and a JSON summary ([`record_model_run`]), with the
+//!   stress hot spots of its flexible bodies ([`body_stress`]), and
 //!   [`result_table`], a result CSV read back into named columns; [`restart`]: a run's checkpoint saved
 //!   and resumed;
 //! - [`vtk`]: ParaView files of a run and of mode shapes; [`shape`]: what they draw for rigid bodies;
@@ -42,6 +43,7 @@
 //! # }
 //! ```
 
+pub mod body_stress;
 pub mod fe_model_file;
 pub mod flexible_body;
 pub mod integrator_choice;

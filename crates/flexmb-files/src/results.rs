@@ -14,6 +14,7 @@ use serde_json::{json, Value};
 
 use crate::model_file::LoadedModel;
 use crate::restart::{resume_simulation, save_checkpoint, Restart};
+use crate::body_stress::{HotSpot, StressMonitor};
 use crate::vtk::{RunSeries, SeriesTimes, SeriesWritten};
 
 /// A result file that could not be written or read, with the message that names it.
@@ -276,6 +277,9 @@ pub struct RecordedRun {
     pub rows: usize,
     /// The ParaView series written, if one was asked for (only [`record_model_run`] writes one).
     pub paraview: Option<SeriesWritten>,
+    /// The stress hot spot of each flexible body whose table asks for stresses (only
+    /// [`record_model_run`] follows them).
+    pub hot_spots: Vec<HotSpot>,
 }
 
 /// Where a run's results go: the CSV of its outputs, its JSON summary, and optionally a ParaView
@@ -351,7 +355,9 @@ pub fn record_model_run(
         .map(|p| RunSeries::create(&p.dir, &p.name, loaded, p.times, p.max_frames))
         .transpose()
         .map_err(ResultFileError)?;
+    let mut stresses = StressMonitor::new(loaded);
     let observe = &mut |frame: &OutputFrame| {
+        stresses.observe(&loaded.model, frame);
         if let Some(series) = series.as_mut() {
             series.observe(frame);
         }
@@ -359,7 +365,21 @@ pub fn record_model_run(
     };
     let run = record_run(&loaded.model, settings, model_file, (&outputs.csv, &outputs.summary), restart, observe, interrupt)?;
     let paraview = series.map(RunSeries::finish).transpose().map_err(ResultFileError)?;
-    Ok(RecordedRun { paraview, ..run })
+    let hot_spots = stresses.hot_spots();
+    if !stresses.is_empty() {
+        add_hot_spots(&outputs.summary, &hot_spots)?;
+    }
+    Ok(RecordedRun { paraview, hot_spots, ..run })
+}
+
+/// Adds `stress_hot_spots` (one per body whose stresses were followed) to the JSON summary at `path`.
+fn add_hot_spots(path: &Path, hot_spots: &[HotSpot]) -> Result<(), ResultFileError> {
+    let error = |e: String| ResultFileError(format!("cannot add the stress hot spots to {}: {e}", path.display()));
+    let text = std::fs::read_to_string(path).map_err(|e| error(e.to_string()))?;
+    let mut summary: Value = serde_json::from_str(&text).map_err(|e| error(e.to_string()))?;
+    summary["stress_hot_spots"] = Value::Array(hot_spots.iter().map(HotSpot::to_json).collect());
+    let text = serde_json::to_string_pretty(&summary).map_err(|e| error(e.to_string()))?;
+    std::fs::write(path, text + "\n").map_err(|e| error(e.to_string()))
 }
 
 /// Simulates `model`, writing every output frame to `csv` as it comes (a run that fails keeps what
@@ -424,7 +444,7 @@ pub fn record_run(
         let checkpoint = simulation.checkpoint().map_err(|e| ResultFileError(format!("cannot save the state to {}: {e}", file.display())))?;
         save_checkpoint(file, &checkpoint)?;
     }
-    Ok(RecordedRun { report, error, rows: csv.rows(), paraview: None })
+    Ok(RecordedRun { report, error, rows: csv.rows(), paraview: None, hot_spots: Vec::new() })
 }
 
 /// [`Simulation::run`] that also stops, as an interruption, at the first step at or after `t_pause`.

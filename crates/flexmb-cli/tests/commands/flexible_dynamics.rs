@@ -33,6 +33,7 @@ fn beam(length: f64, n: usize, w: f64, h: f64) -> FeModel {
             torsion_constant: 0.263 * w * h.powi(3),
             orientation: Vec3::new(0.0, 1.0, 0.0),
             shear_coefficient: None,
+            outline: Default::default(),
         }],
         ..Default::default()
     };

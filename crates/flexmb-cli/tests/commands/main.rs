@@ -33,6 +33,7 @@ mod singular_passage;
 mod singular_positions;
 mod solid_bodies;
 mod step_options;
+mod stress_output;
 mod study_file;
 mod untrusted_input;
 mod vtk_output;

@@ -14,15 +14,15 @@ use vtkio::model::{Attribute, DataSet, Piece, UnstructuredGridPiece, VertexNumbe
 
 /// One `<DataSet …/>` of a `.pvd` file.
 #[derive(Debug)]
-struct Entry {
-    time: f64,
-    part: usize,
-    name: String,
-    file: String,
+pub(crate) struct Entry {
+    pub time: f64,
+    pub part: usize,
+    pub name: String,
+    pub file: String,
 }
 
 /// The entries of a `.pvd` file, in order.
-fn read_pvd(path: &Path) -> Vec<Entry> {
+pub(crate) fn read_pvd(path: &Path) -> Vec<Entry> {
     let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     assert!(text.trim_end().ends_with("</VTKFile>"), "the index is complete: {text}");
     let attribute = |line: &str, name: &str| -> String {
@@ -41,7 +41,7 @@ fn read_pvd(path: &Path) -> Vec<Entry> {
 }
 
 /// The grid of a `.vtu` file.
-fn read_vtu(path: &Path) -> UnstructuredGridPiece {
+pub(crate) fn read_vtu(path: &Path) -> UnstructuredGridPiece {
     let vtk = vtkio::Vtk::import(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     let DataSet::UnstructuredGrid { mut pieces, .. } = vtk.data else { panic!("{}: not a grid", path.display()) };
     assert_eq!(pieces.len(), 1);
@@ -51,12 +51,12 @@ fn read_vtu(path: &Path) -> UnstructuredGridPiece {
     }
 }
 
-fn points(grid: &UnstructuredGridPiece) -> Vec<[f64; 3]> {
+pub(crate) fn points(grid: &UnstructuredGridPiece) -> Vec<[f64; 3]> {
     grid.points.cast_into::<f64>().unwrap().chunks(3).map(|p| [p[0], p[1], p[2]]).collect()
 }
 
 /// A point data array (`components` per point) as numbers.
-fn point_data(grid: &UnstructuredGridPiece, name: &str) -> Vec<f64> {
+pub(crate) fn point_data(grid: &UnstructuredGridPiece, name: &str) -> Vec<f64> {
     let array = grid.data.point.iter().find(|a| a.name() == name).unwrap_or_else(|| panic!("point data {name}"));
     let Attribute::DataArray(array) = array else { panic!("{name} is a data array") };
     array.data.cast_into::<f64>().unwrap()

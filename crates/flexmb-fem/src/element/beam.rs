@@ -36,10 +36,12 @@
 //! already hold the rest). A Timoshenko beam uses the same field for its mass.
 
 mod geometric_stiffness;
+mod stress;
 
 use nalgebra::{DMatrix, Matrix3, Matrix6, Vector3};
 
 pub use geometric_stiffness::{axial_force, beam_geometric_stiffness};
+pub use stress::beam_stress_matrix;
 
 use super::validate::{positive, Elastic};
 use super::{gauss_legendre_4, ElementError, ElementMatrices, MassPoint, NodalMass};
@@ -68,16 +70,7 @@ pub fn beam_matrices(
 ) -> Result<ElementMatrices, ElementError> {
     let rotary_inertia = options.rotary_inertia;
     let elastic = Elastic::new(material)?;
-    let properties = SectionProperties {
-        area: positive("beam section area", section.area)?,
-        iy: positive("beam section Iy", section.iy)?,
-        iz: positive("beam section Iz", section.iz)?,
-        torsion_constant: positive("beam torsion constant", section.torsion_constant)?,
-        shear_coefficient: match section.shear_coefficient {
-            Some(k) => Some(positive("beam shear coefficient", k)?),
-            None => None,
-        },
-    };
+    let properties = SectionProperties::checked(section)?;
     let axes = local_axes(a, b, &section.orientation)?;
     let length = (b - a).norm();
 
@@ -197,6 +190,22 @@ struct SectionProperties {
     iz: f64,
     torsion_constant: f64,
     shear_coefficient: Option<f64>,
+}
+
+impl SectionProperties {
+    /// The properties of `section`, each positive.
+    fn checked(section: &BeamSection) -> Result<Self, ElementError> {
+        Ok(SectionProperties {
+            area: positive("beam section area", section.area)?,
+            iy: positive("beam section Iy", section.iy)?,
+            iz: positive("beam section Iz", section.iz)?,
+            torsion_constant: positive("beam torsion constant", section.torsion_constant)?,
+            shear_coefficient: match section.shear_coefficient {
+                Some(k) => Some(positive("beam shear coefficient", k)?),
+                None => None,
+            },
+        })
+    }
 }
 
 /// The direction matrix Λ of the beam: its rows are the local x, y, z axes in body components.

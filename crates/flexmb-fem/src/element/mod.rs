@@ -11,6 +11,7 @@ pub mod beam;
 mod mass_point;
 pub mod shell;
 pub mod solid;
+mod stress_points;
 #[cfg(test)]
 mod test_support;
 mod validate;
@@ -18,6 +19,7 @@ mod validate;
 use nalgebra::{DMatrix, Matrix3};
 
 pub use mass_point::MassPoint;
+pub use stress_points::{element_stress, ElementStress, StressPlace};
 pub(crate) use mass_point::gauss_legendre_4;
 
 use crate::mesh::{Element, ElementKind, Mesh, ModelOptions};
@@ -120,11 +122,7 @@ pub fn element_matrices(
     element: &Element,
     options: &ModelOptions,
 ) -> Result<ElementMatrices, ElementError> {
-    let points = element
-        .nodes
-        .iter()
-        .map(|&n| lookup(&mesh.nodes, "node", n).map(|node| node.position))
-        .collect::<Result<Vec<_>, _>>()?;
+    let points = element_points(mesh, element)?;
     match element.kind {
         ElementKind::Beam { section } => {
             let section = lookup(&mesh.beam_sections, "beam section", section)?;
@@ -148,6 +146,11 @@ pub fn element_matrices(
             solid::solid_matrices(&points, formulation, material, options)
         }
     }
+}
+
+/// The positions of `element`'s nodes.
+fn element_points(mesh: &Mesh, element: &Element) -> Result<Vec<nalgebra::Vector3<f64>>, ElementError> {
+    element.nodes.iter().map(|&n| lookup(&mesh.nodes, "node", n).map(|node| node.position)).collect()
 }
 
 /// `items[index]`, or the error that says the mesh has no such `kind`.

@@ -49,11 +49,13 @@ mod frame;
 mod geometric_stiffness;
 mod membrane;
 mod mitc4;
+mod stress;
 
 use nalgebra::{DMatrix, Matrix3, Matrix6, Vector2, Vector3};
 
 pub use frame::WARP_TOLERANCE;
 pub use geometric_stiffness::shell_geometric_stiffness;
+pub use stress::shell_stress_matrix;
 
 use super::validate::{non_negative, positive, Elastic};
 use super::{ElementError, ElementMatrices, MassPoint, NodalMass};
@@ -123,19 +125,7 @@ pub fn shell_matrices(
         &[0, 1, 5],
     );
 
-    // Body-frame components: local = [Λ, −Λ [r]×; 0, Λ] body at each node.
-    let mut transform = DMatrix::zeros(6 * n, 6 * n);
-    for (i, r) in frame.offsets.iter().enumerate() {
-        let mut block = Matrix6::zeros();
-        block.fixed_view_mut::<3, 3>(0, 0).copy_from(&frame.axes);
-        block
-            .fixed_view_mut::<3, 3>(0, 3)
-            .copy_from(&(-frame.axes * r.cross_matrix()));
-        block.fixed_view_mut::<3, 3>(3, 3).copy_from(&frame.axes);
-        transform
-            .fixed_view_mut::<6, 6>(6 * i, 6 * i)
-            .copy_from(&block);
-    }
+    let transform = to_local(&frame);
     let stiffness = transform.transpose() * k * &transform;
     // Exactly symmetric, whatever the rounding of the products.
     let stiffness = (&stiffness + stiffness.transpose()) * 0.5;
@@ -162,6 +152,20 @@ pub fn shell_matrices(
         lumped_mass: vec![nodal; n],
         consistent_mass,
     })
+}
+
+/// The map from body-frame to local degrees of freedom: `[Λ, −Λ [r]×; 0, Λ]` at each node.
+fn to_local(frame: &ElementFrame) -> DMatrix<f64> {
+    let n = frame.offsets.len();
+    let mut transform = DMatrix::zeros(6 * n, 6 * n);
+    for (i, r) in frame.offsets.iter().enumerate() {
+        let mut block = Matrix6::zeros();
+        block.fixed_view_mut::<3, 3>(0, 0).copy_from(&frame.axes);
+        block.fixed_view_mut::<3, 3>(0, 3).copy_from(&(-frame.axes * r.cross_matrix()));
+        block.fixed_view_mut::<3, 3>(3, 3).copy_from(&frame.axes);
+        transform.fixed_view_mut::<6, 6>(6 * i, 6 * i).copy_from(&block);
+    }
+    transform
 }
 
 /// The mass points of the consistent mass: `mass_per_area` and `rotary_per_area` (about every axis)

@@ -717,6 +717,7 @@ impl Reader {
                     iy: i11,
                     iz: i22,
                     torsion_constant: second_moment(4, "J")?,
+                    outline: crate::mesh::SectionOutline::Equivalent,
                 };
                 let bad = [
                     ("A", props.area),
@@ -1234,6 +1235,7 @@ impl Reader {
                         torsion_constant: props.torsion_constant,
                         orientation: n1.unwrap_or(Vector3::from(DEFAULT_N1)),
                         shear_coefficient: None,
+                        outline: props.outline,
                     });
                 }
                 SectionDef::Shell {

@@ -4,6 +4,8 @@
 
 use std::f64::consts::PI;
 
+use crate::mesh::SectionOutline;
+
 /// Area, second moments and torsion constant of a cross-section (m², m⁴).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SectionProperties {
@@ -15,6 +17,8 @@ pub struct SectionProperties {
     pub iz: f64,
     /// Torsion constant J (m⁴).
     pub torsion_constant: f64,
+    /// Where the bending stress is largest.
+    pub outline: SectionOutline,
 }
 
 /// Why a section's dimensions give no section.
@@ -83,6 +87,7 @@ pub fn rect(a: f64, b: f64) -> Result<SectionProperties, SectionError> {
         iy: a * b.powi(3) / 12.0,
         iz: b * a.powi(3) / 12.0,
         torsion_constant: rectangle_torsion_constant(a, b),
+        outline: SectionOutline::Rectangle { half_y: a / 2.0, half_z: b / 2.0 },
     })
 }
 
@@ -95,6 +100,7 @@ pub fn circ(r: f64) -> Result<SectionProperties, SectionError> {
         iy: i,
         iz: i,
         torsion_constant: 2.0 * i,
+        outline: SectionOutline::Round { radius: r },
     })
 }
 
@@ -112,6 +118,7 @@ pub fn pipe(r: f64, t: f64) -> Result<SectionProperties, SectionError> {
         iy: i,
         iz: i,
         torsion_constant: 2.0 * i,
+        outline: SectionOutline::Round { radius: r },
     })
 }
 
@@ -150,6 +157,7 @@ pub fn boxed(a: f64, b: f64, t: [f64; 4]) -> Result<(SectionProperties, [f64; 2]
             iy,
             iz,
             torsion_constant,
+            outline: SectionOutline::Rectangle { half_y: a / 2.0, half_z: b / 2.0 },
         },
         [c1, c2],
     ))

@@ -77,6 +77,30 @@ pub struct BeamSection {
     /// Timoshenko shear coefficient k (shear area k A in both directions, e.g. 5/6 for a rectangle);
     /// `None` for Euler–Bernoulli beams (no shear deformation).
     pub shear_coefficient: Option<f64>,
+    /// The section's outline, where the stress recovery looks for the largest bending stress.
+    pub outline: SectionOutline,
+}
+
+/// A beam section's outline in its local y–z plane, centred on the beam axis: where the bending
+/// stress is largest (the element's stress recovery checks its extreme fibres).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum SectionOutline {
+    /// Only the properties are known: the rectangle with the same area and second moments,
+    /// half-widths `√(3 Iz / A)` along y and `√(3 Iy / A)` along z.
+    #[default]
+    Equivalent,
+    /// A rectangle (solid or a box) with half-widths along local y and z (m).
+    Rectangle {
+        /// Half the width along local y (m).
+        half_y: f64,
+        /// Half the width along local z (m).
+        half_z: f64,
+    },
+    /// A circle or a tube of outside radius `radius` (m).
+    Round {
+        /// The outside radius (m).
+        radius: f64,
+    },
 }
 
 /// The section of a flat shell (membrane plus bending) element: material and uniform thickness.

@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 
 use super::geometric_stiffness::GeometricStiffness;
 use super::invariants::InertiaInvariants;
+use super::modal_stress::ModalStresses;
 use crate::mesh::MassModel;
 use super::serde_matrix;
 
@@ -151,6 +152,10 @@ pub struct FlexibleBody {
     /// elements other than beams.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub geometric_stiffness: Option<GeometricStiffness>,
+    /// Each mode's stress at the body's stress points ([`ModalStresses`]), when the reduction was
+    /// asked for them; absent otherwise and in files written before them.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stresses: Option<ModalStresses>,
 }
 
 /// A problem reading or writing a flexible-body file.
@@ -270,6 +275,9 @@ impl FlexibleBody {
         }
         if let Some(terms) = &self.geometric_stiffness {
             terms.validate(m)?;
+        }
+        if let Some(stresses) = &self.stresses {
+            stresses.validate(m, n)?;
         }
         if let Some(e) = self.elements.iter().find(|e| e.nodes.iter().any(|&i| i >= n)) {
             return Err(format!("element {} refers to a node index beyond the {n} nodes", e.label));

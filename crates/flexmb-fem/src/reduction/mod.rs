@@ -6,6 +6,7 @@ mod flexible_body;
 mod geometric_stiffness;
 mod interface_modes;
 mod invariants;
+mod modal_stress;
 mod mode_set;
 mod serde_matrix;
 
@@ -19,6 +20,7 @@ pub use flexible_body::{
 pub use geometric_stiffness::{GeometricStiffness, InterfaceStiffness, CENTRIFUGAL_CASES, INTERFACE_CASES};
 pub use interface_modes::interface_dofs;
 pub use invariants::InertiaInvariants;
+pub use modal_stress::{add_modal_stresses, von_mises, ModalStresses};
 pub use mode_set::{ModeGroup, ModeSet};
 
 use crate::assembly::{AssembledModel, MassProperties};
@@ -86,6 +88,7 @@ const DEPENDENT: f64 = 1e-12;
 ///         torsion_constant: 0.1406 * h.powi(4),
 ///         orientation: Vector3::new(0.0, 1.0, 0.0),
 ///         shear_coefficient: None,
+///         outline: Default::default(),
 ///     }],
 ///     ..Default::default()
 /// };
@@ -427,5 +430,6 @@ fn flexible_body(
             inertia: properties.inertia,
         },
         geometric_stiffness: None,
+        stresses: None,
     })
 }

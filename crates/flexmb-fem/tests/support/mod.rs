@@ -24,6 +24,7 @@ pub fn square_section(h: f64) -> BeamSection {
         torsion_constant: 0.1406 * h.powi(4),
         orientation: Vector3::new(0.0, 1.0, 0.0),
         shear_coefficient: None,
+        outline: flexmb_fem::SectionOutline::Rectangle { half_y: h / 2.0, half_z: h / 2.0 },
     }
 }
 

@@ -64,6 +64,8 @@ pub struct ModesDefaults {
     pub mode_set: Option<ModeSet>,
     /// `basis`: raw or mass-orthonormalized modes.
     pub basis: Option<Basis>,
+    /// `stresses`: whether the reduction stores each mode's stresses (`FlexibleBody::stresses`).
+    pub stresses: Option<bool>,
 }
 
 /// Reads and builds the FE model file at `path`: a TOML FE model file, or an `.inp` deck directly

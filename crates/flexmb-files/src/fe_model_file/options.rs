@@ -59,7 +59,7 @@ pub(crate) fn model_options(
     Ok(options)
 }
 
-/// `[modes]`: the mode set and basis `flexmb modes` uses unless told otherwise.
+/// `[modes]`: the mode set, basis and modal stresses `flexmb modes` uses unless told otherwise.
 pub(crate) fn modes_defaults(
     b: &Builder,
     section: Option<&Spanned<ModesSection>>,
@@ -97,5 +97,5 @@ pub(crate) fn modes_defaults(
         )?),
         None => None,
     };
-    Ok(ModesDefaults { mode_set, basis })
+    Ok(ModesDefaults { mode_set, basis, stresses: section.stresses.as_ref().map(|s| *s.get_ref()) })
 }

@@ -6,13 +6,13 @@ use std::path::Path;
 use std::time::Instant;
 
 use flexmb_fem::modes::EigenSettings;
-use flexmb_fem::reduction::{reduce, Basis, ModeSet, Reduction, ReductionSettings};
+use flexmb_fem::reduction::{add_modal_stresses, reduce, Basis, ModeSet, Reduction, ReductionSettings};
 use flexmb_fem::{FemError, MassModel};
 
 use super::{load_fe_model, LoadedFeModel, ModelFileError};
 
 /// What to reduce an FE model file to; each `None` takes the file's value (`[modes] set`, `[modes]
-/// basis` else orthonormal, `[fe_model] mass` else lumped).
+/// basis` else orthonormal, `[fe_model] mass` else lumped, `[modes] stresses` else none).
 #[derive(Clone, Debug, Default)]
 pub struct ReductionRequest {
     /// The mode set, e.g. `4N5S`.
@@ -23,6 +23,8 @@ pub struct ReductionRequest {
     pub mass: Option<MassModel>,
     /// The eigensolver and the memory it may use.
     pub eigen: EigenSettings,
+    /// Whether to store each mode's stresses (`[modes] stresses` of the file else).
+    pub stresses: Option<bool>,
 }
 
 /// An FE model file reduced: the model as read, the reduction, and the time the reduction took.
@@ -70,6 +72,12 @@ pub fn reduce_fe_model_file(path: &Path, request: &ReductionRequest) -> Result<R
     let basis = request.basis.or(loaded.defaults.basis).unwrap_or_default();
     let settings = ReductionSettings { mode_set, basis, eigen: request.eigen };
     let started = Instant::now();
-    let reduction = reduce(&loaded.model, &loaded.name, &settings).map_err(|source| ReduceFileError::Reduction { file, source })?;
+    let mut reduction =
+        reduce(&loaded.model, &loaded.name, &settings).map_err(|source| ReduceFileError::Reduction { file: file.clone(), source })?;
+    if request.stresses.or(loaded.defaults.stresses) == Some(true) {
+        let warning = add_modal_stresses(&loaded.model, &mut reduction.body)
+            .map_err(|source| ReduceFileError::Reduction { file, source })?;
+        reduction.warnings.extend(warning);
+    }
     Ok(ReducedFeModel { loaded, reduction, seconds: started.elapsed().as_secs_f64() })
 }

@@ -62,6 +62,7 @@ pub(crate) struct FeModelSection {
 pub(crate) struct ModesSection {
     pub set: Option<Name>,
     pub basis: Option<Name>,
+    pub stresses: Option<Spanned<bool>>,
 }
 
 /// `[[material]]`: an isotropic linear-elastic material.

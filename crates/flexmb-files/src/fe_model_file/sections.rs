@@ -59,6 +59,7 @@ pub(crate) fn add_beam_sections(b: &mut Builder, tables: &[Spanned<BeamSectionSe
             torsion_constant: properties.torsion_constant,
             orientation,
             shear_coefficient,
+            outline: properties.outline,
         });
         let index = mesh.beam_sections.len() - 1;
         b.beam_sections.define(&s.name, &element, index);
@@ -105,6 +106,7 @@ fn section_properties(
             iy: value(&s.iy, "Iy", "the second moment of area Iy", Quantity::SecondMoment)?,
             iz: value(&s.iz, "Iz", "the second moment of area Iz", Quantity::SecondMoment)?,
             torsion_constant: value(&s.torsion_constant, "J", "the torsion constant J", Quantity::SecondMoment)?,
+            outline: flexmb_fem::SectionOutline::Equivalent,
         });
     };
     let shape_key = element.key("shape");

@@ -129,6 +129,7 @@ pub(crate) struct FlexibleBodySection {
     pub damping: Option<Spanned<DampingSection>>,
     pub high_mode_damping: Option<Spanned<HighModeDampingSection>>,
     pub geometric_stiffening: Option<bool>,
+    pub stresses: Option<Spanned<bool>>,
     pub position: Option<Vector>,
     pub orientation: Option<Spanned<OrientationSection>>,
     pub velocity: Option<Vector>,

@@ -2,7 +2,9 @@
 //!
 //! - a flexible body: its FE mesh at the deformed node positions `R + A (s̄ + Ψ a)`, with point data
 //!   `node` (the FE node label), `displacement` (from the first frame, t = 0), `elastic_displacement`
-//!   (`A Ψ a`: the deformation alone, global components) and `velocity`;
+//!   (`A Ψ a`: the deformation alone, global components) and `velocity`; and when its table asks for
+//!   stresses, `von_mises` and `stress` (the tensor `A (Σ aⱼ σⱼ) Aᵀ`, global components, at the
+//!   node's point of largest von Mises stress; see [`body_stress`](crate::body_stress));
 //! - a rigid body: its shape (or frame glyph) moved with the body, with `displacement` and `velocity`,
 //!   and for a frame glyph the cell data `axis` (0, 1, 2 for the body's x, y, z axis);
 //! - a joint (not a driver, which repeats its joint's markers): a vertex at each of its two markers,
@@ -14,6 +16,7 @@ use flexmb::model::{BodyId, MarkerId};
 use flexmb::Model;
 use vtkio::model::{Attribute, Attributes, Cells, UnstructuredGridPiece};
 
+use crate::body_stress::BodyStress;
 use super::body_motion::{marker_motion, BodyMotion, PointMotion};
 use super::pvd::file_safe;
 use super::{cells, element_cells, piece};
@@ -32,7 +35,7 @@ pub(crate) struct Part {
 }
 
 enum PartKind {
-    Flexible { body: BodyId, labels: Vec<u64>, cells: Cells },
+    Flexible { body: BodyId, labels: Vec<u64>, cells: Cells, stress: Option<BodyStress> },
     Rigid { body: BodyId, points: Vec<Vec3>, cells: Cells, frame_glyph: bool },
     Joint { markers: [MarkerId; 2] },
 }
@@ -50,7 +53,7 @@ pub(crate) fn parts(loaded: &LoadedModel) -> Vec<Part> {
     }
     for f in &loaded.flexible_bodies {
         let labels = model.modal_body(f.body).map_or_else(Vec::new, |m| m.nodes.iter().map(|n| n.label).collect());
-        let kind = PartKind::Flexible { body: f.body, labels, cells: element_cells(&f.elements) };
+        let kind = PartKind::Flexible { body: f.body, labels, cells: element_cells(&f.elements), stress: BodyStress::new(f) };
         parts.push(Part::new(&f.name, "body", kind, &parts));
     }
     push_joints(model, &mut parts);
@@ -68,7 +71,7 @@ pub(crate) fn model_parts(model: &Model) -> Vec<Part> {
             Some(modal) => {
                 let labels = modal.nodes.iter().map(|n| n.label).collect();
                 let vertices: Vec<[usize; 1]> = (0..modal.nodes.len()).map(|n| [n]).collect();
-                PartKind::Flexible { body: id, labels, cells: cells(vertices.iter().map(|v| v.as_slice())) }
+                PartKind::Flexible { body: id, labels, cells: cells(vertices.iter().map(|v| v.as_slice())), stress: None }
             }
             None => {
                 let mesh = Shape::Frame { size: frame_size(body.mass, &body.inertia) }.mesh();
@@ -108,7 +111,14 @@ impl Part {
         let points = self.motions(model, q, v);
         let Part { kind, initial, .. } = self;
         match kind {
-            PartKind::Flexible { labels, cells, .. } => flexible_piece(&points, labels, cells, initial),
+            PartKind::Flexible { labels, cells, stress, .. } => {
+                let mut piece = flexible_piece(&points, labels, cells, initial);
+                if let Some(stress) = stress {
+                    stress.evaluate(model, q);
+                    piece.data.point.extend(stress_attributes(stress));
+                }
+                piece
+            }
             PartKind::Rigid { cells, frame_glyph, .. } => rigid_piece(&points, cells, *frame_glyph, initial),
             PartKind::Joint { .. } => joint_piece(&points),
         }
@@ -185,6 +195,16 @@ fn displacement(initial: &mut Option<Vec<Vec3>>, points: &[PointMotion]) -> Attr
 
 fn positions(points: &[PointMotion]) -> Vec<Vec3> {
     points.iter().map(|p| p.position).collect()
+}
+
+/// `von_mises` and `stress` (9 components, row by row) at each node.
+fn stress_attributes(stress: &BodyStress) -> [Attribute; 2] {
+    let tensors: Vec<f64> =
+        stress.node_stress.iter().flat_map(|s| [s[0], s[3], s[5], s[3], s[1], s[4], s[5], s[4], s[2]]).collect();
+    [
+        Attribute::scalars("von_mises", 1).with_data(stress.node_von_mises.clone()),
+        Attribute::tensors("stress").with_data(tensors),
+    ]
 }
 
 /// A point vector array.

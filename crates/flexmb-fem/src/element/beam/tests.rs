@@ -34,6 +34,7 @@ fn section(orientation: Vector3<f64>, shear_coefficient: Option<f64>) -> BeamSec
         torsion_constant: 3e-6,
         orientation,
         shear_coefficient,
+        outline: Default::default(),
     }
 }
 

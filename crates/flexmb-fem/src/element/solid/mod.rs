@@ -54,6 +54,7 @@ mod hexahedron;
 mod incompatible_modes;
 mod isoparametric;
 mod quadrature;
+mod stress;
 mod tetrahedron;
 mod wedge;
 
@@ -65,6 +66,8 @@ use crate::mesh::{MassModel, Material, ModelOptions, SolidFormulation};
 pub use geometric_stiffness::solid_geometric_stiffness;
 use isoparametric::{lame, mass_points, stiffness, ShapeFunctionsAt};
 use quadrature::IntegrationPoint;
+
+pub use stress::solid_stress_matrix;
 
 /// How an element's mass is lumped at its nodes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -141,6 +144,16 @@ pub fn solid_matrices(
         lumped_mass: lumped.into_iter().map(|mass| NodalMass { mass, rotary_inertia: Matrix3::zeros() }).collect(),
         consistent_mass: if options.mass == MassModel::Consistent { consistent } else { Vec::new() },
     })
+}
+
+/// The natural coordinates of the nodes of `formulation`, in its node order.
+fn natural_nodes(formulation: SolidFormulation) -> Vec<[f64; 3]> {
+    let n = formulation.node_count();
+    match formulation {
+        SolidFormulation::LinearTetrahedron | SolidFormulation::QuadraticTetrahedron => tetrahedron::NODES[..n].to_vec(),
+        SolidFormulation::LinearWedge | SolidFormulation::QuadraticWedge => wedge::NODES[..n].to_vec(),
+        _ => hexahedron::NODES[..n].to_vec(),
+    }
 }
 
 fn node_count_name(count: usize) -> &'static str {

@@ -14,16 +14,6 @@ fn steel() -> Material {
     Material { name: "steel".into(), youngs_modulus: 210e9, poisson_ratio: 0.3, density: 7850.0 }
 }
 
-/// The natural coordinates of the nodes of `formulation`.
-fn natural_nodes(formulation: SolidFormulation) -> Vec<[f64; 3]> {
-    let n = formulation.node_count();
-    match formulation {
-        SolidFormulation::LinearTetrahedron | SolidFormulation::QuadraticTetrahedron => tetrahedron::NODES[..n].to_vec(),
-        SolidFormulation::LinearWedge | SolidFormulation::QuadraticWedge => wedge::NODES[..n].to_vec(),
-        _ => hexahedron::NODES[..n].to_vec(),
-    }
-}
-
 /// An affine map of the reference element, oblique and stretched: `x = x₀ + A ξ`.
 fn affine(x: [f64; 3]) -> Vector3<f64> {
     let a = Matrix3::new(0.30, 0.05, -0.02, 0.04, 0.20, 0.03, -0.01, 0.06, 0.25);

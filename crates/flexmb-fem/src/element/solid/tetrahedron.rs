@@ -8,7 +8,6 @@ use nalgebra::Vector3;
 use super::isoparametric::ShapeFunctions;
 
 /// Natural coordinates of the 10 nodes (the first 4 are the corners).
-#[cfg(test)]
 pub(super) const NODES: [[f64; 3]; 10] = [
     [0.0, 0.0, 0.0],
     [1.0, 0.0, 0.0],

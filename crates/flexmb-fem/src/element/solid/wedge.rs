@@ -8,7 +8,6 @@ use nalgebra::Vector3;
 use super::isoparametric::ShapeFunctions;
 
 /// Natural coordinates of the 15 nodes (the first 6 are the corners).
-#[cfg(test)]
 pub(super) const NODES: [[f64; 3]; 15] = [
     [0.0, 0.0, -1.0],
     [1.0, 0.0, -1.0],

@@ -2,7 +2,8 @@
 //! next to it, as a flexible-body file named `<fe stem>-<modes>-<basis>-<hash>.json`, where the hash
 //! (FNV-1a, 64 bits) covers the bytes of the FE model file and of every file it read (the mesh file and
 //! its includes), the mode set, the basis, the flexible-body format version, the terms the reduction
-//! computes (the geometric stiffness of the unit inertia and interface loads) and the program's version.
+//! computes (the geometric stiffness of the unit inertia and interface loads; the modal stresses, which the FE
+//! model file's `[modes] stresses` asks for) and the program's version.
 //! A changed input gives another name, so a stale file is never read; it is removed when the new one
 //! is written. A cache that cannot be written only costs the next run a new reduction. The file is
 //! written to a temporary file and renamed into place, so a reader sees all of it or nothing, and
@@ -14,7 +15,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
 
 use flexmb_fem::modes::EigenSettings;
-use flexmb_fem::reduction::{reduce, Basis, FlexibleBody, ModeSet, ReductionSettings, VERSION};
+use flexmb_fem::reduction::{add_modal_stresses, reduce, Basis, FlexibleBody, ModeSet, ReductionSettings, VERSION};
 use flexmb_fem::FemError;
 
 use super::flexible_bodies::FlexibleBodyOrigin;
@@ -50,7 +51,11 @@ pub(crate) fn reduced_body(
         let started = Instant::now();
         let eigen = EigenSettings { memory_limit, ..Default::default() };
         let settings = ReductionSettings { mode_set: set.clone(), basis, eigen };
-        let reduction = reduce(&loaded.model, &loaded.name, &settings)?;
+        let mut reduction = reduce(&loaded.model, &loaded.name, &settings)?;
+        if loaded.defaults.stresses == Some(true) {
+            let warning = add_modal_stresses(&loaded.model, &mut reduction.body)?;
+            reduction.warnings.extend(warning);
+        }
         let seconds = started.elapsed().as_secs_f64();
         let cache = cache.and_then(|(dir, prefix, hash)| store(dir, prefix, hash, &reduction.body));
         let origin = FlexibleBodyOrigin::Reduced { fe_model: fe_path.to_path_buf(), cache, seconds };
@@ -122,6 +127,8 @@ fn cache_hash(loaded: &LoadedFeModel, set: &ModeSet, basis: Basis) -> Option<u64
     // shells and solids: caches made before do not (or only a beam model's inertia loads).
     hash.field(b"geometric stiffness: inertia loads");
     hash.field(b"geometric stiffness: interface loads; beams, shells and solids");
+    // Reductions may hold modal stresses (as the FE model file, hashed below, says).
+    hash.field(b"modal stresses");
     hash.field(env!("CARGO_PKG_VERSION").as_bytes());
     hash.field(set.to_string().as_bytes());
     hash.field(basis_name(basis).as_bytes());

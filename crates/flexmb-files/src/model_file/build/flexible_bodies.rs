@@ -6,12 +6,13 @@
 use std::collections::BTreeMap;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::str::FromStr;
 
 use flexmb::body::{HighModeDamping, InitialState, ModalBody, ModalDamping};
 use flexmb::model::{BodyId, ModelError};
 use flexmb::ModelBuilder;
-use flexmb_fem::reduction::{Basis, BodyElement, FlexibleBody, ModeSet};
+use flexmb_fem::reduction::{add_modal_stresses, Basis, BodyElement, FlexibleBody, ModalStresses, ModeSet};
 use nalgebra::DVector;
 use toml::Spanned;
 
@@ -80,6 +81,9 @@ pub struct FlexibleBodyInfo {
     pub warnings: Vec<String>,
     /// The FE mesh's elements (node indices in the order of the engine's modal nodes), for drawing.
     pub elements: Vec<BodyElement>,
+    /// The modal stresses, when the table asks for the body's stresses (`stresses = true`): a run
+    /// writes `σ = Σ aⱼ σⱼ` in its ParaView series and reports the hot spot.
+    pub stresses: Option<Arc<ModalStresses>>,
 }
 
 /// Everything the tables refer to, and where relative paths start.
@@ -127,6 +131,7 @@ pub(crate) fn add_flexible_bodies(
             .map_err(engine_errors::at(ctx.source, &section.span(), &element))?;
         // Engine errors about the body are reported at the table's header.
         names.define(&Spanned::new(section.span(), name.clone()), &element, id);
+        let stresses = table.stresses(&mut obtained.body)?;
         let body = &obtained.body;
         nodes.insert(
             id,
@@ -149,6 +154,7 @@ pub(crate) fn add_flexible_bodies(
             origin: obtained.origin,
             warnings: obtained.warnings,
             elements: body.elements.clone(),
+            stresses,
         });
     }
     Ok(infos)
@@ -250,7 +256,15 @@ impl Table<'_> {
             .collect();
         let mut warnings = loaded.warnings.clone();
         warnings.extend(obtained.warnings);
-        Ok(Obtained { body: obtained.body, origin: obtained.origin, sets: Some(sets), warnings })
+        let mut body = obtained.body;
+        if self.wants_stresses() && body.stresses.is_none() {
+            // Recovered now from the FE model (the cache holds them only when the FE model file's
+            // `[modes] stresses` asks for them).
+            add_modal_stresses(&loaded.model, &mut body).map_err(|e| {
+                self.ctx.invalid(&fe_model.span(), &key, format!("cannot recover the modal stresses of `{}`: {e}", path.display()))
+            })?;
+        }
+        Ok(Obtained { body, origin: obtained.origin, sets: Some(sets), warnings })
     }
 
     /// An error of the FE model file: at its own file and line, with the reference appended; an error
@@ -357,6 +371,29 @@ impl Table<'_> {
         modal.initial_coordinates = self.modal_vector(&self.f.modal_coordinates, "modal_coordinates", &labels)?;
         modal.initial_rates = self.modal_vector(&self.f.modal_rates, "modal_rates", &labels)?;
         Ok(modal)
+    }
+
+    /// Whether the table asks for the body's stresses (`stresses = true`).
+    fn wants_stresses(&self) -> bool {
+        self.f.stresses.as_ref().is_some_and(|s| *s.get_ref())
+    }
+
+    /// The body's modal stresses if the table asks for them; an error if the body has none (a
+    /// flexible-body file written without them, or a mesh without elements that recover them).
+    fn stresses(&self, body: &mut FlexibleBody) -> Result<Option<Arc<ModalStresses>>, ModelFileError> {
+        let Some(flag) = self.f.stresses.as_ref().filter(|s| *s.get_ref()) else { return Ok(None) };
+        match body.stresses.take() {
+            Some(stresses) => Ok(Some(Arc::new(stresses))),
+            None => Err(self.ctx.invalid(
+                &flag.span(),
+                &self.key("stresses"),
+                match self.f.body_file.is_some() {
+                    true => "the flexible-body file holds no modal stresses: write it with `flexmb modes --stresses` \
+                             (or `stresses = true` in the FE model file's [modes] table)",
+                    false => "the FE model has no element whose stresses are recovered (solids, beams and shells are)",
+                },
+            )),
+        }
     }
 
     /// The table's `high_mode_damping`, checked; `None` without one.
