@@ -42,6 +42,7 @@
 //! # }
 //! ```
 
+pub mod exported_matrices;
 pub mod fe_model_file;
 pub mod flexible_body;
 pub mod integrator_choice;

@@ -11,6 +11,7 @@
 
 mod dof;
 mod generate;
+mod imported_matrices;
 mod references;
 mod rigid_coupling;
 
@@ -20,6 +21,8 @@ use nalgebra::Vector3;
 
 pub use dof::{Dof, DofSet};
 pub use generate::ShellShape;
+pub use imported_matrices::ImportedMatrices;
+pub(crate) use imported_matrices::{NodeShare, SplitMass};
 pub use rigid_coupling::RigidCoupling;
 pub(crate) use rigid_coupling::{dependent_dofs, DependentDof};
 
@@ -248,6 +251,8 @@ pub struct Mesh {
     pub node_sets: BTreeMap<String, Vec<usize>>,
     /// Rigid couplings of nodes to reference nodes (`*KINEMATIC COUPLING`, `*RIGID BODY`).
     pub rigid_couplings: Vec<RigidCoupling>,
+    /// Stiffness and mass matrices another program exported, assembled with the elements.
+    pub imported: Option<ImportedMatrices>,
 }
 
 impl Mesh {
