@@ -6,9 +6,10 @@
 //!   clamped deck and with flexmb's own reduction of that deck (1e-6), its mode shapes with flexmb's
 //!   own, and its reduced body (mass, inertia, invariants of two static correction modes) with the one
 //!   flexmb reduces from the deck. Skipped, with a message, when `ccx` is not installed.
-//! - **Ansys and Abaqus formats**: flexmb's own stiffness and mass of a C3D8I block written as Ansys
-//!   (`*EXPORT` MMF, mapping vector, node list) and Abaqus (`node, dof, node, dof, value`) files, the
-//!   rows in a shuffled node order, reduce to the deck's own frequencies (1e-9).
+//! - **Matrix Market, Ansys and Abaqus formats**: flexmb's own stiffness and mass of a C3D8I block
+//!   written as Matrix Market files with a `node.dof` row file, as Ansys files (`*EXPORT` MMF, mapping
+//!   vector, node list; the rows in a shuffled node order) and as Abaqus files (`node, dof, node, dof,
+//!   value`), reduce to the deck's own frequencies (1e-9) and mode shapes.
 //! - A matrix file given to `flexmb modes` and an unknown `format` are errors that list the formats.
 
 #[path = "../../flexmb-fem/tests/support/calculix.rs"]
@@ -190,9 +191,9 @@ fn own_matrices(model: &FeModel) -> (Vec<(u64, usize)>, Vec<(usize, usize, f64)>
     (rows, upper(&assembled.stiffness), upper(&assembled.mass))
 }
 
-/// Writes the block's own matrices in the Ansys and Abaqus formats (the rows in a shuffled node
+/// Writes the block's own matrices in the Matrix Market, Ansys and Abaqus formats (the rows in a shuffled node
 /// order) and returns the `[matrices]` tables.
-fn write_formats(model: &FeModel, dir: &Path) -> [String; 2] {
+fn write_formats(model: &FeModel, dir: &Path) -> [String; 3] {
     let (rows, k, m) = own_matrices(model);
     assert!(rows.iter().all(|&(_, d)| d < 3), "translations only");
     // Nodes in a shuffled order: equation block b of the files is the node order[b].
@@ -231,14 +232,25 @@ fn write_formats(model: &FeModel, dir: &Path) -> [String; 2] {
         }
         std::fs::write(dir.join(name), text).unwrap();
     }
+    // Matrix Market: the upper triangle in the deck's row order, the `node.dof` row file.
+    for (name, entries) in [("k.mm", &k), ("m.mm", &m)] {
+        let mut text = format!("%%MatrixMarket matrix coordinate real symmetric\n{n} {n} {}\n", entries.len());
+        for &(i, j, v) in entries {
+            let _ = writeln!(text, "{} {} {v:.17e}", i + 1, j + 1);
+        }
+        std::fs::write(dir.join(name), text).unwrap();
+    }
+    let dofs: String = rows.iter().map(|(label, d)| format!("{label}.{}\n", d + 1)).collect();
+    std::fs::write(dir.join("rows.dof"), dofs).unwrap();
     [
+        "format = \"matrix-market\"\nstiffness = \"k.mm\"\nmass = \"m.mm\"\ndofs = \"rows.dof\"\nnodes = \"block.inp\"\n".to_string(),
         "format = \"ansys\"\nstiffness = \"k.mmf\"\nmass = \"m.mmf\"\ndofs = \"mapping.txt\"\nnodes = \"nodes.txt\"\n".to_string(),
         "format = \"abaqus\"\nstiffness = \"k.mtx\"\nmass = \"m.mtx\"\nnodes = \"block.inp\"\n".to_string(),
     ]
 }
 
 #[test]
-fn ansys_and_abaqus_files_of_known_matrices_reduce_to_the_same_modes() {
+fn matrix_market_ansys_and_abaqus_files_of_known_matrices_reduce_to_the_same_modes() {
     let dir = work_dir("formats");
     let block = flat_block("C3D8I", 6, true);
     let deck = block.deck();
@@ -247,8 +259,8 @@ fn ansys_and_abaqus_files_of_known_matrices_reduce_to_the_same_modes() {
     let own = deck_model(&deck, tip);
     let settings = EigenSettings::default();
     let expected = vibration_modes(&own, 8, &settings).unwrap();
-    let [ansys, abaqus] = write_formats(&own, &dir);
-    for (format, table) in [("ansys", ansys), ("abaqus", abaqus)] {
+    let [matrix_market, ansys, abaqus] = write_formats(&own, &dir);
+    for (format, table) in [("matrix-market", matrix_market), ("ansys", ansys), ("abaqus", abaqus)] {
         let path = dir.join(format!("{format}.toml"));
         // The Ansys node list has no node sets: the root is given by positions there.
         let mut text = fe_model_text(&table, tip);
