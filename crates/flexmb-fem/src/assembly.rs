@@ -333,6 +333,9 @@ fn imported_matrices(
                 message: format!("the stiffness entry of dofs {a} and {b} is {value}"),
             });
         }
+        if value == 0.0 {
+            continue;
+        }
         if a == b && value > 0.0 {
             stiff_dof[a] = true;
         }

@@ -143,7 +143,10 @@ impl ImportedMatrices {
                     mesh.nodes[a].label, mesh.nodes[b].label, values[0], values[1], values[2]
                 )));
             }
-            split.translational.insert((a, b), values.iter().sum::<f64>() / 3.0);
+            // Explicit zeros (CalculiX writes the stiffness's pattern) make no mass point.
+            if largest > 0.0 {
+                split.translational.insert((a, b), values.iter().sum::<f64>() / 3.0);
+            }
         }
         Ok(split)
     }
