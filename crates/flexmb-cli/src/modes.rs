@@ -107,7 +107,18 @@ pub fn describe(path: &Path, loaded: &LoadedFeModel, reduction: &Reduction, seco
         mesh.elements.len(),
         mesh.point_masses.len(),
     );
-    let _ = writeln!(s, "  mass matrix: {} ({})", body.mass.name(), mass_model_description(body.mass));
+    if let Some(imported) = &mesh.imported {
+        let _ = writeln!(
+            s,
+            "  stiffness and mass matrices imported from {} ({} and {} stored entries)",
+            imported.origin,
+            imported.stiffness.len(),
+            imported.mass.len()
+        );
+    }
+    if !mesh.elements.is_empty() || mesh.imported.is_none() {
+        let _ = writeln!(s, "  mass matrix: {} ({})", body.mass.name(), mass_model_description(body.mass));
+    }
     let p = &body.mass_properties;
     let c = p.center_of_mass;
     let _ = writeln!(s, "  mass {:.6e} kg, centre of mass [{:.6}, {:.6}, {:.6}] m", p.mass, c.x, c.y, c.z);

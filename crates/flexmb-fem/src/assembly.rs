@@ -10,7 +10,7 @@ use crate::element::{element_matrices, MassPoint, NodalMass};
 use crate::error::FemError;
 use std::collections::{BTreeMap, HashSet};
 
-use crate::mesh::{dependent_dofs, DependentDof, Dof, DofSet, FeModel, MassModel, Mesh};
+use crate::mesh::{dependent_dofs, DependentDof, Dof, DofSet, FeModel, ImportedMatrices, MassModel, Mesh, NodeShare, SplitMass};
 
 /// Equation numbers of the nodal degrees of freedom: up to 6 per node; supported ones have none, and
 /// neither have the rotations of nodes that only solid elements touch (absent: the node has
@@ -167,7 +167,8 @@ pub fn supported_dofs(model: &FeModel) -> Vec<DofSet> {
 }
 
 /// The dofs every node has: the three translations at nodes that solid elements touch and no beam or
-/// shell does, all six elsewhere.
+/// shell does, all six elsewhere; with imported matrices, a node they mention and no element touches
+/// has the dofs they give it, and one nothing mentions has all six.
 pub fn present_dofs(mesh: &Mesh) -> Vec<DofSet> {
     let n = mesh.nodes.len();
     let (mut solid, mut rotational) = (vec![false; n], vec![false; n]);
@@ -179,7 +180,18 @@ pub fn present_dofs(mesh: &Mesh) -> Vec<DofSet> {
             }
         }
     }
-    (0..n).map(|i| if solid[i] && !rotational[i] { DofSet::TRANSLATIONS } else { DofSet::ALL }).collect()
+    let imported = mesh.imported.as_ref().map(|m| m.present_dofs(n)).unwrap_or_default();
+    (0..n)
+        .map(|i| {
+            let from_matrices = imported.get(i).copied().unwrap_or(DofSet::EMPTY);
+            match (solid[i], rotational[i]) {
+                (_, true) => DofSet::ALL,
+                (true, false) => DofSet::TRANSLATIONS.union(from_matrices),
+                (false, false) if !from_matrices.is_empty() => from_matrices,
+                (false, false) => DofSet::ALL,
+            }
+        })
+        .collect()
 }
 
 /// Assembles the stiffness and lumped mass of `model`.
@@ -255,6 +267,19 @@ pub fn assemble(model: &FeModel) -> Result<AssembledModel, FemError> {
             .map(|(node, m)| MassPoint::at_node(node, mesh.nodes[node].position, m.mass, m.rotary_inertia))
             .collect();
     }
+    let (mut root_rows, mut imported_points) = (Vec::new(), 0);
+    if let Some(imported) = &mesh.imported {
+        let matrices = imported_matrices(mesh, imported, &dofs, &mut stiffness_triplets, &mut stiff_dof)?;
+        for (node, mass, rotary) in matrices.shares {
+            nodal_masses[node].mass += mass;
+            nodal_masses[node].rotary_inertia += rotary;
+        }
+        root_rows = matrices.root_rows;
+        imported_points = matrices.points.len();
+        // The mass root is built from the elements' points and the factor's rows, the mass matrix and
+        // the invariants from all points.
+        mass_points.extend(matrices.points);
+    }
     // A coupled dof's stiffness acts on the reference node's dofs it depends on.
     for (global, terms) in &dependent {
         if stiff_dof[*global] {
@@ -277,8 +302,58 @@ pub fn assemble(model: &FeModel) -> Result<AssembledModel, FemError> {
     let stiffness = SparseColMat::try_new_from_triplets(n, n, &stiffness_triplets)
         .map_err(|e| FemError::LinearAlgebra(format!("stiffness assembly: {e:?}")))?;
     let mass = mass_matrix(&dofs, &mass_points)?;
-    let mass_root = mass_root(&dofs, &mass_points)?;
+    let element_points = mass_points.len() - imported_points;
+    let mass_root = mass_root(&dofs, &mass_points[..element_points], &root_rows)?;
     Ok(AssembledModel { dofs, stiffness, mass, mass_root, mass_points, nodal_masses })
+}
+
+/// What imported matrices add to the assembly besides their stiffness.
+struct ImportedMass {
+    /// Mass points that make up their mass (some of negative mass).
+    points: Vec<MassPoint>,
+    /// Each node's share of the mass: (node, mass, rotary inertia).
+    shares: Vec<NodeShare>,
+    /// Rows of a square-root factor of their mass, over global dofs `6 node + dof`.
+    root_rows: Vec<Vec<(usize, f64)>>,
+}
+
+/// Adds the stiffness of `imported` to `triplets` (and marks the dofs it resists), and returns its
+/// mass as mass points, nodal shares and factor rows.
+fn imported_matrices(
+    mesh: &Mesh,
+    imported: &ImportedMatrices,
+    dofs: &DofMap,
+    triplets: &mut Vec<Triplet<usize, usize, f64>>,
+    stiff_dof: &mut [bool],
+) -> Result<ImportedMass, FemError> {
+    imported.check_dofs(mesh)?;
+    for &(a, b, value) in &imported.stiffness {
+        if !value.is_finite() {
+            return Err(FemError::ImportedMatrices {
+                origin: imported.origin.clone(),
+                message: format!("the stiffness entry of dofs {a} and {b} is {value}"),
+            });
+        }
+        if value == 0.0 {
+            continue;
+        }
+        if a == b && value > 0.0 {
+            stiff_dof[a] = true;
+        }
+        let (ta, tb) = (dofs.terms(a), dofs.terms(b));
+        for &(row, ca) in &ta {
+            for &(col, cb) in &tb {
+                triplets.push(Triplet::new(row, col, ca * value * cb));
+                if a != b {
+                    triplets.push(Triplet::new(col, row, ca * value * cb));
+                }
+            }
+        }
+    }
+    let split: SplitMass = imported.split_mass(mesh)?;
+    let (points, shares) = ImportedMatrices::mass_points(&split, mesh);
+    let root_rows = imported.mass_root_rows(&split, mesh)?;
+    Ok(ImportedMass { points, shares, root_rows })
 }
 
 /// The rows of `G` of `point` over the free dofs: for each of its 6 rows, (equation, value) pairs.
@@ -326,10 +401,20 @@ fn mass_matrix(dofs: &DofMap, points: &[MassPoint]) -> Result<SparseColMat<usize
 }
 
 /// The square-root factor `F` of the mass (`Fᵀ F = M`), one row per massive translation or rotation
-/// of every mass point; rows of supported motions that vanish are dropped.
-fn mass_root(dofs: &DofMap, points: &[MassPoint]) -> Result<SparseColMat<usize, f64>, FemError> {
+/// of every mass point, then `global_rows` (rows over global dofs `6 node + dof`, of imported
+/// matrices); rows of supported motions that vanish are dropped.
+fn mass_root(dofs: &DofMap, points: &[MassPoint], global_rows: &[Vec<(usize, f64)>]) -> Result<SparseColMat<usize, f64>, FemError> {
     let mut triplets = Vec::new();
     let mut row_count = 0;
+    for row in global_rows {
+        let entries: Vec<(usize, f64)> =
+            row.iter().flat_map(|&(g, v)| dofs.terms(g).into_iter().map(move |(e, c)| (e, c * v))).collect();
+        if entries.is_empty() {
+            continue;
+        }
+        triplets.extend(entries.into_iter().map(|(e, v)| Triplet::new(row_count, e, v)));
+        row_count += 1;
+    }
     for point in points {
         let rows = free_rows(dofs, point);
         for root in point.inertia_root_rows() {

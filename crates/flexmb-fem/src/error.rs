@@ -188,6 +188,14 @@ pub enum FemError {
         /// How many the model has.
         count: usize,
     },
+    /// Stiffness and mass matrices exported by another program that flexmb cannot take.
+    #[error("the matrices of {origin}: {message}")]
+    ImportedMatrices {
+        /// The stiffness file they came from.
+        origin: String,
+        /// What is wrong.
+        message: String,
+    },
     /// A factorization failed for a reason not covered above.
     #[error("linear algebra: {0}")]
     LinearAlgebra(String),

@@ -44,6 +44,7 @@
 //! ```
 
 pub mod body_stress;
+pub mod exported_matrices;
 pub mod fe_model_file;
 pub mod flexible_body;
 pub mod integrator_choice;

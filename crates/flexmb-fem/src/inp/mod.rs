@@ -103,13 +103,25 @@ impl InpError {
 
 /// Reads an `.inp` file; `*INCLUDE` files are found relative to it.
 pub fn read_inp(path: &Path) -> Result<InpModel, InpError> {
+    reader::read(&deck_cards(path)?)
+}
+
+/// The cards of the deck at `path`, its `*INCLUDE`s followed.
+fn deck_cards(path: &Path) -> Result<Vec<lexer::Card>, InpError> {
     let bytes = crate::input::read_file(path).map_err(|e| InpError::Read {
         file: path.display().to_string(),
         message: e.to_string(),
     })?;
     let text = String::from_utf8_lossy(&bytes);
-    let cards = lexer::cards(&text, &path.display().to_string(), path.parent())?;
-    reader::read(&cards)
+    lexer::cards(&text, &path.display().to_string(), path.parent())
+}
+
+/// Reads only the nodes and the node sets (`*NODE`, `*NSET`) of the deck at `path` (and of the files
+/// it `*INCLUDE`s): the geometry of matrices another program exported from that deck, whose elements
+/// the matrices already hold. The model has no elements.
+pub fn read_inp_nodes(path: &Path) -> Result<InpModel, InpError> {
+    let nodes: Vec<_> = deck_cards(path)?.into_iter().filter(|c| c.keyword == "NODE" || c.keyword == "NSET").collect();
+    reader::read(&nodes)
 }
 
 /// Reads a deck from text; `file_name` is what messages show, and `*INCLUDE` files are found relative

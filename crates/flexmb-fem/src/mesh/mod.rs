@@ -12,6 +12,7 @@
 mod distributing_coupling;
 mod dof;
 mod generate;
+mod imported_matrices;
 mod references;
 mod rigid_coupling;
 
@@ -22,6 +23,8 @@ use nalgebra::Vector3;
 pub use distributing_coupling::DistributingCoupling;
 pub use dof::{Dof, DofSet};
 pub use generate::ShellShape;
+pub use imported_matrices::ImportedMatrices;
+pub(crate) use imported_matrices::{NodeShare, SplitMass};
 pub use rigid_coupling::RigidCoupling;
 pub(crate) use rigid_coupling::{dependent_dofs, DependentDof};
 
@@ -277,6 +280,8 @@ pub struct Mesh {
     /// Distributing couplings of reference nodes to the weighted average motion of nodes
     /// (`*DISTRIBUTING COUPLING`).
     pub distributing_couplings: Vec<DistributingCoupling>,
+    /// Stiffness and mass matrices another program exported, assembled with the elements.
+    pub imported: Option<ImportedMatrices>,
 }
 
 impl Mesh {

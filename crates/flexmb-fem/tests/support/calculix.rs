@@ -62,6 +62,11 @@ pub fn static_displacements(inp_text: &str, work_dir: &Path) -> Result<Vec<(u64,
     Ok(rows)
 }
 
+/// Runs ccx on `inp_text` in `work_dir` (as `job.inp`), for the files it writes there.
+pub fn run_deck(inp_text: &str, work_dir: &Path) -> Result<(), String> {
+    run(inp_text, work_dir).map(|_| ())
+}
+
 /// Runs ccx on `inp_text` in `work_dir` and returns the text and the path of `job.dat`.
 fn run(inp_text: &str, work_dir: &Path) -> Result<(String, PathBuf), String> {
     let ccx =

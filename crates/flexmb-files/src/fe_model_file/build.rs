@@ -12,7 +12,7 @@ use flexmb_fem::input::Quantity;
 
 use super::names::Registry;
 use super::schema::FeModelFile;
-use super::{elements, generators, interfaces, masses, materials, mesh_file, nodes, options, sections, static_loads, supports};
+use super::{elements, generators, interfaces, masses, materials, matrices, mesh_file, nodes, options, sections, static_loads, supports};
 use super::{LoadedFeModel, ModesDefaults};
 use crate::model_file::build::context::Context;
 use crate::model_file::build::names::NameTable;
@@ -133,6 +133,9 @@ pub(crate) fn build<'a>(
     if let Some(mesh) = section.and_then(|s| s.mesh.as_ref()) {
         mesh_file::add_mesh(&mut b, mesh, base_dir)?;
     }
+    if let Some(table) = &file.matrices {
+        matrices::add_matrices(&mut b, table, section.and_then(|s| s.mesh.as_ref()), base_dir)?;
+    }
     b.model.options = options::model_options(&b, section, b.model.options)?;
     materials::add_materials(&mut b, &file.material)?;
     sections::add_beam_sections(&mut b, &file.beam_section)?;
@@ -154,7 +157,7 @@ pub(crate) fn build<'a>(
 
 /// A model without elements has nothing to analyse.
 fn check_elements_present(b: &Builder, file: &FeModelFile) -> Result<(), ModelFileError> {
-    if !b.model.mesh.elements.is_empty() {
+    if !b.model.mesh.elements.is_empty() || b.model.mesh.imported.is_some() {
         return Ok(());
     }
     let (span, key) = match &file.fe_model {
@@ -169,8 +172,8 @@ fn check_elements_present(b: &Builder, file: &FeModelFile) -> Result<(), ModelFi
         &span,
         &key,
         format!(
-            "the model has no elements{from_mesh}: add [[beam_line]], [[plate]], [[beam]] or [[shell]] tables, or a \
-             mesh file ([fe_model] mesh = \"….inp\")"
+            "the model has no elements{from_mesh}: add [[beam_line]], [[plate]], [[beam]] or [[shell]] tables, a \
+             mesh file ([fe_model] mesh = \"….inp\"), or exported matrices ([matrices])"
         ),
     ))
 }

@@ -91,7 +91,7 @@ fn include_input(line: &str) -> Option<String> {
 }
 
 /// `mesh` relative to `base_dir`, unless it is absolute.
-fn mesh_path(base_dir: &Path, mesh: &str) -> PathBuf {
+pub(crate) fn mesh_path(base_dir: &Path, mesh: &str) -> PathBuf {
     let mesh = Path::new(mesh);
     if mesh.is_absolute() {
         mesh.to_path_buf()

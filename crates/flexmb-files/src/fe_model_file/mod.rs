@@ -13,6 +13,7 @@ pub(crate) mod format;
 mod generators;
 mod interfaces;
 mod masses;
+mod matrices;
 mod materials;
 mod mesh_file;
 mod names;
@@ -105,8 +106,15 @@ pub fn load_fe_model(path: &Path) -> Result<LoadedFeModel, ModelFileError> {
         });
     }
     let text = read_text_file(path, "FE model")?;
+    if is_matrix_file(path, &text) {
+        return Err(unsupported_input(&file, "is a matrix file, not an FE model"));
+    }
     let base_dir = path.parent().unwrap_or(Path::new(""));
-    let mut loaded = parse_fe_model(&text, &file, base_dir)?;
+    let is_toml = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("toml"));
+    let mut loaded = parse_fe_model(&text, &file, base_dir).map_err(|e| match e.kind {
+        ErrorKind::Syntax if !is_toml => unsupported_input(&file, &format!("is not TOML ({})", e.message)),
+        _ => e,
+    })?;
     loaded.sources.insert(0, path.to_path_buf());
     Ok(loaded)
 }
@@ -122,6 +130,32 @@ pub fn parse_fe_model(text: &str, file_name: &str, base_dir: &Path) -> Result<Lo
 
 fn file_stem(file_name: &str) -> String {
     Path::new(file_name).file_stem().and_then(|s| s.to_str()).unwrap_or("fe_model").to_string()
+}
+
+/// Extensions of matrix files other programs write (Matrix Market, CalculiX's matrix storage, Ansys'
+/// exports, Harwell–Boeing).
+const MATRIX_EXTENSIONS: [&str; 8] = ["mtx", "mm", "sti", "mas", "dof", "full", "hb", "rb"];
+
+/// Whether `path` is a matrix file rather than an FE model: by its extension, or a Matrix Market header.
+fn is_matrix_file(path: &Path, text: &str) -> bool {
+    let extension = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+    MATRIX_EXTENSIONS.contains(&extension.as_str()) || text.trim_start().to_ascii_lowercase().starts_with("%%matrixmarket")
+}
+
+/// The error for an input `flexmb modes` does not read, listing what it reads.
+fn unsupported_input(file: &str, what: &str) -> ModelFileError {
+    ModelFileError {
+        kind: ErrorKind::Invalid,
+        file: file.to_string(),
+        line: None,
+        key_path: String::new(),
+        message: format!(
+            "{what}: an unsupported format. flexmb reads an FE model file (TOML, .toml) or an Abaqus/CalculiX deck (.inp); \
+             a body from exported stiffness and mass matrices is an FE model file with a [matrices] table naming the \
+             matrix, row-map and node files, in one of the supported matrix formats: {}",
+            crate::exported_matrices::MatrixFormat::supported()
+        ),
+    }
 }
 
 /// An `.inp` deck read directly must have elements, as a TOML model must.

@@ -16,6 +16,7 @@ use crate::model_file::schema::{Name, Number, Vector};
 #[serde(deny_unknown_fields)]
 pub(crate) struct FeModelFile {
     pub fe_model: Option<Spanned<FeModelSection>>,
+    pub matrices: Option<Spanned<MatricesSection>>,
     #[serde(default)]
     pub parameters: BTreeMap<Name, Number>,
     pub modes: Option<Spanned<ModesSection>>,
@@ -54,6 +55,17 @@ pub(crate) struct FeModelSection {
     pub mass: Option<Name>,
     pub rotary_inertia: Option<Spanned<bool>>,
     pub drilling_stiffness: Option<Number>,
+}
+
+/// `[matrices]`: stiffness and mass matrices another program exported, with their nodes and row map.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct MatricesSection {
+    pub format: Name,
+    pub stiffness: Name,
+    pub mass: Name,
+    pub dofs: Option<Name>,
+    pub nodes: Name,
 }
 
 /// `[modes]`: defaults for `flexmb modes`.
