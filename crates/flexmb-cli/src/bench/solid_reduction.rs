@@ -4,8 +4,9 @@
 //! 60 × 4 cells, 73,505 nodes), with a reference node at each end coupled rigidly to its end face and
 //! held in its six dofs (the interface). The whole reduction is timed: assembly (of the supported and
 //! the free model), the fixed-interface modes (shift-invert Lanczos on a sparse Cholesky factor with
-//! faer's fill-reducing ordering), the constraint modes (one more factorization, 12 solves), the
-//! orthonormalization and the inertia invariants.
+//! faer's AMD ordering), the constraint modes (12 solves with the same factor), the
+//! orthonormalization and the inertia invariants. Not in the default run (about 70 s of CPU and
+//! 2.5 GiB; docs/preprocessor.md, "Cost").
 
 use std::time::Instant;
 

@@ -279,7 +279,7 @@ fn errors_name_file_and_line() {
     assert_eq!(
         e,
         "bad.inp:4: *ELEMENT: unknown element type C3D8R (C3D8R's hourglass control is not supported: use C3D8I, incompatible modes, or C3D8); \
-         flexmb reads B31, B31H, B33, B33H, S3, S3R, S4, S4R, C3D4, C3D10, C3D6, C3D15, C3D8, C3D8I, C3D20, C3D20R, MASS, ROTARYI"
+         flexmb reads B31, B31H, B33, B33H, S3, S3R, S4, S4R, C3D4, C3D10, C3D6, C3D15, C3D8, C3D8I, C3D20, C3D20R, MASS, ROTARYI, DCOUP3D"
     );
     // A node that is not defined: the element's line.
     let e = error(&format!(
