@@ -132,8 +132,12 @@ impl HotSpot {
 pub struct StressMonitor {
     bodies: Vec<BodyStress>,
     labels: Vec<Vec<u64>>,
-    hot_spots: Vec<Option<HotSpot>>,
+    /// Each body's largest von Mises stress so far.
+    largest: Vec<Option<Largest>>,
 }
+
+/// The largest von Mises stress so far: the value, node index, place, time and stress.
+type Largest = (f64, usize, StressPlace, f64, [f64; 6]);
 
 impl StressMonitor {
     /// The monitor of the bodies of `loaded` whose tables ask for stresses (none: it does nothing).
@@ -143,8 +147,8 @@ impl StressMonitor {
             .iter()
             .map(|b| loaded.model.modal_body(b.body).map_or_else(Vec::new, |m| m.nodes.iter().map(|n| n.label).collect()))
             .collect();
-        let hot_spots = vec![None; bodies.len()];
-        Self { bodies, labels, hot_spots }
+        let largest = vec![None; bodies.len()];
+        Self { bodies, labels, largest }
     }
 
     /// Whether no body's stresses are followed.
@@ -154,25 +158,24 @@ impl StressMonitor {
 
     /// Evaluates the stresses at `frame` and updates the hot spots.
     pub fn observe(&mut self, model: &Model, frame: &OutputFrame) {
-        for ((body, labels), hot) in self.bodies.iter_mut().zip(&self.labels).zip(&mut self.hot_spots) {
+        for (body, largest) in self.bodies.iter_mut().zip(&mut self.largest) {
             body.evaluate(model, frame.q);
             let Some((node, value, place)) = body.maximum() else { continue };
-            if hot.as_ref().is_none_or(|h| value > h.von_mises) {
-                *hot = Some(HotSpot {
-                    body: body.name.clone(),
-                    von_mises: value,
-                    node: labels[node],
-                    place,
-                    t: frame.t,
-                    stress: body.node_stress[node],
-                });
+            if largest.is_none_or(|(v, ..)| value > v) {
+                *largest = Some((value, node, place, frame.t, body.node_stress[node]));
             }
         }
     }
 
     /// Each followed body's hot spot (bodies that saw no output time have none).
     pub fn hot_spots(&self) -> Vec<HotSpot> {
-        self.hot_spots.iter().flatten().cloned().collect()
+        let spots = self.bodies.iter().zip(&self.labels).zip(&self.largest);
+        spots
+            .filter_map(|((body, labels), largest)| {
+                let (von_mises, node, place, t, stress) = (*largest)?;
+                Some(HotSpot { body: body.name.clone(), von_mises, node: labels[node], place, t, stress })
+            })
+            .collect()
     }
 }
 
