@@ -305,14 +305,19 @@ mod tests {
         assert_eq!(jac.analytic_entries(), (253, 1119));
     }
 
-    /// On bodies that only gravity and spherical joints act on, the positions' and velocities' columns
-    /// are analytic too (`stage/state_jacobian.rs`), and equal dense finite differences to the same
-    /// tolerance, with the Euler parameters off the unit sphere as inside a Newton iteration: the chain
-    /// of rods, and independent spherical pendulums.
+    /// On bodies that only gravity and spherical, revolute and universal joints act on, the positions'
+    /// and velocities' columns are analytic too (`stage/state_jacobian.rs`), and equal dense finite
+    /// differences to the same tolerance, with the Euler parameters off the unit sphere as inside a
+    /// Newton iteration: the chain of rods, independent spherical pendulums, and a triple pendulum of
+    /// tilted links with offset centres of mass on a spherical, a revolute and a universal joint.
     #[test]
     fn analytic_state_columns_match_dense_finite_differences() {
         coloured_against_dense(test_models::spherical_chain(4));
         coloured_against_dense(test_models::spherical_pendulums(3));
+        let triple = test_models::spatial_triple_pendulum();
+        let yl = YLayout::new(&triple);
+        assert_eq!(IterationMatrix::new(&triple, &yl).evaluations_per_jacobian(), 0, "every column analytic");
+        coloured_against_dense(triple);
     }
 
     /// On the chain every entry of `F_y` is analytic and a Jacobian costs no residual besides the base

@@ -1,20 +1,25 @@
 //! The derivatives of the DAE residual ([`residual`](super::residual)) with respect to the positions and
-//! velocities of a rigid body, analytic, for a body that only gravity and point constraints act on (the
-//! spherical joint, `r_j − r_i = 0`, on either side). With `A = A(p/|p|)`, `S̄` the body's first moment,
+//! velocities of a rigid body, analytic, for a body that only gravity and point and dot-1 constraints act
+//! on (the spherical, revolute and universal joints). With `A = A(p/|p|)`, `S̄` the body's first moment,
 //! `J̄` its inertia about the frame origin, `s̄` a constraint marker's origin in the body, `d = ±e_k` the
 //! marker's coefficient in point row `k`:
 //!
 //! ```text
 //! F_R = Ṙ − Ṙ − Σ μ d                         ∂/∂Ṙ = −I
-//! F_p = ṗ − ½ Gᵀ(p) ω̄ − 2 Gᵀ(p) μ̄_ω − 2 μ_n p  μ̄_ω = Σ μ s̄ × (Aᵀ d); ∂/∂ω̄ = −½ Gᵀ(p)
+//! F_p = ṗ − ½ Gᵀ(p) ω̄ − 2 Gᵀ(p) μ̄_ω − 2 μ_n p  μ̄_ω = Σ μ B_ω̄ᵀ; ∂/∂ω̄ = −½ Gᵀ(p)
 //! F_Ṙ = m R̈ − A (S̄ × ω̄̇) + A (ω̄ × (ω̄ × S̄)) − m g + Σ λ d
-//! F_ω̄ = S̄ × (Aᵀ (R̈ − g)) + J̄ ω̄̇ + ω̄ × (J̄ ω̄) + Σ λ s̄ × (Aᵀ d)
-//! F_λ = d · (Ṙ + A (ω̄ × s̄))                   F_μ = d · (R + A s̄)          F_n = pᵀp − 1
+//! F_ω̄ = S̄ × (Aᵀ (R̈ − g)) + J̄ ω̄̇ + ω̄ × (J̄ ω̄) + Σ λ B_ω̄ᵀ
+//! point row:  F_λ = d · (Ṙ + A (ω̄ × s̄)),   F_μ = d · (R + A s̄),   B_ω̄ = (s̄ × Aᵀ d)ᵀ
+//! dot-1 row:  F_λ = c · (ω − ω_o),          F_μ = a · a_o,          B_ω̄ = (Aᵀ c)ᵀ,  c = a × a_o
+//! F_n = pᵀp − 1
 //! ```
-//! differentiated in `p` through `∂A/∂p` (of the normalized parameters, [`rotation_derivatives`]) and in
-//! `ω̄` through `∂(ω̄ × (ω̄ × S̄))/∂ω̄ = −(ω̄ × S̄)~ − ω̄̃ S̄̃` and `∂(ω̄ × J̄ ω̄)/∂ω̄ = ω̄̃ J̄ − (J̄ ω̄)~`.
-//! A constraint row contributes to the columns of the bodies on its sides only, so a body's columns are
-//! analytic whatever its neighbours are; every other body's columns stay finite differences.
+//! with `a = A ā` the body's axis of a dot-1 row and `a_o`, `ω_o` the other marker's axis and angular
+//! velocity, differentiated in `p` through `∂A/∂p` (of the normalized parameters,
+//! [`rotation_derivatives`]) and in `ω̄` through `∂(ω̄ × (ω̄ × S̄))/∂ω̄ = −(ω̄ × S̄)~ − ω̄̃ S̄̃` and
+//! `∂(ω̄ × J̄ ω̄)/∂ω̄ = ω̄̃ J̄ − (J̄ ω̄)~`. A dot-1 row's `c` depends on both bodies, so a body's column also
+//! holds the other body's constraint-force terms `−λ A_oᵀ ∂c/∂p` (dynamic rows) and
+//! `2 Gᵀ(p_o) μ A_oᵀ ∂c/∂p` (kinematic rows). Every entry of a body's columns is thereby analytic whatever
+//! its neighbours are; every other body's columns stay finite differences.
 
 use crate::data::Data;
 use crate::joint::Equation;
@@ -23,21 +28,20 @@ use crate::math::{skew, Mat3, Vec3, Vec4};
 use crate::model::{bodies_under_force_elements, Model};
 use crate::stage::YLayout;
 
-/// One side of a point constraint row on an analytic body: the row, the coefficient `d = sign · e_k`
-/// and the marker's origin `s̄` in the body.
+/// One side of a constraint row on an analytic body.
 #[derive(Clone, Copy, Debug)]
-struct PointSide {
-    row: usize,
-    k: usize,
-    sign: f64,
-    origin: Vec3,
+enum Side {
+    /// Point row `k`: the coefficient `d = sign · e_k` and the marker's origin `s̄` in the body.
+    Point { row: usize, k: usize, sign: f64, origin: Vec3 },
+    /// Dot-1 row `a_iᵀ a_j`: the body's axis `ā` in its frame, the other marker, its axis and its body.
+    Dot1 { row: usize, axis: Vec3, other_marker: usize, other_axis: usize, other_body: Option<usize> },
 }
 
-/// A body whose positions' and velocities' columns are analytic, and the point rows acting on it.
+/// A body whose positions' and velocities' columns are analytic, and the constraint rows acting on it.
 #[derive(Clone, Debug)]
 struct AnalyticBody {
     body: usize,
-    sides: Vec<PointSide>,
+    sides: Vec<Side>,
 }
 
 /// The analytic columns of the positions and velocities of the bodies that allow them.
@@ -49,20 +53,36 @@ pub(crate) struct StateJacobian {
 
 impl StateJacobian {
     /// The rigid bodies that no force element acts on or reads and whose every joint is made of point
-    /// equations (spherical joints).
+    /// and dot-1 equations (spherical, revolute, universal joints).
     pub fn new(model: &Model) -> Self {
         let under = bodies_under_force_elements(model);
         let mut analytic: Vec<bool> = (0..model.bodies.len()).map(|b| model.modal[b].is_none() && !under[b]).collect();
-        let mut sides: Vec<Vec<PointSide>> = vec![Vec::new(); model.bodies.len()];
+        let mut sides: Vec<Vec<Side>> = vec![Vec::new(); model.bodies.len()];
         for (row, &(j, eq)) in model.layout.equations.iter().enumerate() {
             let joint = &model.joints[j.0];
-            for (marker, sign) in [(joint.marker_i, -1.0), (joint.marker_j, 1.0)] {
-                let m = &model.markers[marker.0];
+            let ends = [(joint.marker_i, joint.marker_j, -1.0), (joint.marker_j, joint.marker_i, 1.0)];
+            for (own, other, point_sign) in ends {
+                let m = &model.markers[own.0];
                 let Some(b) = m.body.body() else { continue };
-                match eq {
-                    Equation::Point(k) => sides[b.0].push(PointSide { row, k, sign, origin: m.origin }),
-                    _ => analytic[b.0] = false,
-                }
+                let other_body = model.markers[other.0].body.body().map(|o| o.0);
+                let side = match eq {
+                    Equation::Point(k) => Side::Point { row, k, sign: point_sign, origin: m.origin },
+                    Equation::Dot1(axis_i, axis_j) => {
+                        let (own_axis, other_axis) = if own == joint.marker_i { (axis_i, axis_j) } else { (axis_j, axis_i) };
+                        Side::Dot1 {
+                            row,
+                            axis: m.axes.column(own_axis.index()).into(),
+                            other_marker: other.0,
+                            other_axis: other_axis.index(),
+                            other_body,
+                        }
+                    }
+                    _ => {
+                        analytic[b.0] = false;
+                        continue;
+                    }
+                };
+                sides[b.0].push(side);
             }
         }
         let bodies = sides
@@ -112,28 +132,75 @@ impl StateJacobian {
             let mut d_mu_w = [Vec3::zeros(); 4];
             let mut d_lambda_w = [Vec3::zeros(); 4];
             for side in sides {
-                let d = Vec3::ith(side.k, side.sign);
-                let (lam, mu_row) = (lambda[side.row], mu[side.row]);
-                mu_w += mu_row * side.origin.cross(&(a.transpose() * d));
-                for i in 0..4 {
-                    let turned = side.origin.cross(&(da[i].transpose() * d));
-                    d_mu_w[i] += mu_row * turned;
-                    d_lambda_w[i] += lam * turned;
-                }
-                if !active[side.row] {
-                    continue;
-                }
-                let (velocity_row, position_row) = (yl.lambda.start + side.row, yl.mu.start + side.row);
-                f(velocity_row, vo + side.k, side.sign);
-                f(position_row, qo + side.k, side.sign);
-                let b_w = side.origin.cross(&(a.transpose() * d));
-                let w_cross_s = w.cross(&side.origin);
-                for c in 0..3 {
-                    f(velocity_row, vo + 3 + c, b_w[c]);
-                }
-                for i in 0..4 {
-                    f(velocity_row, qo + 3 + i, d.dot(&(da[i] * w_cross_s)));
-                    f(position_row, qo + 3 + i, d.dot(&(da[i] * side.origin)));
+                match *side {
+                    Side::Point { row, k, sign, origin } => {
+                        let d = Vec3::ith(k, sign);
+                        let turned = origin.cross(&(a.transpose() * d));
+                        mu_w += mu[row] * turned;
+                        for i in 0..4 {
+                            let turned = origin.cross(&(da[i].transpose() * d));
+                            d_mu_w[i] += mu[row] * turned;
+                            d_lambda_w[i] += lambda[row] * turned;
+                        }
+                        if !active[row] {
+                            continue;
+                        }
+                        let (velocity_row, position_row) = (yl.lambda.start + row, yl.mu.start + row);
+                        f(velocity_row, vo + k, sign);
+                        f(position_row, qo + k, sign);
+                        let w_cross_s = w.cross(&origin);
+                        for c in 0..3 {
+                            f(velocity_row, vo + 3 + c, turned[c]);
+                        }
+                        for i in 0..4 {
+                            f(velocity_row, qo + 3 + i, d.dot(&(da[i] * w_cross_s)));
+                            f(position_row, qo + 3 + i, d.dot(&(da[i] * origin)));
+                        }
+                    }
+                    Side::Dot1 { row, axis, other_marker, other_axis, other_body } => {
+                        // With the body's own axis a first, c = a × a_o on either side: B_ω̄ = Aᵀ c on this
+                        // body, −A_oᵀ c on the other, and Φ̇ = c · (ω − ω_o).
+                        let other = &data.markers[other_marker];
+                        let own_axis = a * axis;
+                        let other_axis: Vec3 = other.axes.column(other_axis).into();
+                        let c = own_axis.cross(&other_axis);
+                        let relative = state.rotation * w - other.angular_velocity;
+                        let dc: [Vec3; 4] = std::array::from_fn(|i| (da[i] * axis).cross(&other_axis));
+                        mu_w += mu[row] * (a.transpose() * c);
+                        for i in 0..4 {
+                            let own = da[i].transpose() * c + a.transpose() * dc[i];
+                            d_mu_w[i] += mu[row] * own;
+                            d_lambda_w[i] += lambda[row] * own;
+                        }
+                        // The other body's constraint forces −A_oᵀ c (λ) and kinematic terms (μ).
+                        if let Some(o) = other_body {
+                            let (oq, ov) = (yl.q.start + l.q_offset[o], yl.v.start + l.v_offset[o]);
+                            let p_o = Vec4::new(y[oq + 3], y[oq + 4], y[oq + 5], y[oq + 6]);
+                            let (a_o, g_o) = (data.bodies[o].rotation, g_matrix(&p_o));
+                            for i in 0..4 {
+                                let turned = -(a_o.transpose() * dc[i]);
+                                let kinematic = -2.0 * mu[row] * (g_o.transpose() * turned);
+                                for r in 0..3 {
+                                    f(ov + 3 + r, qo + 3 + i, lambda[row] * turned[r]);
+                                }
+                                for r in 0..4 {
+                                    f(oq + 3 + r, qo + 3 + i, kinematic[r]);
+                                }
+                            }
+                        }
+                        if !active[row] {
+                            continue;
+                        }
+                        let (velocity_row, position_row) = (yl.lambda.start + row, yl.mu.start + row);
+                        let b_w = a.transpose() * c;
+                        for k in 0..3 {
+                            f(velocity_row, vo + 3 + k, b_w[k]);
+                        }
+                        for i in 0..4 {
+                            f(velocity_row, qo + 3 + i, dc[i].dot(&relative) + c.dot(&(da[i] * w)));
+                            f(position_row, qo + 3 + i, (da[i] * axis).dot(&other_axis));
+                        }
+                    }
                 }
             }
 
