@@ -103,6 +103,7 @@ impl StateJacobian {
     /// analytic bodies' positions' and velocities' columns of `∂F/∂y` at `(y, ẏ)`, whose kinematic stages
     /// `data` holds, with the constraint rows in force `active`. Each `(row, column)` may come more than
     /// once: callers add the values.
+    #[allow(clippy::too_many_arguments)]
     pub fn entries(
         &self,
         model: &Model,
