@@ -172,3 +172,39 @@ fn rods_on_spherical_joints(n: usize, chained: bool, repeated_every: Option<usiz
     }
     b.build().unwrap()
 }
+
+/// A spatial triple pendulum of tilted links with offset centres of mass under gravity, on a spherical
+/// joint to ground, a revolute joint and a universal joint, and no force element: every body's
+/// Jacobian columns are analytic.
+pub fn spatial_triple_pendulum() -> Model {
+    let mut b = ModelBuilder::new("test triple pendulum").gravity(Vec3::new(0.0, -9.81, 0.0));
+    let tilt = EulerParameters::from_axis_angle(&Vec3::new(0.3, 0.2, 1.0), 0.7).unwrap();
+    let a = tilt.rotation_matrix();
+    let mut previous = (BodyRef::Ground, Vec3::zeros());
+    let cross_pin = EulerParameters::from_axis_angle(&Vec3::x(), std::f64::consts::FRAC_PI_2).unwrap().rotation_matrix();
+    for (i, kind) in [JointKind::Spherical, JointKind::Revolute, JointKind::Universal].into_iter().enumerate() {
+        let link = b
+            .add_body(RigidBody {
+                name: format!("link{i}"),
+                mass: 1.3 - 0.2 * i as f64,
+                center_of_mass: Vec3::new(0.02, -0.25, 0.01),
+                inertia: Mat3::new(0.03, 0.001, 0.0, 0.001, 0.004, 0.0005, 0.0, 0.0005, 0.03),
+                initial: InitialState {
+                    position: a * Vec3::new(0.0, -0.5 * i as f64, 0.0),
+                    orientation: tilt,
+                    velocity: None,
+                    angular_velocity: None,
+                },
+            })
+            .unwrap();
+        let axes = if matches!(kind, JointKind::Universal) { cross_pin } else { Mat3::identity() };
+        let marker = |b: &mut ModelBuilder, name: String, body, origin, axes| {
+            b.add_marker(Marker { name, body, origin, axes }).unwrap()
+        };
+        let pivot = marker(&mut b, format!("pivot{i}"), previous.0, previous.1, Mat3::identity());
+        let start = marker(&mut b, format!("link{i}_start"), BodyRef::Body(link), Vec3::zeros(), axes);
+        b.add_joint(Joint { name: format!("j{i}"), kind, marker_i: pivot, marker_j: start }).unwrap();
+        previous = (BodyRef::Body(link), Vec3::new(0.0, -0.5, 0.0));
+    }
+    b.build().unwrap()
+}

@@ -16,7 +16,7 @@ use crate::data::Data;
 use super::CheckpointError;
 use crate::linalg::{greedy_colouring, perturbation, InvalidPivots, SingularMatrix, SparseLu};
 use crate::model::{Coupling, Model};
-use crate::stage::{inertia_jacobian_entries, multiplier_jacobian_entries, residual, YLayout};
+use crate::stage::{inertia_jacobian_entries, multiplier_jacobian_entries, residual, StateJacobian, YLayout};
 
 /// Iteration matrix with stored derivative parts and reusable LU factors.
 pub(crate) struct IterationMatrix {
@@ -24,7 +24,10 @@ pub(crate) struct IterationMatrix {
     f_y: Vec<f64>,
     f_yp: Vec<f64>,
     n_differential: usize,
-    /// Column blocks (of one body or joint) grouped by colour.
+    /// The analytic positions' and velocities' columns (of the bodies that allow them).
+    state_jacobian: StateJacobian,
+    /// Column blocks (of one body or joint) grouped by colour: the positions' and velocities' columns
+    /// that are not analytic.
     colors: Vec<Vec<Range<usize>>>,
     f0: Vec<f64>,
     f1: Vec<f64>,
@@ -106,9 +109,13 @@ impl IterationMatrix {
         let n = yl.len();
         let lu = SparseLu::with_kept_pivots(n, entries);
 
-        // Blocks of one colour touch disjoint row blocks. Only the positions' and velocities' columns are
-        // differenced; the multipliers' (from λ on) are analytic.
-        let differenced: Vec<usize> = (0..columns.len()).filter(|&k| columns[k].0.start < yl.lambda.start).collect();
+        // Blocks of one colour touch disjoint row blocks. Only the positions' and velocities' columns of
+        // the bodies without analytic ones are differenced; the multipliers' (from λ on) are analytic.
+        // The first 3 nb column blocks are the bodies' (positions, velocities, normalization).
+        let state_jacobian = StateJacobian::new(model);
+        let differenced: Vec<usize> = (0..columns.len())
+            .filter(|&k| columns[k].0.start < yl.lambda.start && !(k < 3 * nb && state_jacobian.is_analytic(k / 3)))
+            .collect();
         let touched: Vec<Vec<usize>> = differenced.iter().map(|&k| columns[k].1.clone()).collect();
         let colors = greedy_colouring(&touched, n_row_blocks)
             .into_iter()
@@ -120,6 +127,7 @@ impl IterationMatrix {
             f_y: vec![0.0; nnz],
             f_yp: vec![0.0; nnz],
             n_differential: yl.n_differential(),
+            state_jacobian,
             colors,
             f0: vec![0.0; n],
             f1: vec![0.0; n],
@@ -127,12 +135,12 @@ impl IterationMatrix {
         }
     }
 
-    /// The entries of `F_y` on the sparse pattern that are analytic (those of the multipliers' columns),
-    /// and all of them.
+    /// The entries of `F_y` on the sparse pattern that are analytic (those of the multipliers' columns
+    /// and of the analytic bodies' positions and velocities), and all of them.
     #[cfg(test)]
-    pub fn analytic_entries(&self, yl: &YLayout) -> (usize, usize) {
-        let analytic = (yl.lambda.start..self.lu.n()).map(|c| self.lu.column(c).1.len()).sum();
-        (analytic, self.f_y.len())
+    pub fn analytic_entries(&self) -> (usize, usize) {
+        let differenced: usize = self.colors.iter().flatten().flat_map(|b| b.clone()).map(|c| self.lu.column(c).1.len()).sum();
+        (self.f_y.len() - differenced, self.f_y.len())
     }
 
     /// Number of residual evaluations one Jacobian costs (besides the base point).
@@ -172,6 +180,11 @@ impl IterationMatrix {
         self.f_y.fill(0.0);
         let (lu, f_y) = (&self.lu, &mut self.f_y);
         multiplier_jacobian_entries(model, data, yl, &y[yl.q.clone()], active, |r, c, x| {
+            if let Some(s) = lu.slot(r, c) {
+                f_y[s] += x;
+            }
+        });
+        self.state_jacobian.entries(model, data, yl, y, yp, active, |r, c, x| {
             if let Some(s) = lu.slot(r, c) {
                 f_y[s] += x;
             }
@@ -289,7 +302,39 @@ mod tests {
         let yl = YLayout::new(&model);
         let jac = IterationMatrix::new(&model, &yl);
         assert!(jac.evaluations_per_jacobian() <= 26, "{} evaluations", jac.evaluations_per_jacobian());
-        assert_eq!(jac.analytic_entries(&yl), (253, 1119));
+        assert_eq!(jac.analytic_entries(), (253, 1119));
+    }
+
+    /// On bodies that only gravity and spherical, revolute and universal joints act on, the positions'
+    /// and velocities' columns are analytic too (`stage/state_jacobian.rs`), and equal dense finite
+    /// differences to the same tolerance, with the Euler parameters off the unit sphere as inside a
+    /// Newton iteration: the chain of rods, independent spherical pendulums, and a triple pendulum of
+    /// tilted links with offset centres of mass on a spherical, a revolute and a universal joint.
+    #[test]
+    fn analytic_state_columns_match_dense_finite_differences() {
+        coloured_against_dense(test_models::spherical_chain(4));
+        coloured_against_dense(test_models::spherical_pendulums(3));
+        let triple = test_models::spatial_triple_pendulum();
+        let yl = YLayout::new(&triple);
+        assert_eq!(IterationMatrix::new(&triple, &yl).evaluations_per_jacobian(), 0, "every column analytic");
+        coloured_against_dense(triple);
+    }
+
+    /// On the chain of 32 rods every entry of `F_y` is analytic (20,575; the multipliers' columns alone
+    /// were 3,289) and a Jacobian costs no residual besides the base point; so on one spherical pendulum,
+    /// the heavy top's structure (301 entries; 65 in the multipliers' columns).
+    #[test]
+    fn the_chain_s_jacobian_is_analytic() {
+        for (model, entries, multipliers) in
+            [(test_models::spherical_chain(32), 20_575, 3_289), (test_models::spherical_pendulums(1), 301, 65)]
+        {
+            let yl = YLayout::new(&model);
+            let jac = IterationMatrix::new(&model, &yl);
+            assert_eq!(jac.evaluations_per_jacobian(), 0);
+            assert_eq!(jac.analytic_entries(), (entries, entries));
+            let in_multiplier_columns: usize = (yl.lambda.start..yl.len()).map(|c| jac.lu.column(c).1.len()).sum();
+            assert_eq!(in_multiplier_columns, multipliers);
+        }
     }
 
     /// The factors of a chain's iteration matrix on kept pivots grow linearly with its rods: from 8
@@ -329,6 +374,13 @@ mod tests {
         y[yl.lambda.clone()].copy_from_slice(&acc.lambda);
         for k in yl.mu.clone() {
             y[k] = 1e-3 * (k as f64).cos();
+        }
+        // Euler parameters off the unit sphere by 1e-3, as inside a Newton iteration.
+        for b in 0..model.bodies.len() {
+            let o = yl.q.start + model.layout.q_offset[b] + 3;
+            for k in o..o + 4 {
+                y[k] *= 1.0 + 1e-3 * (1.0 + b as f64).sin();
+            }
         }
         let yp: Vec<f64> = (0..n).map(|k| 0.3 * (k as f64 * 0.7).sin()).collect();
         let mut jac = IterationMatrix::new(&model, &yl);

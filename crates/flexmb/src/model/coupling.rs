@@ -55,6 +55,17 @@ impl Coupling {
     }
 }
 
+/// For each body, whether a force element acts on it or reads its state.
+pub(crate) fn bodies_under_force_elements(model: &Model) -> Vec<bool> {
+    let mut under = vec![false; model.bodies.len()];
+    for (acted, read) in force_couplings(model) {
+        for b in acted.into_iter().chain(read) {
+            under[b] = true;
+        }
+    }
+    under
+}
+
 /// For each force element: the bodies it acts on and the bodies whose state it reads (through its
 /// markers and the measures its expressions use).
 fn force_couplings(model: &Model) -> Vec<(Vec<usize>, Vec<usize>)> {

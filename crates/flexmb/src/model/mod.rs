@@ -17,7 +17,7 @@ mod size_mismatch;
 mod user_laws;
 
 pub use builder::ModelBuilder;
-pub(crate) use coupling::Coupling;
+pub(crate) use coupling::{bodies_under_force_elements, Coupling};
 pub use error::ModelError;
 pub use ids::{BodyId, BodyRef, ForceId, JointId, MarkerId, MeasureId, ParameterId};
 pub use layout::Layout;

@@ -17,6 +17,7 @@ mod measures;
 mod modal;
 mod multiplier_jacobian;
 mod residual;
+mod state_jacobian;
 
 pub(crate) use constraints::{add_jacobian_transpose, constraint_equations, jacobian_entries};
 pub(crate) use coordinate_rates::{euler_parameter_rates, normalize_euler_parameters, position_rates};
@@ -35,3 +36,4 @@ pub use modal::ModalState;
 pub(crate) use modal::modal_row;
 pub(crate) use multiplier_jacobian::multiplier_jacobian_entries;
 pub(crate) use residual::{residual, YLayout};
+pub(crate) use state_jacobian::StateJacobian;
