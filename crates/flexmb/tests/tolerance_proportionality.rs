@@ -119,19 +119,22 @@ fn the_generalized_alpha_methods_error_falls_in_proportion_too() {
 }
 
 /// A tolerance below what double precision delivers is raised to `Tolerances::FINEST`, the run says so
-/// in a warning at its start, and it completes; one at the finest is taken as it is, silently.
+/// in a warning at its start, and it completes; one at the finest is taken as it is, silently. The same
+/// for every method.
 #[test]
 fn a_tolerance_below_double_precision_is_raised_with_a_warning() {
     let model = swinging_pendulum();
-    let short = |tol: f64| SimulationSettings { t_end: 0.2, ..settings(Method::default(), tol) };
-    let raised = support::run(&model, &short(1e-15));
-    let warning = raised.report.warnings.iter().find(|w| w.kind == WarningKind::Tolerance).expect("a tolerance warning");
-    assert_eq!(warning.t, 0.0);
-    assert!(warning.message.contains("rtol 1e-15 raised to 1e-12"), "{}", warning.message);
-    assert!(warning.message.contains("atol 1e-15 raised to 1e-12"), "{}", warning.message);
-    let finest = support::run(&model, &short(Tolerances::FINEST));
-    assert!(finest.report.warnings.is_empty(), "{:?}", finest.report.warnings);
-    // Raised, the run is the run at the finest tolerance.
-    assert_eq!(raised.rows, finest.rows);
-    assert_eq!(raised.report.stats.steps, finest.report.stats.steps);
+    for method in [Method::default(), Method::Adams(AdamsConfig::default()), Method::generalized_alpha(0.9)] {
+        let short = |tol: f64| SimulationSettings { t_end: 0.2, ..settings(method, tol) };
+        let raised = support::run(&model, &short(1e-15));
+        let warning = raised.report.warnings.iter().find(|w| w.kind == WarningKind::Tolerance).expect("a tolerance warning");
+        assert_eq!(warning.t, 0.0);
+        assert!(warning.message.contains("rtol 1e-15 raised to 1e-12"), "{method:?}: {}", warning.message);
+        assert!(warning.message.contains("atol 1e-15 raised to 1e-12"), "{method:?}: {}", warning.message);
+        let finest = support::run(&model, &short(Tolerances::FINEST));
+        assert!(finest.report.warnings.is_empty(), "{method:?}: {:?}", finest.report.warnings);
+        // Raised, the run is the run at the finest tolerance.
+        assert_eq!(raised.rows, finest.rows, "{method:?}");
+        assert_eq!(raised.report.stats.steps, finest.report.stats.steps, "{method:?}");
+    }
 }

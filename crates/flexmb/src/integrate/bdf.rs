@@ -27,6 +27,7 @@ use crate::integrate::iteration_matrix::IterationMatrix;
 use crate::integrate::newton::{self, ConvergenceTest, NewtonSystem};
 use crate::integrate::newton_rounding::RoundingFloor;
 use crate::integrate::share_floor::ShareFloor;
+use crate::integrate::singular_position::SingularPassage;
 use crate::integrate::{
     check_len, AttemptFailure, BdfCheckpoint, BdfConfig, CheckpointError, IntegrationError, Integrator, IntegratorCheckpoint, Stats,
     Tolerances,
@@ -108,6 +109,11 @@ pub struct Bdf {
     share_floor: ShareFloor,
     /// The level below which the Newton increments are the residual's rounding.
     rounding: RoundingFloor,
+    /// The approach to a singular position: its predicted window, which the step ends avoid.
+    singular: SingularPassage,
+    /// The factor by which the conditioning at the attempt's end amplifies the rounding (1 away from a
+    /// singular position).
+    amplification: f64,
     y_pred: Vec<f64>,
     psi: Vec<f64>,
     y_new: Vec<f64>,
@@ -178,6 +184,7 @@ impl Bdf {
         let references = state_angle_references(&model, &mut data, state);
         data.angle_reference.copy_from_slice(&references);
         let jac = IterationMatrix::new(&model, &yl);
+        let singular = SingularPassage::new(&model, &state.active, tolerances.rtol);
         let mut bdf = Self {
             model,
             yl,
@@ -200,6 +207,8 @@ impl Bdf {
             share: 1.0,
             share_floor: ShareFloor::default(),
             rounding: RoundingFloor::default(),
+            singular,
+            amplification: 1.0,
             y_pred: vec![0.0; n],
             psi: vec![0.0; n],
             y_new: vec![0.0; n],
@@ -394,6 +403,18 @@ impl Bdf {
                 return Err(IntegrationError::StepSizeTooSmall { t, h, reason });
             }
             let mut t_new = t + h;
+            // Not at a step end where a singular position leaves the constraints ill-conditioned.
+            match self.singular.placed_end(t, t_new) {
+                Some(end) if end < t_stop => {
+                    self.change_differences(self.order, (end - t) / h);
+                    h = end - t;
+                    self.h = h;
+                    self.reuse.factored_c = None;
+                    t_new = end;
+                }
+                _ => self.singular.asked = None,
+            }
+            self.amplification = self.singular.amplification(t, t_new);
             if t_new >= t_stop - 4.0 * f64::EPSILON * t_stop.abs() {
                 t_new = t_stop;
                 self.change_differences(self.order, (t_new - t) / h);
@@ -464,6 +485,8 @@ impl Bdf {
                 // Within the Newton increments' rounding floor: no shorter step resolves it.
                 error_norm = 1.0;
             }
+            // Within the rounding of the constrained solution near a singular position: passes.
+            error_norm = SingularPassage::estimate_beyond_rounding(error_norm, self.share, self.tolerances.rtol, self.amplification, order);
             if error_norm > 1.0 {
                 if self.config.stability_limits {
                     self.stability.error_test_failed(order, h, error_norm);
@@ -494,6 +517,18 @@ impl Bdf {
             break (t_new, safety);
         };
         self.accept(t_new);
+        if let Some(asked) = self.singular.asked {
+            // The step was moved off a singular position: the next one is the size the error control asked for.
+            self.change_differences(self.order, asked / (t_new - t));
+            self.h = asked;
+            self.n_equal_steps = 0;
+            self.reuse.factored_c = None;
+        }
+        if let Some(condition) = self.singular.accepted(&self.model, &self.data, t_new) {
+            self.stats.singular_position_steps += 1;
+            self.stats.singular_position_condition = self.stats.singular_position_condition.max(condition);
+        }
+        self.stats.singular_positions = self.singular.passages;
         if self.config.stability_limits {
             self.stability.relax();
         }
@@ -525,7 +560,8 @@ impl Bdf {
             } else {
                 bdf.rms_norm(x, error_const(k))
             };
-            norm / share
+            // Near a singular position an estimate within the amplified rounding says nothing of the step.
+            SingularPassage::estimate_beyond_rounding(norm / share, share, bdf.tolerances.rtol, bdf.amplification, k)
         };
         let error_m = if order > 1 { estimate(self, order, order - 1) } else { f64::INFINITY };
         let error_p = if order < self.config.max_order { estimate(self, order + 2, order + 1) } else { f64::INFINITY };
@@ -663,7 +699,8 @@ impl Bdf {
         self.corr.fill(0.0);
         self.y_new.copy_from_slice(&self.y_pred);
         let mut test =
-            ConvergenceTest::new(self.newton_tolerance(), NEWTON_MAXITER).with_round_off(self.tolerances.round_off_at(self.share))
+            ConvergenceTest::new(self.newton_tolerance(), NEWTON_MAXITER)
+                .with_round_off(self.tolerances.round_off_at(self.share) * SingularPassage::round_off_factor(self.amplification))
                 .with_rounding_floor(self.rounding.in_share(self.share));
         let increment_scale = 2.0 / (1.0 + c_f / c);
         let mut corrector = Corrector { bdf: self, t_new, c, c_f, increment_scale };
@@ -685,7 +722,9 @@ impl Bdf {
     /// step drove the step size to zero).
     fn newton_norm(&self, x: &[f64], c: f64) -> f64 {
         weighted_rms_norm((0..self.n).map(|k| {
-            let weight = if k < self.n_diff { 1.0 } else { c };
+            // Near a singular position the multipliers' rounding is amplified once more than the positions'
+            // and velocities' (κ² against κ), along a direction in which they hardly act on the motion.
+            let weight = if k < self.n_diff { 1.0 } else { c / self.amplification };
             (weight * x[k], self.scale[k])
         })) / self.share
     }

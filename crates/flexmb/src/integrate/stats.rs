@@ -30,6 +30,18 @@ pub struct Stats {
     /// in tolerances): about the finest tolerance the step equations could be resolved to there.
     #[serde(default)]
     pub rounding_floor: f64,
+    /// Accepted steps taken while a singular position was predicted ahead (the constraint Jacobian's
+    /// condition number rising past 100 toward a zero of its smallest singular value), their Newton and error
+    /// tests allowing the rounding amplified by it (`integrate/singular_position.rs`).
+    #[serde(default)]
+    pub singular_position_steps: usize,
+    /// The largest condition number of the constraint Jacobian at the end of such a step: the steps there
+    /// are resolved to about `10 ε` times it, relative to the solution.
+    #[serde(default)]
+    pub singular_position_condition: f64,
+    /// Singular positions passed (windows around a predicted one that the steps ended past).
+    #[serde(default)]
+    pub singular_positions: usize,
 }
 
 impl Stats {
@@ -54,6 +66,9 @@ impl Stats {
             sum_h_squared: self.sum_h_squared + later.sum_h_squared,
             rounding_floor_steps: self.rounding_floor_steps + later.rounding_floor_steps,
             rounding_floor: self.rounding_floor.max(later.rounding_floor),
+            singular_position_steps: self.singular_position_steps + later.singular_position_steps,
+            singular_position_condition: self.singular_position_condition.max(later.singular_position_condition),
+            singular_positions: self.singular_positions + later.singular_positions,
         }
     }
 

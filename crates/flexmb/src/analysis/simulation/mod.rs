@@ -503,11 +503,17 @@ impl Simulation {
             return Ok(());
         }
         let step = self.integrator.step(self.settings.t_end);
-        let rounding_before = self.report.stats.rounding_floor_steps;
+        let (rounding_before, singular_before) = (self.report.stats.rounding_floor_steps, self.report.stats.singular_positions);
         self.report.stats = self.restarted_stats.followed_by(self.integrator.stats());
         if rounding_before == 0 && self.report.stats.rounding_floor_steps > 0 {
             let message = rounding_floor_warning(self.report.stats.rounding_floor, self.settings.tolerances.rtol);
             self.report.warnings.push(SimulationWarning { t: self.integrator.t(), kind: WarningKind::Tolerance, message });
+        }
+        if self.report.stats.singular_positions > singular_before {
+            let (condition, rtol) = (self.report.stats.singular_position_condition, self.settings.tolerances.rtol);
+            if let Some(message) = singular_position_warning(condition, rtol) {
+                self.report.warnings.push(SimulationWarning { t: self.integrator.t(), kind: WarningKind::Tolerance, message });
+            }
         }
         self.report.t_reached = self.integrator.t();
         if let Some(failure) = self.has_user_laws.then(|| user_law_failure(&self.model)).flatten() {
@@ -647,6 +653,23 @@ fn rounding_floor_warning(level: f64, rtol: f64) -> String {
          or large forces), and the steps are resolved to about {level:.1e} of the solution instead of rtol {rtol:e}; \
          the statistics rounding_floor_steps and rounding_floor count such steps and give the coarsest level"
     )
+}
+
+/// The warning of a step just past a singular position whose conditioning limits what the steps near it
+/// resolve: the constraint Jacobian's condition number `condition` at their ends (the largest so far), which
+/// amplifies the rounding of the constrained solution to about `500 ε condition` of it (where the Newton
+/// increments are taken as converged); `None` when that is within `rtol`.
+fn singular_position_warning(condition: f64, rtol: f64) -> Option<String> {
+    let level = crate::integrate::singular_position::SingularPassage::resolution(condition);
+    (level > rtol).then(|| {
+        format!(
+            "tolerance finer than the equations can be resolved near the singular position just passed: the constraint \
+             Jacobian's condition number reached {condition:.1e} at the step ends near it (kept about half a step away \
+             from it), which amplifies the rounding of the constrained solution there: the steps near it are resolved \
+             to about {level:.1e} of the solution instead of rtol {rtol:e}; the statistics singular_positions, singular_position_steps and \
+             singular_position_condition count them and give the largest condition number"
+        )
+    })
 }
 
 /// `settings` with tolerances finer than the arithmetic allows raised to the finest attainable, and a

@@ -1,0 +1,324 @@
+//! Passing a singular position: the conditioning of the constraint Jacobian at the step ends, and step ends
+//! kept away from where it is lost.
+//!
+//! At a singular position of a mechanism (the IFToMM double four-bar, `models/benchmarks/double_four_bar.toml`,
+//! whose links come into line at t ≈ 0.7141 s) the velocity Jacobian of the constraints in force, `B`, loses
+//! rank: its smallest singular value `σ` falls to zero linearly in time and rises again. The motion passes
+//! smoothly, but the step equations of the BDF and the generalized-α method hold the constraints at every
+//! step end, and there their rounding comes back from the solve amplified: by the condition number
+//! `κ = σ_rms / σ` in the positions and velocities (`σ_rms` the root-mean-square singular value), by `κ²` in
+//! the multipliers. Measured on the four-bar at rtol = atol = 1e-12 before this guard: at t = 0.7116 s
+//! (`σ` = 4.6e-3 of a largest 2.5) the Newton increments were 0.06 to 0.3 of the step's share of the
+//! tolerance, mostly in the multipliers, against a Newton tolerance of 2.2e-3, at every step size; the BDF
+//! stopped at t = 0.7141 s, generalized-α at 0.7104 s, each with its step size collapsing as the step ends
+//! came nearer the position.
+//!
+//! Hence, for mechanisms whose rows in force are few enough to measure `κ` densely ([`MAX_ROWS`]):
+//!
+//! - after every accepted step, `σ` is measured (inverse iteration on `B Bᵀ`, warm-started). While `κ`
+//!   exceeds [`WATCH`] and grows, the zero of `σ` is extrapolated linearly from the last two step ends:
+//!   the predicted singular time `t*`;
+//! - a step that would end within half a step before `t*`, or past it, ends half a step before it, or,
+//!   when that would leave less than a quarter of the step, as far past `t*` as it starts before it (at
+//!   least half a step; at most 1.5 times the step asked for). The solution is smooth through the position:
+//!   only the step *ends* are ill-posed, and so they are kept about half a step away from it, where `κ` is
+//!   about `2 / (h dσ/dt)` (1,000 to 2,000 on the four-bar at rtol 1e-11 and 1e-12). The step after a moved
+//!   one is the size the error control asked for;
+//! - while `κ` exceeds [`WATCH`], an attempt's Newton increments at or below [`MARGIN`] times the rounding
+//!   amplified by the `κ` predicted at its end (`10 ε κ` relative, the multipliers' increments divided by
+//!   `κ`) have converged, and a local error estimate within that level, times the amplification of the
+//!   predictor's extrapolation, passes and does not shorten the next step: no iteration and no shorter step
+//!   resolves them finer, and shorter steps end nearer the position, where the rounding only grows. Such
+//!   steps are counted with the largest `κ`, and the run warns at each passage where the steps there are
+//!   resolved more coarsely than `rtol` ([`resolution`](SingularPassage::resolution)).
+//!
+//! Away from singular positions nothing changes: the guard reads the conditioning, and acts only while it
+//! is poor. Its state is not kept in a checkpoint: a resumed run measures the approach afresh from its next
+//! two steps.
+
+use crate::data::Data;
+use crate::model::Model;
+use crate::stage::jacobian_entries;
+
+/// Most constraint rows in force whose conditioning is measured (a dense `B Bᵀ` and its Cholesky factor,
+/// `O(rows³)` per step): the four-bar has 29, the peer's chain of 4 rods 12.
+pub(crate) const MAX_ROWS: usize = 64;
+/// The approach to a singular position is watched once `κ` at a step end exceeds this.
+const WATCH: f64 = 20.0;
+/// A step that would end within half a step before the predicted zero of `σ`, or past it, ends half a step
+/// before it when that leaves at least a quarter of the step (`d > JUMP_REACH h`, `d` the distance to the
+/// zero); nearer, it ends as far past the zero as it starts before it (at least half a step), at most
+/// `2 JUMP_REACH h` long.
+const JUMP_REACH: f64 = 0.75;
+/// What an error estimate within the amplified rounding counts as (in shares of the tolerance): it passes,
+/// and the next step may be longer.
+const NOISE_ESTIMATE: f64 = 0.3;
+/// A step end is moved only where the steps would be resolved to more than this fraction of `rtol`
+/// ([`resolution`](SingularPassage::resolution) at the `κ` predicted there).
+const PLACE_FRACTION: f64 = 0.1;
+/// Inverse iterations per measurement, from the last smallest singular vector.
+const INVERSE_ITERATIONS: usize = 3;
+/// The rounding of a constrained solution near a singular position is about `ROUND_OFF κ` of it: ten units
+/// of rounding, as [`Tolerances`](super::Tolerances)'s round-off of an increment, times the condition
+/// number.
+const ROUND_OFF: f64 = 10.0 * f64::EPSILON;
+/// A Newton increment within this many times the amplified rounding `10 ε κ` has converged: the four-bar's
+/// stalled increments at rtol 1e-12 were 43 ε κ at κ = 240 (generalized-α), 60 to 300 ε κ at κ = 1,500 to
+/// 2,200 (the BDF), rates about 1 at every step size from 4e-8 s down to 4e-14 s.
+const MARGIN: f64 = 50.0;
+
+/// The conditioning of the constraint rows in force: `σ_rms / σ_min` of `B` (see the module documentation).
+struct Conditioning {
+    /// Dense row of each constraint row in force (`usize::MAX`: not in force).
+    row_of: Vec<usize>,
+    rows: usize,
+    nv: usize,
+    /// `B`, row-major (`rows × nv`).
+    b: Vec<f64>,
+    /// `B Bᵀ`, then its lower Cholesky factor (`rows × rows`, row-major).
+    gram: Vec<f64>,
+    /// The last smallest singular vector (in constraint space) and the inverse iteration's work vector.
+    x: Vec<f64>,
+    y: Vec<f64>,
+}
+
+impl Conditioning {
+    fn new(model: &Model, active: &[bool]) -> Option<Self> {
+        let mut row_of = vec![usize::MAX; model.layout.nc];
+        let mut rows = 0;
+        for (r, &in_force) in active.iter().enumerate() {
+            if in_force {
+                row_of[r] = rows;
+                rows += 1;
+            }
+        }
+        if rows == 0 || rows > MAX_ROWS {
+            return None;
+        }
+        let nv = model.layout.nv;
+        let x = vec![1.0 / (rows as f64).sqrt(); rows];
+        Some(Self { row_of, rows, nv, b: vec![0.0; rows * nv], gram: vec![0.0; rows * rows], x, y: vec![0.0; rows] })
+    }
+
+    /// `κ = σ_rms / σ_min` of `B` at the kinematics in `data` (infinite when `B Bᵀ` is singular to working
+    /// precision).
+    fn condition(&mut self, model: &Model, data: &Data) -> f64 {
+        let (n, nv) = (self.rows, self.nv);
+        self.b.fill(0.0);
+        let (b, row_of) = (&mut self.b, &self.row_of);
+        jacobian_entries(model, data, |r, c, x| {
+            if row_of[r] != usize::MAX {
+                b[row_of[r] * nv + c] += x;
+            }
+        });
+        let mut trace = 0.0;
+        for i in 0..n {
+            for j in 0..=i {
+                let s: f64 = (0..nv).map(|k| self.b[i * nv + k] * self.b[j * nv + k]).sum();
+                self.gram[i * n + j] = s;
+            }
+            trace += self.gram[i * n + i];
+        }
+        if !cholesky_in_place(&mut self.gram, n, 1e-14 * trace / n as f64) {
+            return f64::INFINITY;
+        }
+        // Inverse iteration: y = (B Bᵀ)⁻¹ x, the smallest eigenvalue 1/‖y‖ for a unit x along its vector.
+        let mut smallest = f64::INFINITY;
+        for _ in 0..INVERSE_ITERATIONS {
+            self.y.copy_from_slice(&self.x);
+            cholesky_solve(&self.gram, n, &mut self.y);
+            let norm = self.y.iter().map(|v| v * v).sum::<f64>().sqrt();
+            if !norm.is_finite() || norm == 0.0 {
+                self.x.fill(1.0 / (n as f64).sqrt());
+                return f64::INFINITY;
+            }
+            smallest = 1.0 / norm;
+            self.x.iter_mut().zip(&self.y).for_each(|(x, y)| *x = y / norm);
+        }
+        (trace / n as f64 / smallest).sqrt()
+    }
+}
+
+/// `A = L Lᵀ` in place (lower triangle, row-major `n × n`); false when a pivot is at most `tiny`.
+fn cholesky_in_place(a: &mut [f64], n: usize, tiny: f64) -> bool {
+    for j in 0..n {
+        let d = a[j * n + j] - (0..j).map(|k| a[j * n + k] * a[j * n + k]).sum::<f64>();
+        if d <= tiny {
+            return false;
+        }
+        let d = d.sqrt();
+        a[j * n + j] = d;
+        for i in j + 1..n {
+            let s = a[i * n + j] - (0..j).map(|k| a[i * n + k] * a[j * n + k]).sum::<f64>();
+            a[i * n + j] = s / d;
+        }
+    }
+    true
+}
+
+/// Solves `L Lᵀ y = y` with the factor of [`cholesky_in_place`].
+fn cholesky_solve(l: &[f64], n: usize, y: &mut [f64]) {
+    for i in 0..n {
+        let s = y[i] - (0..i).map(|k| l[i * n + k] * y[k]).sum::<f64>();
+        y[i] = s / l[i * n + i];
+    }
+    for i in (0..n).rev() {
+        let s = y[i] - (i + 1..n).map(|k| l[k * n + i] * y[k]).sum::<f64>();
+        y[i] = s / l[i * n + i];
+    }
+}
+
+/// The predicted passage of a singular position: `σ/σ_rms ≈ slope |t − centre|`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Window {
+    centre: f64,
+    /// `d(σ/σ_rms)/dt` on the approach.
+    slope: f64,
+}
+
+/// The guard of one integrator (see the module documentation).
+pub(crate) struct SingularPassage {
+    conditioning: Option<Conditioning>,
+    /// Time and `σ/σ_rms` at the last accepted step end (`None` after a passage).
+    last: Option<(f64, f64)>,
+    window: Option<Window>,
+    /// The relative tolerance: a step end is moved only where the rounding there would matter to it.
+    rtol: f64,
+    /// The step size asked for by the error control when the current attempt's end was moved.
+    pub asked: Option<f64>,
+    /// Singular positions passed (steps that ended past a predicted one).
+    pub passages: usize,
+}
+
+impl SingularPassage {
+    /// The guard of a model whose constraint rows in force are `active`, integrated at relative tolerance
+    /// `rtol`; inactive (it never acts) when the rows are more than [`MAX_ROWS`] or none.
+    pub fn new(model: &Model, active: &[bool], rtol: f64) -> Self {
+        Self { conditioning: Conditioning::new(model, active), last: None, window: None, rtol, asked: None, passages: 0 }
+    }
+
+    /// The end of an attempt from `t` that would end at `t_new`: `None` to keep it, else where it ends
+    /// instead, so that the step ends lie about half a step or more from a predicted singular position.
+    pub fn placed_end(&mut self, t: f64, t_new: f64) -> Option<f64> {
+        self.asked = None;
+        let w = self.window?;
+        let (d, h) = (w.centre - t, t_new - t);
+        if d <= 0.0 || t_new <= w.centre - 0.5 * h {
+            return None;
+        }
+        // Only where the rounding at the end would matter to the tolerance: at ordinary tolerances a dip of
+        // the conditioning (the 3-D slider-crank's) leaves the steps alone.
+        let predicted = 1.0 / (w.slope * (t_new - w.centre).abs());
+        if Self::resolution(predicted) <= PLACE_FRACTION * self.rtol {
+            return None;
+        }
+        self.asked = Some(h);
+        let end = if d > JUMP_REACH * h { w.centre - 0.5 * h } else { w.centre + d.max(0.5 * h) };
+        Some(end)
+    }
+
+    /// The factor by which the rounding of the solution at the end `t_new` of a step from `t` exceeds that
+    /// of a well-conditioned one: `κ` at the last step end once it exceeds [`WATCH`], or the `κ` predicted
+    /// at `t_new` if larger; 1 where the rounding so amplified is not [`PLACE_FRACTION`] of `rtol` (the
+    /// tests are then those of a well-conditioned step).
+    pub fn amplification(&self, t: f64, t_new: f64) -> f64 {
+        let Some((_, last)) = self.last else {
+            return 1.0;
+        };
+        let measured = if 1.0 / last > WATCH { 1.0 / last } else { 1.0 };
+        let amplification = match self.window {
+            Some(w) => measured.max(1.0 / (w.slope * (t_new - w.centre).abs()).max(0.25 * w.slope * (t_new - t))),
+            None => measured,
+        };
+        if Self::resolution(amplification) > PLACE_FRACTION * self.rtol {
+            amplification
+        } else {
+            1.0
+        }
+    }
+
+    /// What the steps resolve near a singular position of condition number `condition`, relative to the
+    /// solution: `MARGIN · 10 ε κ`, where the Newton increments are taken as converged.
+    pub fn resolution(condition: f64) -> f64 {
+        MARGIN * ROUND_OFF * condition
+    }
+
+    /// The factor of the round-off level of the Newton increments (below which they have converged whatever
+    /// their rate) at the rounding amplified by `amplification`.
+    pub fn round_off_factor(amplification: f64) -> f64 {
+        if amplification > 1.0 {
+            MARGIN * amplification
+        } else {
+            1.0
+        }
+    }
+
+    /// Whether an error estimate of `error` tolerances at rtol `rtol` of a method of order `order` is within
+    /// the rounding amplified by `amplification`: the estimate compares the solution with a predictor that
+    /// extrapolates `order + 1` earlier ones, each resolved to that rounding, which it amplifies by up to
+    /// `2^(order+1) − 1`, and divides by `order + 1`.
+    fn error_within_rounding(error: f64, rtol: f64, amplification: f64, order: usize) -> bool {
+        let gain = (1u64 << (order + 1).min(12)) as f64 / (order + 1) as f64;
+        amplification > 1.0 && error * rtol <= MARGIN * gain * ROUND_OFF * amplification
+    }
+
+    /// An error estimate of `error` shares of the tolerance (each `share` tolerances) of a method of order
+    /// `order`, or [`NOISE_ESTIMATE`] if it is within the rounding amplified by `amplification`
+    /// ([`error_within_rounding`](Self::error_within_rounding)): it passes, and the step size chosen from it
+    /// grows a little instead of shrinking toward the position, where the rounding only grows.
+    pub fn estimate_beyond_rounding(error: f64, share: f64, rtol: f64, amplification: f64, order: usize) -> f64 {
+        if error > NOISE_ESTIMATE && Self::error_within_rounding(error * share, rtol, amplification, order) {
+            NOISE_ESTIMATE
+        } else {
+            error
+        }
+    }
+
+    /// A step ending at `t` was accepted, with the kinematics of its solution in `data`. Measures `κ` there
+    /// and predicts the zero of `σ` of an approaching singular position; returns the `κ` of a step accepted
+    /// while one was predicted (`None` otherwise). Once a step has ended past it, it is counted in
+    /// [`passages`](Self::passages) and forgotten, and the approach to the next is measured afresh.
+    pub fn accepted(&mut self, model: &Model, data: &Data, t: f64) -> Option<f64> {
+        self.asked = None;
+        let conditioning = self.conditioning.as_mut()?;
+        let condition = conditioning.condition(model, data);
+        let s = 1.0 / condition;
+        let watched = self.window.is_some();
+        if self.window.is_some_and(|w| t > w.centre) {
+            self.window = None;
+            self.passages += 1;
+            self.last = Some((t, s));
+            return Some(condition);
+        }
+        match self.last.replace((t, s)) {
+            Some((t_prev, s_prev)) if s < s_prev && condition > WATCH && t > t_prev => {
+                let slope = (s_prev - s) / (t - t_prev);
+                self.window = Some(Window { centre: t + s / slope, slope });
+            }
+            Some(_) if condition <= WATCH => self.window = None,
+            _ => {}
+        }
+        watched.then_some(condition)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The Cholesky factor solves a symmetric positive definite system, and a singular one is refused.
+    #[test]
+    fn the_cholesky_factor_solves_and_refuses_a_singular_matrix() {
+        let mut a = vec![4.0, 0.0, 0.0, 2.0, 5.0, 0.0, 1.0, 3.0, 6.0];
+        let full = [[4.0, 2.0, 1.0], [2.0, 5.0, 3.0], [1.0, 3.0, 6.0]];
+        assert!(cholesky_in_place(&mut a, 3, 1e-14));
+        let mut y = vec![1.0, 2.0, 3.0];
+        cholesky_solve(&a, 3, &mut y);
+        for (i, row) in full.iter().enumerate() {
+            let r: f64 = row.iter().zip(&y).map(|(a, y)| a * y).sum();
+            assert!((r - [1.0, 2.0, 3.0][i]).abs() < 1e-14, "row {i}: {r}");
+        }
+        let mut singular = vec![1.0, 0.0, 1.0, 1.0];
+        assert!(!cholesky_in_place(&mut singular, 2, 1e-14));
+    }
+}
