@@ -23,7 +23,7 @@ const SIZE: [f64; 3] = [1.2, 0.3, 0.02];
 const MODE_SET: &str = "20N12C";
 
 /// The link: `cells` C3D8I bricks filling `size`, reference nodes at the centres of the end faces
-/// x = 0 and x = size[0], each coupled rigidly to its face and held in all six dofs.
+/// x = 0 and x = `size[0]`, each coupled rigidly to its face and held in all six dofs.
 pub fn plate_link(cells: [usize; 3], size: [f64; 3]) -> FeModel {
     let [nx, ny, nz] = cells;
     let mut mesh = Mesh {

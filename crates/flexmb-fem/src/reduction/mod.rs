@@ -229,8 +229,9 @@ fn reduce_on_interface(
         .enumerate()
         .map(|(j, f)| ModeInfo { label: format!("O{}", j + 1), kind: ModeKind::Orthonormal, frequency_hz: Some(*f), load: None })
         .collect();
-    // The geometric stiffness of the unit inertia loads is that of the supported body's statics;
-    // an interface set has none (absent, as for solids).
+    // The geometric stiffness of the unit inertia and interface loads is that of the supported body's
+    // statics; an interface set's body is free, so it has none (the field stays absent, and a model
+    // asking for stiffening gets the warning of a body without the terms).
     let body = flexible_body(
         &free.model,
         &free.assembled,

@@ -519,6 +519,11 @@ impl Simulation {
         if let Some(failure) = self.has_user_laws.then(|| user_law_failure(&self.model)).flatten() {
             return Err(failure);
         }
+        if let Err(crate::integrate::IntegrationError::StepSizeTooSmall { t, h, .. }) = &step {
+            if let Some(failure) = driver_failure_ahead(&self.model, *t, *h) {
+                return Err(failure);
+            }
+        }
         step?;
         self.copy_state();
         let t = self.integrator.t();
@@ -626,6 +631,47 @@ fn accelerations_failure(model: &Model, data: &Data, t: f64) -> SimulationFailur
         Err(non_finite) => non_finite.into(),
         Ok(()) => SimulationFailure::SingularAccelerations { t, detail: String::new() },
     }
+}
+
+/// Why the steps shrank to nothing at `t` (the last attempt `h`), where a driver's or distance's
+/// function of time stops being finite just ahead, as `sqrt(t0 − t)` does at `t0`: its rate grows
+/// without bound as `t0` nears, so the error test fails step after step before a step ends past `t0`.
+/// The function is probed at `t + h` and a little further (1e-9 and 1e-6 of the time scale); where one
+/// is not finite, the first time it is not is found by bisection from `t` and named as the failure.
+fn driver_failure_ahead(model: &Model, t: f64, h: f64) -> Option<SimulationFailure> {
+    let scale = 1.0 + t.abs();
+    for (j, joint) in model.joints.iter().enumerate() {
+        let (Some(function), Some(row)) = (joint.kind.time_function(), model.layout.joint_rows[j].clone().next()) else {
+            continue;
+        };
+        let finite = |at: f64| {
+            let [value, rate, _] = function.eval(at);
+            value.is_finite() && rate.is_finite()
+        };
+        if !finite(t) {
+            continue;
+        }
+        let Some(mut beyond) = [t + h, t + 1e-9 * scale, t + 1e-6 * scale].into_iter().find(|&at| !finite(at)) else {
+            continue;
+        };
+        let mut before = t;
+        loop {
+            let middle = before + 0.5 * (beyond - before);
+            if middle <= before || middle >= beyond {
+                break;
+            }
+            if finite(middle) {
+                before = middle;
+            } else {
+                beyond = middle;
+            }
+        }
+        let [value, rate, _] = function.eval(beyond);
+        let (what, value) = if value.is_finite() { ("time derivative", rate) } else { ("value", value) };
+        let equation = model.describe_constraint_row(row);
+        return Some(super::assembly::AssemblyError::NonFinite { t: beyond, equation, what, value }.into());
+    }
+    None
 }
 
 /// Adds the work of the non-conservative forces from the last node of the quadrature (an accepted step
