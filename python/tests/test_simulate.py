@@ -101,7 +101,8 @@ def test_to_pandas_gives_a_data_frame_or_a_clear_import_error(models, monkeypatc
 
 
 def test_a_failing_run_raises_simulation_error_with_the_program_s_message_and_the_rows_before(models, program, tmp_path):
-    # The pivot driven by sqrt(0.05 − t), whose rate is infinite at t = 0.05 s: the run stops there.
+    # The pivot driven by sqrt(0.05 − t), whose rate is infinite at t = 0.05 s: the run stops there, and
+    # the message names the driver and its rate (found ahead of the steps that shrank to nothing).
     driver = '[[driver]]\nname = "runaway"\njoint = "pivot"\nfunction = "sqrt(0.05 - t)"\n\n[[output]]'
     path = tmp_path / "runaway.toml"
     path.write_text((models / "pendulum.toml").read_text().replace("[[output]]", driver, 1))
@@ -111,7 +112,7 @@ def test_a_failing_run_raises_simulation_error_with_the_program_s_message_and_th
         flexmb.load(path).simulate(t_end=1.0)
     message = str(raised.value)
     assert isinstance(raised.value, RuntimeError)
-    assert f"{path}: simulation failed: " in message and "at t = 0.050000 s" in message
+    assert f"{path}: simulation failed: " in message and "at t = 0.05 s joint 'runaway'" in message and "is not finite" in message
     assert printed.stderr.splitlines()[0] == f"error: {message}"
     results = raised.value.results
     assert results.summary["status"] == "failed" and results.summary["error"] in message
