@@ -279,11 +279,13 @@ def modes(
     mass: Optional[str] = None,
     solver: Optional[str] = None,
     path: Optional[_Path] = None,
+    stresses: Optional[bool] = None,
 ) -> "FlexibleBody":
     """Reduces the FE model file ``fe_model`` to the mode set ``modes`` (e.g. ``"4N5S"``) as ``flexmb
     modes`` does; ``basis`` ``"raw"``/``"orthonormal"``, ``mass`` ``"lumped"``/``"consistent"``,
-    ``solver`` ``"auto"``/``"dense"``/``"lanczos"``, each ``None`` taking the file's value; with
-    ``path``, writes the flexible-body file there. Raises ``ModelError``."""
+    ``solver`` ``"auto"``/``"dense"``/``"lanczos"``, ``stresses`` (store each mode's stresses, as
+    ``flexmb modes --stresses``), each ``None`` taking the file's value; with ``path``, writes the
+    flexible-body file there. Raises ``ModelError``."""
 
 class FlexibleBody:
     """A flexible body reduced from an FE model: modes, frequencies, shapes, mass properties, and its

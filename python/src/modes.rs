@@ -28,10 +28,12 @@ pub struct FlexibleBody {
 /// `modes` (e.g. `"4N5S"`: 4 vibration and 5 static correction modes), as `flexmb modes` does; each
 /// argument left `None` takes the file's value (`[modes] set`, `[modes] basis` else `"orthonormal"`,
 /// `[fe_model] mass` else `"lumped"`). `basis` is `"raw"` or `"orthonormal"`, `mass` `"lumped"` or
-/// `"consistent"`, `solver` `"auto"`, `"dense"` or `"lanczos"`. With `path`, also writes the
+/// `"consistent"`, `solver` `"auto"`, `"dense"` or `"lanczos"`; `stresses` stores each mode's stresses
+/// (`flexmb modes --stresses`; `None`: the file's `[modes] stresses`). With `path`, also writes the
 /// flexible-body file there. Returns a `FlexibleBody`; raises `ModelError` with the program's message.
 #[pyfunction]
-#[pyo3(signature = (fe_model, modes = None, basis = None, mass = None, solver = None, path = None))]
+#[pyo3(signature = (fe_model, modes = None, basis = None, mass = None, solver = None, path = None, stresses = None))]
+#[allow(clippy::too_many_arguments)] // Python's keyword arguments, one Rust argument each
 pub fn modes(
     py: Python<'_>,
     fe_model: PathBuf,
@@ -40,6 +42,7 @@ pub fn modes(
     mass: Option<String>,
     solver: Option<String>,
     path: Option<PathBuf>,
+    stresses: Option<bool>,
 ) -> PyResult<FlexibleBody> {
     let mode_set = match modes {
         Some(text) => Some(text.parse::<ModeSet>().map_err(|e| model_error(format!("modes: {e}")))?),
@@ -64,7 +67,7 @@ pub fn modes(
         Some(other) => return Err(model_error(format!("solver: expected \"auto\", \"dense\" or \"lanczos\", got {other:?}"))),
     };
     let memory_limit = flexmb::analysis::MemoryLimit::Available.bytes();
-    let request = ReductionRequest { mode_set, basis, mass, eigen: EigenSettings { solver, memory_limit, ..Default::default() }, stresses: None };
+    let request = ReductionRequest { mode_set, basis, mass, eigen: EigenSettings { solver, memory_limit, ..Default::default() }, stresses };
     let reduced = py.detach(|| reduce_fe_model_file(&fe_model, &request)).map_err(|e| match e {
         ReduceFileError::NoModeSet { file } => {
             model_error(format!("{file}: no mode set: give modes= (e.g. \"6N\", \"5S\" or \"4N5S\") or `set` in the file's [modes] table"))

@@ -117,3 +117,27 @@ def test_bad_arguments_raise_the_programs_messages(models, tmp_path):
         flexmb.modes(bare)
     with pytest.raises(flexmb.ModelError, match=r"cannot read the FE model file"):
         flexmb.modes(tmp_path / "missing.toml")
+
+
+def test_stresses_are_stored_when_asked_and_the_root_stress_of_the_tip_load_mode_is_beam_theory_s(models, tmp_path):
+    # The static correction mode of the 1 N tip force along z (S1, raw basis): its root stress over its
+    # tip deflection is beam theory's σ/δ = (P L c / I) / (P L³ / 3 E I) = 3 E c / L², whatever the
+    # mode's scale (Hermite beams are exact for an end load). Without stresses= the file has none.
+    import json
+
+    plain = tmp_path / "plain.json"
+    flexmb.modes(models / "fe" / "cantilever.toml", modes="4N2S", basis="raw", path=plain)
+    assert "stresses" not in json.loads(plain.read_text())
+    path = tmp_path / "stressed.json"
+    flexmb.modes(models / "fe" / "cantilever.toml", modes="4N2S", basis="raw", path=path, stresses=True)
+    data = json.loads(path.read_text())
+    labels = [mode["label"] for mode in data["modes"]]
+    s1 = labels.index("S1")
+    x = np.array([node["position"][0] for node in data["nodes"]])
+    root, tip = int(np.argmin(x)), int(np.argmax(x))
+    deflection = data["shapes"][s1]["translation"][tip][2]
+    stresses = data["stresses"]
+    at_root = [k for k, node in enumerate(stresses["nodes"]) if node == root]
+    assert at_root, "stress points at the root"
+    sigma_xx = max(abs(stresses["modes"][s1][k][0]) for k in at_root)
+    assert sigma_xx / abs(deflection) == pytest.approx(3 * E * (HEIGHT / 2) / LENGTH**2, rel=1e-6)
