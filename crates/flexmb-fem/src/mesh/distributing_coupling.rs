@@ -26,7 +26,7 @@
 
 use nalgebra::{DMatrix, Matrix3, Vector3};
 
-use super::rigid_coupling::{check_coupling, DependentDof};
+use super::coupling::{check_coupling, DependentDof};
 use super::{Dof, DofSet, Mesh};
 use crate::error::FemError;
 

@@ -9,6 +9,7 @@
 //! Elements refer to nodes by index into [`Mesh::nodes`]; each node also keeps the label it has in
 //! the user's input (an `.inp` node number or a generated one), which is what messages show.
 
+mod coupling;
 mod distributing_coupling;
 mod dof;
 mod generate;
@@ -26,7 +27,7 @@ pub use generate::ShellShape;
 pub use imported_matrices::ImportedMatrices;
 pub(crate) use imported_matrices::{NodeShare, SplitMass};
 pub use rigid_coupling::RigidCoupling;
-pub(crate) use rigid_coupling::{dependent_dofs, DependentDof};
+pub(crate) use coupling::{dependent_dofs, DependentDof};
 
 
 /// A node of the mesh: its label in the input and its undeformed position in the body frame (m).
