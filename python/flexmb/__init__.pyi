@@ -285,7 +285,8 @@ def modes(
     modes`` does; ``basis`` ``"raw"``/``"orthonormal"``, ``mass`` ``"lumped"``/``"consistent"``,
     ``solver`` ``"auto"``/``"dense"``/``"lanczos"``, ``stresses`` (store each mode's stresses, as
     ``flexmb modes --stresses``), each ``None`` taking the file's value; with ``path``, writes the
-    flexible-body file there. Raises ``ModelError``."""
+    flexible-body file there (without the file's ``mass``, consistent for beams and solids and lumped for
+    shells). Raises ``ModelError``."""
 
 class FlexibleBody:
     """A flexible body reduced from an FE model: modes, frequencies, shapes, mass properties, and its
@@ -298,7 +299,7 @@ class FlexibleBody:
     basis: str
     """``"raw"`` or ``"orthonormal"``."""
     mass_model: str
-    """``"lumped"`` or ``"consistent"``."""
+    """``"lumped"``, ``"consistent"`` or ``"mixed"`` (consistent beams or solids with lumped shells)."""
     labels: List[str]
     """The mode labels in basis order (``N1``, ``S1``, ``O1``, …)."""
     kinds: List[str]

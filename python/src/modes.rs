@@ -27,7 +27,7 @@ pub struct FlexibleBody {
 /// Reduces the FE model file `fe_model` (TOML or an Abaqus/CalculiX `.inp` mesh) to the mode set
 /// `modes` (e.g. `"4N5S"`: 4 vibration and 5 static correction modes), as `flexmb modes` does; each
 /// argument left `None` takes the file's value (`[modes] set`, `[modes] basis` else `"orthonormal"`,
-/// `[fe_model] mass` else `"lumped"`). `basis` is `"raw"` or `"orthonormal"`, `mass` `"lumped"` or
+/// `[fe_model] mass` else consistent for beams and solids, lumped for shells). `basis` is `"raw"` or `"orthonormal"`, `mass` `"lumped"` or
 /// `"consistent"`, `solver` `"auto"`, `"dense"` or `"lanczos"`; `stresses` stores each mode's stresses
 /// (`flexmb modes --stresses`; `None`: the file's `[modes] stresses`). With `path`, also writes the
 /// flexible-body file there. Returns a `FlexibleBody`; raises `ModelError` with the program's message.
@@ -103,7 +103,8 @@ impl FlexibleBody {
         flexmb_files::model_file::basis_name(self.body.basis)
     }
 
-    /// The FE model's mass: `"lumped"` or `"consistent"`.
+    /// The FE model's mass: `"lumped"`, `"consistent"` or `"mixed"` (consistent beams or solids with
+    /// lumped shells).
     #[getter]
     fn mass_model(&self) -> &'static str {
         self.body.mass.name()

@@ -218,8 +218,9 @@ enum Command {
         /// mass-orthonormalized; default from the file, else orthonormal.
         #[arg(long, value_enum)]
         basis: Option<BasisArg>,
-        /// Mass of the FE model: lumped at the nodes (diagonal, as in the seed) or consistent
-        /// (the elements' displacement fields); default from the file's [fe_model] mass, else lumped.
+        /// Mass of every element of the FE model: lumped at the nodes (diagonal, as in the seed) or
+        /// consistent (the elements' displacement fields); default from the file's [fe_model] mass,
+        /// else consistent for beams and solids and lumped for shells.
         #[arg(long, value_enum)]
         mass: Option<MassArg>,
         /// Flexible-body file to write (default out/NAME.json).

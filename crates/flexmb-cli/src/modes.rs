@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use flexmb_fem::modes::{EigenSettings, EigenSolver};
-use flexmb_fem::reduction::{Basis, ModeKind, ModeSet, Reduction};
+use flexmb_fem::reduction::{Basis, BodyMass, ModeKind, ModeSet, Reduction};
 use flexmb_fem::{ElementKind, MassModel};
 
 use flexmb_files::fe_model_file::{reduce_fe_model_file, LoadedFeModel, ReduceFileError, ReducedFeModel, ReductionRequest};
@@ -19,7 +19,8 @@ pub struct ModesOptions {
     pub mode_set: Option<String>,
     /// The basis (`--basis`), else the file's `[modes] basis`, else orthonormal.
     pub basis: Option<Basis>,
-    /// The mass model (`--mass`), else the file's `[fe_model] mass`, else lumped.
+    /// The mass model (`--mass`), else the file's `[fe_model] mass`, else each kind of element's
+    /// default (consistent for beams and solids, lumped for shells).
     pub mass: Option<MassModel>,
     /// Where to write the flexible-body file; default `out/NAME.json`.
     pub out: Option<PathBuf>,
@@ -176,10 +177,11 @@ pub fn describe(path: &Path, loaded: &LoadedFeModel, reduction: &Reduction, seco
 }
 
 /// Where the elements' mass is, in a few words.
-fn mass_model_description(mass: MassModel) -> &'static str {
+fn mass_model_description(mass: BodyMass) -> &'static str {
     match mass {
-        MassModel::Lumped => "at the nodes",
-        MassModel::Consistent => "beams' Hermite cubics, shells' bilinear/linear fields, solids' shape functions",
+        BodyMass::Lumped => "at the nodes",
+        BodyMass::Consistent => "beams' Hermite cubics, shells' bilinear/linear fields, solids' shape functions",
+        BodyMass::Mixed => "consistent for the beams and solids, at the nodes for the shells",
     }
 }
 

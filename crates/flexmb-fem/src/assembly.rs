@@ -208,6 +208,8 @@ pub fn assemble(model: &FeModel) -> Result<AssembledModel, FemError> {
     }
     let mut nodal_masses = vec![NodalMass { mass: 0.0, rotary_inertia: Matrix3::zeros() }; n_nodes];
     let mut mass_points = Vec::new();
+    // The mass of the elements whose mass is lumped, and the point masses, node by node.
+    let mut lumped = nodal_masses.clone();
     let mut stiffness_triplets = Vec::new();
     // Every nodal dof, supported or not, must be resisted by some element.
     let mut stiff_dof = vec![false; 6 * n_nodes];
@@ -233,9 +235,14 @@ pub fn assemble(model: &FeModel) -> Result<AssembledModel, FemError> {
                 }
             }
         }
-        for (&node, lumped) in element.nodes.iter().zip(&matrices.lumped_mass) {
-            nodal_masses[node].mass += lumped.mass;
-            nodal_masses[node].rotary_inertia += lumped.rotary_inertia;
+        let consistent = model.options.mass_of(element.kind) == MassModel::Consistent;
+        for (&node, share) in element.nodes.iter().zip(&matrices.lumped_mass) {
+            nodal_masses[node].mass += share.mass;
+            nodal_masses[node].rotary_inertia += share.rotary_inertia;
+            if !consistent {
+                lumped[node].mass += share.mass;
+                lumped[node].rotary_inertia += share.rotary_inertia;
+            }
         }
         for mut point in matrices.consistent_mass {
             for (node, _) in point.interpolation.iter_mut() {
@@ -252,21 +259,19 @@ pub fn assemble(model: &FeModel) -> Result<AssembledModel, FemError> {
         if pm.rotary_inertia != Vector3::zeros() && !present[pm.node].contains(Dof::Rx) {
             return Err(FemError::RotaryInertiaWithoutRotations { label });
         }
-        nodal_masses[pm.node].mass += pm.mass;
-        nodal_masses[pm.node].rotary_inertia += Matrix3::from_diagonal(&pm.rotary_inertia);
-        if model.options.mass == MassModel::Consistent {
-            let position = mesh.nodes[pm.node].position;
-            mass_points.push(MassPoint::at_node(pm.node, position, pm.mass, Matrix3::from_diagonal(&pm.rotary_inertia)));
+        for masses in [&mut nodal_masses, &mut lumped] {
+            masses[pm.node].mass += pm.mass;
+            masses[pm.node].rotary_inertia += Matrix3::from_diagonal(&pm.rotary_inertia);
         }
     }
-    if model.options.mass == MassModel::Lumped {
-        mass_points = nodal_masses
+    // The consistent elements' points, then a point at each node that has lumped mass.
+    mass_points.extend(
+        lumped
             .iter()
             .enumerate()
             .filter(|(_, m)| m.mass != 0.0 || m.rotary_inertia != Matrix3::zeros())
-            .map(|(node, m)| MassPoint::at_node(node, mesh.nodes[node].position, m.mass, m.rotary_inertia))
-            .collect();
-    }
+            .map(|(node, m)| MassPoint::at_node(node, mesh.nodes[node].position, m.mass, m.rotary_inertia)),
+    );
     let (mut root_rows, mut imported_points) = (Vec::new(), 0);
     if let Some(imported) = &mesh.imported {
         let matrices = imported_matrices(mesh, imported, &dofs, &mut stiffness_triplets, &mut stiff_dof)?;

@@ -31,7 +31,7 @@ fn cantilever_errors(n: usize, settings: &EigenSettings) -> Vec<f64> {
 fn cantilever_errors_with(n: usize, settings: &EigenSettings, mass: MassModel) -> Vec<f64> {
     let section = square_section(0.01);
     let mut model = cantilever(1.0, n, section.clone());
-    model.options.mass = mass;
+    model.options.mass = Some(mass);
     let modes = vibration_modes(&model, 10, settings).unwrap();
     assert_eq!(modes.rigid_modes, 0);
     (0..5)
@@ -80,7 +80,7 @@ fn consistent_mass_cantilever_within_half_a_percent_at_twenty_elements() {
     // From above: every frequency exceeds Euler–Bernoulli's.
     let section = square_section(0.01);
     let mut model = cantilever(1.0, 20, section.clone());
-    model.options.mass = MassModel::Consistent;
+    model.options.mass = Some(MassModel::Consistent);
     let modes = vibration_modes(&model, 10, &dense()).unwrap();
     for k in 0..5 {
         assert!(modes.frequencies_hz[2 * k] > beam_frequency(CANTILEVER_BETA_L[k], 1.0, &section) * (1.0 - 1e-5));
@@ -151,7 +151,7 @@ fn free_free_beam_has_six_rigid_modes_and_beam_theory_frequencies() {
 fn consistent_mass_free_free_beam_and_lanczos() {
     let section = square_section(0.01);
     let mut model = beam(1.0, 20, section.clone());
-    model.options.mass = MassModel::Consistent;
+    model.options.mass = Some(MassModel::Consistent);
     let modes = vibration_modes(&model, 8, &dense()).unwrap();
     assert_eq!(modes.rigid_modes, 6);
     for (k, beta_l) in FREE_FREE_BETA_L.iter().enumerate() {

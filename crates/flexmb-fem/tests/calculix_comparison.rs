@@ -35,7 +35,7 @@ fn both_with(deck: &str, name: &str, count: usize, mass: MassModel) -> Option<(V
     std::fs::create_dir_all(&dir).unwrap();
     let theirs = natural_frequencies(deck, &dir).unwrap();
     let mut model = parse_inp(deck, name).unwrap().model;
-    model.options.mass = mass;
+    model.options.mass = Some(mass);
     let ours = vibration_modes(&model, count, &EigenSettings::default()).unwrap().frequencies_hz;
     println!("{name}, {} mass: mode, flexmb [Hz], ccx [Hz], difference", mass.name());
     for (k, (a, b)) in ours.iter().zip(&theirs).enumerate() {

@@ -48,7 +48,7 @@ fn two_ended_link(kind: &str) -> FeModel {
         extra += &format!("*BOUNDARY\n{node}, 1, 6\n");
     }
     let mut model = parse_inp(&link().deck_with(&extra), "link.inp").unwrap().model;
-    model.options.mass = MassModel::Consistent;
+    model.options.mass = Some(MassModel::Consistent);
     model
 }
 

@@ -31,7 +31,7 @@ fn errors(na: usize, nb: usize, shape: ShellShape, count: usize) -> Vec<f64> {
 
 fn errors_with(na: usize, nb: usize, shape: ShellShape, count: usize, mass: MassModel) -> Vec<f64> {
     let mut model = simply_supported_plate(A, B, T, na, nb, shape);
-    model.options.mass = mass;
+    model.options.mass = Some(mass);
     let modes = vibration_modes(&model, count, &EigenSettings::default()).unwrap();
     assert_eq!(modes.rigid_modes, 3, "in-plane translations and turn are left free");
     modes.frequencies_hz.iter().zip(kirchhoff(count)).map(|(f, reference)| rel(*f, reference)).collect()
@@ -109,7 +109,7 @@ fn plate_invariants_are_its_rigid_properties() {
     assert_eq!(body.rigid_modes, 3);
     // The consistent mass integrates x² and y² exactly: m b² / 12 and m a² / 12.
     let mut model = model;
-    model.options.mass = MassModel::Consistent;
+    model.options.mass = Some(MassModel::Consistent);
     let body = reduce(&model, "plate", &settings).unwrap().body;
     let i = body.mass_properties.inertia;
     assert!(rel(body.invariants.mass, mass) < 1e-12);
@@ -179,7 +179,7 @@ fn an_operator_of_low_numerical_rank_ends_the_lanczos_iteration() {
     // The consistent mass's operator acts on the mass points' motions: its dimension (more than 64
     // here) exceeds its rank (the massive dofs less the rigid motions, fewer than 64), which decides.
     let mut small = simply_supported_plate(A, B, T, 3, 2, ShellShape::Triangle);
-    small.options.mass = MassModel::Consistent;
+    small.options.mass = Some(MassModel::Consistent);
     small.options.rotary_inertia = true;
     let lanczos = vibration_modes(&small, 3, &EigenSettings { solver: EigenSolver::Lanczos, ..Default::default() }).unwrap();
     let dense = vibration_modes(&small, 3, &EigenSettings { solver: EigenSolver::Dense, ..Default::default() }).unwrap();

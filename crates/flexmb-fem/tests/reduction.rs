@@ -5,7 +5,7 @@ mod support;
 
 use faer::Mat;
 use flexmb_fem::modes::prepare;
-use flexmb_fem::reduction::{reduce, Basis, FlexibleBody, ModeKind, ReductionSettings};
+use flexmb_fem::reduction::{reduce, Basis, BodyMass, FlexibleBody, ModeKind, ReductionSettings};
 use flexmb_fem::assembly::assemble;
 use flexmb_fem::mesh::ShellShape;
 use flexmb_fem::{FeModel, MassModel};
@@ -16,9 +16,11 @@ fn settings(set: &str, basis: Basis) -> ReductionSettings {
     ReductionSettings { mode_set: set.parse().unwrap(), basis, eigen: Default::default() }
 }
 
-/// A cantilever with a tip force and a tip bending torque as deleted constraints.
+/// A cantilever with a tip force and a tip bending torque as deleted constraints, with the lumped
+/// mass: the invariants are then the node sums the tests below form.
 fn arm() -> FeModel {
     let mut model = cantilever(1.0, 12, square_section(0.01));
+    model.options.mass = Some(MassModel::Lumped);
     let tip = model.mesh.nodes.len() - 1;
     model.static_loads = vec![force("tip_fz", tip, [0.0, 0.0, 1.0]), torque("tip_tz", tip, [0.0, 0.0, 1.0])];
     model
@@ -205,11 +207,19 @@ fn rigid_motions(body: &FlexibleBody) -> (DMatrix<f64>, DMatrix<f64>) {
     (translations, rotations)
 }
 
+/// The 0.6 m × 0.4 m plate of the tests below with a 10 mm square beam of 4 elements on its edge x = 0.6.
+fn with_edge_beam(mut plate: FeModel) -> FeModel {
+    plate.mesh.beam_sections.push(flexmb_fem::BeamSection { orientation: Vector3::new(1.0, 0.0, 0.0), ..square_section(0.01) });
+    plate.mesh.add_beam_line(Vector3::new(0.6, 0.0, 0.0), Vector3::new(0.6, 0.4, 0.0), 4, 0).unwrap();
+    plate
+}
+
 /// Every invariant that is linear or quadratic in the motion is a product with the FE mass matrix
 /// `M` itself, whatever the mass points are: with the rigid translations `R_t` and rotations `R_r`,
 /// `m I = R_tᵀ M R_t`, `−C̃1 = R_tᵀ M R_r`, `−C3 + ΣJ = R_rᵀ M R_r`, `C2 = R_tᵀ M Φ`,
 /// `C6 + Σ J Θ = R_rᵀ M Φ`, `C9 + Σ Θᵀ J Θ = Φᵀ M Φ`. Checked for the lumped and the consistent
-/// mass, with and without rotary inertia, on beams (a cantilever) and shells (a plate).
+/// mass, with and without rotary inertia, on beams (a cantilever) and shells (a plate), and for the
+/// default mass of a plate with an edge beam (consistent beam, lumped shells: mixed).
 #[test]
 fn invariants_are_products_with_the_fe_mass_matrix_for_both_masses() {
     let (mut plate, grid) = plate(0.6, 0.4, 0.004, 6, 4, ShellShape::Quadrilateral);
@@ -217,15 +227,18 @@ fn invariants_are_products_with_the_fe_mass_matrix_for_both_masses() {
         plate.supports.push(flexmb_fem::Support { node, dofs: flexmb_fem::DofSet::ALL });
     }
     plate.static_loads = vec![force("corner_fz", plate.mesh.nodes.len() - 1, [0.0, 0.0, 1.0])];
-    for (name, base) in [("cantilever", arm()), ("plate", plate)] {
-        for mass in [MassModel::Lumped, MassModel::Consistent] {
+    let framed = with_edge_beam(plate.clone());
+    assert_eq!(framed.mesh.nodes.len(), plate.mesh.nodes.len(), "the beam is on the plate's edge nodes");
+    let both = vec![Some(MassModel::Lumped), Some(MassModel::Consistent)];
+    for (name, base, masses) in [("cantilever", arm(), both.clone()), ("plate", plate, both), ("framed plate", framed, vec![None])] {
+        for mass in masses {
             for rotary_inertia in [false, true] {
                 let mut model = base.clone();
                 model.options.mass = mass;
                 model.options.rotary_inertia = rotary_inertia;
-                let case = format!("{name}, {}, rotary inertia {rotary_inertia}", mass.name());
+                let case = format!("{name}, {}, rotary inertia {rotary_inertia}", mass.map_or("default", MassModel::name));
                 let body = reduce(&model, name, &settings("3N1S", Basis::Raw)).unwrap_or_else(|e| panic!("{case}: {e}")).body;
-                assert_eq!(body.mass, mass);
+                assert_eq!(body.mass, mass.map_or(BodyMass::Mixed, BodyMass::from), "{case}");
                 let inv = &body.invariants;
                 let m = unsupported_mass(&model);
                 let phi = nodal_basis(&body);
@@ -247,13 +260,37 @@ fn invariants_are_products_with_the_fe_mass_matrix_for_both_masses() {
     }
 }
 
+/// The default mass of a plate with a beam on its edge (4 elements along y, length 0.4 m) mixes the
+/// beam's consistent mass with the plate's lumped one: against every element lumped, the second
+/// moment `Σ m y²` loses exactly the lumped beam's trapezoid excess `m_b L² / (6 n²)`, and nothing else
+/// changes in the mass properties' total.
+#[test]
+fn the_default_mass_of_a_plate_with_an_edge_beam_is_consistent_in_the_beam_only() {
+    let (mut plate, grid) = plate(0.6, 0.4, 0.004, 6, 4, ShellShape::Quadrilateral);
+    for &node in &grid[0] {
+        plate.supports.push(flexmb_fem::Support { node, dofs: flexmb_fem::DofSet::ALL });
+    }
+    let mut framed = with_edge_beam(plate);
+    let mixed = reduce(&framed, "framed", &settings("2N", Basis::Raw)).unwrap().body;
+    framed.options.mass = Some(MassModel::Lumped);
+    let lumped = reduce(&framed, "framed", &settings("2N", Basis::Raw)).unwrap().body;
+    assert_eq!((mixed.mass, lumped.mass), (BodyMass::Mixed, BodyMass::Lumped));
+    let (length, n) = (0.4, 4.0);
+    let beam_mass = RHO * square_section(0.01).area * length;
+    let excess = beam_mass * length * length / (6.0 * n * n);
+    // −C3 is the inertia about the frame origin: its xx entry is Σ m (y² + z²), z = 0 on the plate.
+    let drop = -lumped.invariants.c3[(0, 0)] + mixed.invariants.c3[(0, 0)];
+    assert!(rel(drop, excess) < 1e-9, "drop {drop:.6e}, m_b L² / (6 n²) = {excess:.6e}");
+    assert!(rel(mixed.mass_properties.mass, lumped.mass_properties.mass) < 1e-14);
+}
+
 /// With the consistent mass the invariants integrate the beam's field exactly: the cantilever's
 /// inertia about its root is `m L² / 3` with no trapezoid term, and the first moment of its first
 /// mode `∫ ρ A φ₁ dx` matches the closed form of the Euler–Bernoulli mode to the accuracy of the mode.
 #[test]
 fn consistent_invariants_are_the_beams_integrals() {
     let mut model = arm();
-    model.options.mass = MassModel::Consistent;
+    model.options.mass = Some(MassModel::Consistent);
     let body = reduce(&model, "arm", &settings("2N", Basis::Raw)).unwrap().body;
     let mass = RHO * square_section(0.01).area;
     assert!(rel(-body.invariants.c3[(1, 1)], mass / 3.0) < 1e-12);
@@ -381,7 +418,7 @@ fn door_with_the_seeds_supports_reduces_to_the_seeds_mode_sets() {
 fn geometric_stiffness_of_the_inertia_loads_gives_southwells_coefficient() {
     let section = square_section(0.01);
     let mut model = cantilever(1.0, 40, section.clone());
-    model.options.mass = MassModel::Consistent;
+    model.options.mass = Some(MassModel::Consistent);
     model.options.rotary_inertia = true;
     let body = reduce(&model, "arm", &settings("2N", Basis::Orthonormal)).unwrap().body;
     let terms = body.geometric_stiffness.as_ref().expect("a beam body has the terms");

@@ -45,7 +45,7 @@ fn largest_difference(block: &SolidBlock) -> Option<f64> {
     let name = format!("{}_{}x{}x{}", block.element, block.nx, block.ny, block.nz);
     let theirs = natural_frequencies(&deck, &work_dir(&name)).unwrap();
     let mut model = parse_inp(&deck, &name).unwrap().model;
-    model.options.mass = MassModel::Consistent;
+    model.options.mass = Some(MassModel::Consistent);
     let ours = vibration_modes(&model, block.modes, &EigenSettings::default()).unwrap().frequencies_hz;
     println!("{name}: mode, flexmb [Hz], ccx [Hz], relative difference");
     let mut largest = 0.0_f64;

@@ -24,7 +24,7 @@ fn first_frequency(block: &SolidBlock, count: usize, beam_clamp: bool) -> (f64, 
 
 fn first_frequency_with(block: &SolidBlock, count: usize, beam_clamp: bool, mass: MassModel) -> (f64, usize) {
     let mut model = parse_inp(&block.deck(), "block.inp").unwrap().model;
-    model.options.mass = mass;
+    model.options.mass = Some(mass);
     if beam_clamp {
         for node in model.mesh.node_sets["ROOT"].clone() {
             let p = model.mesh.nodes[node].position;
@@ -49,7 +49,7 @@ fn timoshenko_frequency() -> f64 {
     let h: f64 = 0.1;
     let section = BeamSection { shear_coefficient: Some(10.0 * (1.0 + NU) / (12.0 + 11.0 * NU)), ..square_section(h) };
     let mut model = cantilever(1.0, 200, section);
-    model.options = ModelOptions { mass: MassModel::Consistent, rotary_inertia: true, ..ModelOptions::default() };
+    model.options = ModelOptions { mass: Some(MassModel::Consistent), rotary_inertia: true, ..ModelOptions::default() };
     vibration_modes(&model, 1, &EigenSettings::default()).unwrap().frequencies_hz[0]
 }
 
@@ -83,7 +83,7 @@ fn free_free_cube_has_six_rigid_modes_its_inertia_and_a_converging_first_frequen
         let (f, rigid) = first_frequency(&cube, 1, false);
         assert_eq!(rigid, 6, "{n} × {n} × {n}");
         let mut model = parse_inp(&cube.deck(), "cube.inp").unwrap().model;
-        model.options.mass = MassModel::Consistent;
+        model.options.mass = Some(MassModel::Consistent);
         let properties = MassProperties::of_points(&assemble(&model).unwrap().mass_points);
         assert!(rel(properties.mass, RHO) < 1e-12);
         assert!((properties.center_of_mass - Vector3::repeat(0.5)).norm() < 1e-12);
@@ -132,7 +132,7 @@ fn a_shell_skin_on_a_solid_block_keeps_the_rotations_of_its_nodes_only() {
     // Three dofs at every node, three more (rotations) at the skin's; the root's translations held
     // (its skin nodes keep their rotations: the clamp is ccx's "1, 3").
     assert_eq!(assembled.dofs.n_free(), 3 * all_nodes + 3 * skin_nodes - 3 * root_nodes);
-    model.options.mass = MassModel::Consistent;
+    model.options.mass = Some(MassModel::Consistent);
     let skinned = vibration_modes(&model, 2, &EigenSettings::default()).unwrap();
     let (bare, _) = first_frequency(&block, 2, false);
     // The skin (5 % of the block's mass, its mid-surface on the top face) stiffens bending in z:

@@ -51,7 +51,7 @@ fn fe_model_text(matrices: &str, tip: u64) -> String {
 /// The deck's model with the consistent mass, its root clamped, and the same static loads.
 fn deck_model(deck: &str, tip: u64) -> FeModel {
     let mut model = parse_inp(deck, "block.inp").unwrap().model;
-    model.options.mass = MassModel::Consistent;
+    model.options.mass = Some(MassModel::Consistent);
     let root = model.mesh.node_sets["ROOT"].clone();
     model.supports = root.iter().map(|&node| flexmb_fem::Support { node, dofs: flexmb_fem::DofSet::TRANSLATIONS }).collect();
     let node = model.mesh.node_index(tip).unwrap();

@@ -60,7 +60,7 @@ pub fn plate_link(cells: [usize; 3], size: [f64; 3]) -> FeModel {
         supports.push(Support { node: reference, dofs: DofSet::ALL });
     }
     let mut model = FeModel { mesh, supports, ..Default::default() };
-    model.options.mass = MassModel::Lumped;
+    model.options.mass = Some(MassModel::Lumped);
     model
 }
 

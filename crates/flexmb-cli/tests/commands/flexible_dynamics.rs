@@ -107,7 +107,7 @@ fn pendulum(set: Option<&str>) -> Vec<[f64; 2]> {
 fn pendulum_with(elements: usize, mass: MassModel, set: Option<&str>) -> Vec<[f64; 2]> {
     // Slender in the plane of the swing (6 mm along y): first in-plane bending about 20 Hz.
     let mut fe = beam(1.0, elements, 0.006, 0.03);
-    fe.options.mass = mass;
+    fe.options.mass = Some(mass);
     let tip = fe.mesh.nodes.len() - 1;
     // The modes of the beam as the revolute holds it: the hinge node held in translation and in the two
     // rotations the revolute holds; the turn about the hinge axis is the rigid mechanism. (No joint

@@ -4,6 +4,7 @@ mod program;
 
 mod applications;
 mod bdf_stability_limits;
+mod beam_pendulum_ancf;
 mod bench_command;
 mod body_shapes;
 mod cli;

@@ -6,8 +6,7 @@
 
 use std::path::Path;
 
-use flexmb_fem::reduction::{Basis, FlexibleBody};
-use flexmb_fem::MassModel;
+use flexmb_fem::reduction::{Basis, BodyMass, FlexibleBody};
 
 use crate::program;
 
@@ -155,43 +154,44 @@ fn scientific(values: &[f64]) -> String {
 }
 
 #[test]
-fn consistent_mass_from_the_command_line_or_the_file_gives_the_cantilever_within_half_a_percent() {
+fn consistent_mass_by_default_gives_the_cantilever_within_half_a_percent_and_lumped_on_request() {
     let dir = scratch("mass");
     let plain = dir.join("plain.toml");
     std::fs::write(&plain, square_cantilever("")).unwrap();
 
-    // Lumped by default: second order at the free end, −1.18 % at the fifth mode with 20 elements.
-    let (report, lumped) = modes_of(&plain, &[]);
-    assert!(report.contains("mass matrix: lumped"), "{report}");
-    assert_eq!(lumped.mass, MassModel::Lumped);
-    let errors = bending_errors(&lumped);
-    println!("lumped mass, 20 elements, relative errors of modes 1-5: {}", scientific(&errors));
-    assert!(errors[0] < 5e-3 && errors[4] > 5e-3, "{errors:?}");
-
-    // `--mass consistent`: fourth order, every one of the five within 0.5 % (measured below 2e-4).
-    let (report, consistent) = modes_of(&plain, &["--mass", "consistent"]);
+    // Consistent by default for beams: fourth order, every one of the five within 0.5 % (measured
+    // below 2e-4).
+    let (report, consistent) = modes_of(&plain, &[]);
     assert!(report.contains("mass matrix: consistent"), "{report}");
-    assert_eq!(consistent.mass, MassModel::Consistent);
+    assert_eq!(consistent.mass, BodyMass::Consistent);
     let written = std::fs::read_to_string(plain.with_extension("json")).unwrap();
     let json: serde_json::Value = serde_json::from_str(&written).unwrap();
     assert_eq!(json["mass"], "consistent");
     let errors = bending_errors(&consistent);
     println!("consistent mass, 20 elements, relative errors of modes 1-5: {}", scientific(&errors));
     assert!(errors.iter().all(|&e| e < 5e-3), "{errors:?}");
+
+    // `--mass lumped`: second order at the free end, −1.18 % at the fifth mode with 20 elements.
+    let (report, lumped) = modes_of(&plain, &["--mass", "lumped"]);
+    assert!(report.contains("mass matrix: lumped"), "{report}");
+    assert_eq!(lumped.mass, BodyMass::Lumped);
+    let errors = bending_errors(&lumped);
+    println!("lumped mass, 20 elements, relative errors of modes 1-5: {}", scientific(&errors));
+    assert!(errors[0] < 5e-3 && errors[4] > 5e-3, "{errors:?}");
     // Both masses are the bar's 0.785 kg.
     assert!((consistent.mass_properties.mass - lumped.mass_properties.mass).abs() < 1e-12);
     assert!((consistent.mass_properties.mass - 0.785).abs() < 1e-9, "{}", consistent.mass_properties.mass);
 
     // The file's `[fe_model] mass`, and `--mass` over it.
-    let from_file = dir.join("consistent.toml");
-    std::fs::write(&from_file, square_cantilever(r#"mass = "consistent""#)).unwrap();
+    let from_file = dir.join("lumped.toml");
+    std::fs::write(&from_file, square_cantilever(r#"mass = "lumped""#)).unwrap();
     let (report, body) = modes_of(&from_file, &[]);
-    assert!(report.contains("mass matrix: consistent"), "{report}");
-    assert_eq!(body.fe_frequencies_hz, consistent.fe_frequencies_hz);
-    let (report, body) = modes_of(&from_file, &["--mass", "lumped"]);
     assert!(report.contains("mass matrix: lumped"), "{report}");
-    assert_eq!(body.mass, MassModel::Lumped);
     assert_eq!(body.fe_frequencies_hz, lumped.fe_frequencies_hz);
+    let (report, body) = modes_of(&from_file, &["--mass", "consistent"]);
+    assert!(report.contains("mass matrix: consistent"), "{report}");
+    assert_eq!(body.mass, BodyMass::Consistent);
+    assert_eq!(body.fe_frequencies_hz, consistent.fe_frequencies_hz);
 }
 
 #[test]
@@ -199,16 +199,17 @@ fn fe_model_mass_applies_over_an_inp_mesh() {
     let dir = scratch("mass-inp");
     let deck = workspace().join("crates/flexmb-fem/tests/data/cantilever_b31.inp").canonicalize().unwrap();
     let file = dir.join("b31.toml");
-    std::fs::write(&file, format!("[fe_model]\nmesh = {:?}\nmass = \"consistent\"\n", deck.to_str().unwrap())).unwrap();
-    let body_path = dir.join("b31.json");
-    let report = succeed(&["modes", file.to_str().unwrap(), "--modes", "4N", "--out", body_path.to_str().unwrap()]);
-    assert!(report.contains("mass matrix: consistent"), "{report}");
-    let consistent = FlexibleBody::read(&body_path).unwrap();
-    assert_eq!(consistent.mass, MassModel::Consistent);
+    std::fs::write(&file, format!("[fe_model]\nmesh = {:?}\nmass = \"lumped\"\n", deck.to_str().unwrap())).unwrap();
     let lumped_path = dir.join("b31_lumped.json");
-    succeed(&["modes", deck.to_str().unwrap(), "--modes", "4N", "--out", lumped_path.to_str().unwrap()]);
+    let report = succeed(&["modes", file.to_str().unwrap(), "--modes", "4N", "--out", lumped_path.to_str().unwrap()]);
+    assert!(report.contains("mass matrix: lumped"), "{report}");
     let lumped = FlexibleBody::read(&lumped_path).unwrap();
-    assert_eq!(lumped.mass, MassModel::Lumped);
+    assert_eq!(lumped.mass, BodyMass::Lumped);
+    // The deck alone: its beams take their default, the consistent mass.
+    let body_path = dir.join("b31.json");
+    succeed(&["modes", deck.to_str().unwrap(), "--modes", "4N", "--out", body_path.to_str().unwrap()]);
+    let consistent = FlexibleBody::read(&body_path).unwrap();
+    assert_eq!(consistent.mass, BodyMass::Consistent);
     // At the free end the lumped mass is low in frequency and the consistent one high: ten elements
     // put them apart by about half a percent in the first mode.
     let (c, l) = (consistent.fe_frequencies_hz[0], lumped.fe_frequencies_hz[0]);
@@ -284,7 +285,7 @@ fn the_lanczos_iteration_ends_on_an_ill_conditioned_mesh() {
 /// `K φ − λ M φ` leaves a residual of 3e-6 ‖K φ‖ from rounding alone. That is not an inaccurate mode:
 /// the dense and the Lanczos solvers agree on every frequency (within what rounding allows), and the check allows what rounding
 /// explains (before, both refused it: "mode 1: eigen residual 3.12e-6 exceeds 1e-6"; found by the
-/// fuzz test, seed 7 case 19).
+/// fuzz test, seed 7 case 19, with the lumped mass).
 #[test]
 fn a_mode_far_softer_than_the_stiffest_element_passes_the_residual_check() {
     let dir = scratch("soft-mode");
@@ -293,6 +294,7 @@ fn a_mode_far_softer_than_the_stiffest_element_passes_the_residual_check() {
         &fe,
         r#"[fe_model]
 name = "sheet"
+mass = "lumped"
 rotary_inertia = false
 drilling_stiffness = 5.367349321073993e-5
 

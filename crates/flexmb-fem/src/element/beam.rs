@@ -102,7 +102,7 @@ pub fn beam_matrices(
         mass: 0.5 * mass,
         rotary_inertia: rotary,
     };
-    let consistent_mass = match options.mass {
+    let consistent_mass = match options.beam_mass() {
         MassModel::Lumped => Vec::new(),
         MassModel::Consistent => consistent_mass_points(a, b, &axes, elastic.density, &properties, rotary_inertia),
     };

@@ -31,8 +31,9 @@ pub struct ElementMatrices {
     pub stiffness: DMatrix<f64>,
     /// The lumped mass, one entry per node (always computed: the nodes' share of the mass).
     pub lumped_mass: Vec<NodalMass>,
-    /// With [`MassModel::Consistent`](crate::mesh::MassModel::Consistent), the mass points of the consistent mass (interpolation indices
-    /// are the element's node positions 0..n); empty with the lumped mass.
+    /// When the element's mass is [`MassModel::Consistent`](crate::mesh::MassModel::Consistent) ([`ModelOptions::mass_of`]), the
+    /// mass points of the consistent mass (interpolation indices are the element's node positions
+    /// 0..n); empty when it is lumped.
     pub consistent_mass: Vec<MassPoint>,
 }
 

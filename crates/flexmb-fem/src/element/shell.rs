@@ -140,7 +140,7 @@ pub fn shell_matrices(
         mass: elastic.density * t * share,
         rotary_inertia,
     };
-    let consistent_mass = match options.mass {
+    let consistent_mass = match options.shell_mass() {
         MassModel::Lumped => Vec::new(),
         MassModel::Consistent => {
             let rotary_per_area = if options.rotary_inertia { elastic.density * t * t * t / 12.0 } else { 0.0 };

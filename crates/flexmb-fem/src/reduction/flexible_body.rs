@@ -9,13 +9,62 @@ use serde::{Deserialize, Serialize};
 use super::geometric_stiffness::GeometricStiffness;
 use super::invariants::InertiaInvariants;
 use super::modal_stress::ModalStresses;
-use crate::mesh::MassModel;
+use crate::mesh::{FeModel, MassModel};
 use super::serde_matrix;
 
 /// The value of [`FlexibleBody::format`].
 pub const FORMAT: &str = "flexmb-flexible-body";
 /// The current [`FlexibleBody::version`].
 pub const VERSION: u32 = 1;
+
+/// The mass model of a reduced body's elements ([`MassModel`], per kind of element by
+/// [`ModelOptions::mass_of`](crate::mesh::ModelOptions::mass_of)).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum BodyMass {
+    /// Every element's mass lumped at its nodes; also files written before the key existed.
+    #[default]
+    Lumped,
+    /// Every element's consistent mass.
+    Consistent,
+    /// Consistent for some elements, lumped for others: the default on a mesh of beams or solids
+    /// with shells.
+    Mixed,
+}
+
+impl BodyMass {
+    /// The mass model of `model`'s elements; a model without elements (imported matrices) has the
+    /// mass model it names, else lumped.
+    pub fn of(model: &FeModel) -> BodyMass {
+        let mut kinds = model.mesh.elements.iter().map(|e| model.options.mass_of(e.kind));
+        let Some(first) = kinds.next() else {
+            return model.options.mass.map_or(BodyMass::Lumped, BodyMass::from);
+        };
+        if kinds.all(|m| m == first) {
+            BodyMass::from(first)
+        } else {
+            BodyMass::Mixed
+        }
+    }
+
+    /// The name used in the flexible-body file and in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            BodyMass::Lumped => "lumped",
+            BodyMass::Consistent => "consistent",
+            BodyMass::Mixed => "mixed",
+        }
+    }
+}
+
+impl From<MassModel> for BodyMass {
+    fn from(mass: MassModel) -> Self {
+        match mass {
+            MassModel::Lumped => BodyMass::Lumped,
+            MassModel::Consistent => BodyMass::Consistent,
+        }
+    }
+}
 
 /// How the mode basis is given.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -118,11 +167,12 @@ pub struct FlexibleBody {
     pub mode_set: String,
     /// Raw or mass-orthonormalized modes.
     pub basis: Basis,
-    /// The FE model's mass: `lumped` (the invariants are sums over the nodes' masses) or
+    /// The FE model's mass: `lumped` (the invariants are sums over the nodes' masses),
     /// `consistent` (integrals over the elements; the nodes' masses are then their shares, for
-    /// drawing and checking). Files without it are lumped.
+    /// drawing and checking) or `mixed` (integrals over the consistent elements, sums over the nodes
+    /// of the lumped ones). Files without it are lumped.
     #[serde(default)]
-    pub mass: MassModel,
+    pub mass: BodyMass,
     /// Every node of the FE model.
     pub nodes: Vec<BodyNode>,
     /// Every element, for drawing.

@@ -14,7 +14,7 @@ use faer::{Mat, Side};
 use nalgebra::{DMatrix, Matrix3, Vector3};
 
 pub use flexible_body::{
-    Basis, BodyElement, BodyFileError, BodyMassProperties, BodyNode, FlexibleBody, ModeInfo, ModeKind, ModeShape,
+    Basis, BodyElement, BodyFileError, BodyMass, BodyMassProperties, BodyNode, FlexibleBody, ModeInfo, ModeKind, ModeShape,
     FORMAT, VERSION,
 };
 pub use geometric_stiffness::{GeometricStiffness, InterfaceStiffness, CENTRIFUGAL_CASES, INTERFACE_CASES};
@@ -401,7 +401,7 @@ fn flexible_body(
         name: name.to_string(),
         mode_set: settings.mode_set.to_string(),
         basis: settings.basis,
-        mass: model.options.mass,
+        mass: BodyMass::of(model),
         nodes: mesh
             .nodes
             .iter()

@@ -42,12 +42,12 @@ pub(crate) fn model_options(
     let mut options = base;
     let Some(section) = section else { return Ok(options) };
     if let Some(mass) = &section.mass {
-        options.mass = b.ctx.keyword(
+        options.mass = Some(b.ctx.keyword(
             mass,
             &section_key().key("mass"),
             "mass model",
             &[MassModel::Lumped, MassModel::Consistent].map(|m| (m.name(), m)),
-        )?;
+        )?);
     }
     if let Some(rotary) = &section.rotary_inertia {
         options.rotary_inertia = *rotary.get_ref();

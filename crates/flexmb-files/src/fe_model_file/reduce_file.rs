@@ -12,14 +12,14 @@ use flexmb_fem::{FemError, MassModel};
 use super::{load_fe_model, LoadedFeModel, ModelFileError};
 
 /// What to reduce an FE model file to; each `None` takes the file's value (`[modes] set`, `[modes]
-/// basis` else orthonormal, `[fe_model] mass` else lumped, `[modes] stresses` else none).
+/// basis` else orthonormal, `[fe_model] mass` else each kind of element's default, `[modes] stresses` else none).
 #[derive(Clone, Debug, Default)]
 pub struct ReductionRequest {
     /// The mode set, e.g. `4N5S`.
     pub mode_set: Option<ModeSet>,
     /// Raw or mass-orthonormalized modes.
     pub basis: Option<Basis>,
-    /// Lumped or consistent mass.
+    /// Lumped or consistent mass for every element (`None`: the file's, else each kind's default).
     pub mass: Option<MassModel>,
     /// The eigensolver and the memory it may use.
     pub eigen: EigenSettings,
@@ -65,7 +65,7 @@ pub fn reduce_fe_model_file(path: &Path, request: &ReductionRequest) -> Result<R
     let file = path.display().to_string();
     let mut loaded = load_fe_model(path)?;
     if let Some(mass) = request.mass {
-        loaded.model.options.mass = mass;
+        loaded.model.options.mass = Some(mass);
     }
     let mode_set = request.mode_set.clone().or_else(|| loaded.defaults.mode_set.clone());
     let mode_set = mode_set.ok_or_else(|| ReduceFileError::NoModeSet { file: file.clone() })?;

@@ -342,7 +342,7 @@ fn consistent_mass_points_give_przemieniecki_consistent_mass() {
     let s = section(orientation, None);
     let t = crate::element::test_support::block_rotation(2, &axes);
     for rotary in [false, true] {
-        let consistent = ModelOptions { mass: MassModel::Consistent, ..options(rotary) };
+        let consistent = ModelOptions { mass: Some(MassModel::Consistent), ..options(rotary) };
         let points = beam_matrices(&a, &b, &s, &steel(), &consistent).unwrap().consistent_mass;
         assert_eq!(points.len(), 4);
         let body = crate::element::test_support::mass_matrix_of_points(&points, 2);

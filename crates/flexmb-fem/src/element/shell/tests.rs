@@ -583,7 +583,7 @@ fn consistent_mass_of_rectangle_and_triangle() {
     for (points, scale, pattern) in &cases {
         let (points, scale) = (points.as_slice(), *scale);
         for rotary in [false, true] {
-            let options = ModelOptions { mass: crate::mesh::MassModel::Consistent, ..options(rotary, 1e-3) };
+            let options = ModelOptions { mass: Some(crate::mesh::MassModel::Consistent), ..options(rotary, 1e-3) };
             let m = shell_matrices(points, &section(t), &material(0.3), &options).unwrap();
             let matrix = crate::element::test_support::mass_matrix_of_points(&m.consistent_mass, points.len());
             let n = points.len();

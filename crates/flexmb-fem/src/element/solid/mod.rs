@@ -142,7 +142,7 @@ pub fn solid_matrices(
     Ok(ElementMatrices {
         stiffness: with_rotations(&translational),
         lumped_mass: lumped.into_iter().map(|mass| NodalMass { mass, rotary_inertia: Matrix3::zeros() }).collect(),
-        consistent_mass: if options.mass == MassModel::Consistent { consistent } else { Vec::new() },
+        consistent_mass: if options.solid_mass() == MassModel::Consistent { consistent } else { Vec::new() },
     })
 }
 

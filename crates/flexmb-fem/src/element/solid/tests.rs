@@ -122,7 +122,7 @@ fn uniform_strains_have_their_exact_energy_on_affine_elements() {
 fn the_mass_is_the_element_mass_and_lumps_positively() {
     for formulation in SolidFormulation::ALL {
         let p = points(formulation, distorted);
-        let options = ModelOptions { mass: MassModel::Consistent, ..ModelOptions::default() };
+        let options = ModelOptions { mass: Some(MassModel::Consistent), ..ModelOptions::default() };
         let matrices = solid_matrices(&p, formulation, &steel(), &options).unwrap();
         let consistent: f64 = matrices.consistent_mass.iter().map(|m| m.mass).sum();
         let lumped: Vec<f64> = matrices.lumped_mass.iter().map(|m| m.mass).collect();
@@ -146,7 +146,7 @@ fn the_mass_is_the_element_mass_and_lumps_positively() {
 fn the_consistent_mass_of_c3d8_is_the_textbook_one() {
     // A unit cube: M = ρ V / 216 · (2^(3 − d)) where d counts the coordinates in which two nodes differ.
     let p = points(SolidFormulation::LinearBrick, |x| Vector3::from(x.map(|c| (c + 1.0) / 2.0)));
-    let options = ModelOptions { mass: MassModel::Consistent, ..ModelOptions::default() };
+    let options = ModelOptions { mass: Some(MassModel::Consistent), ..ModelOptions::default() };
     let matrices = solid_matrices(&p, SolidFormulation::LinearBrick, &steel(), &options).unwrap();
     for a in 0..8 {
         for b in 0..8 {

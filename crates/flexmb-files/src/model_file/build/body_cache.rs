@@ -3,7 +3,8 @@
 //! (FNV-1a, 64 bits) covers the bytes of the FE model file and of every file it read (the mesh file and
 //! its includes), the mode set, the basis, the flexible-body format version, the terms the reduction
 //! computes (the geometric stiffness of the unit inertia and interface loads; the modal stresses, which the FE
-//! model file's `[modes] stresses` asks for) and the program's version.
+//! model file's `[modes] stresses` asks for), the meaning of a model that names no mass model, and the
+//! program's version.
 //! A changed input gives another name, so a stale file is never read; it is removed when the new one
 //! is written. A cache that cannot be written only costs the next run a new reduction. The file is
 //! written to a temporary file and renamed into place, so a reader sees all of it or nothing, and
@@ -129,6 +130,9 @@ fn cache_hash(loaded: &LoadedFeModel, set: &ModeSet, basis: Basis) -> Option<u64
     hash.field(b"geometric stiffness: interface loads; beams, shells and solids");
     // Reductions may hold modal stresses (as the FE model file, hashed below, says).
     hash.field(b"modal stresses");
+    // A model that names no mass model has each kind of element's default (consistent beams and
+    // solids): caches made before lumped them.
+    hash.field(b"mass: each kind of element's default");
     hash.field(env!("CARGO_PKG_VERSION").as_bytes());
     hash.field(set.to_string().as_bytes());
     hash.field(basis_name(basis).as_bytes());
