@@ -3,9 +3,9 @@
 //! twists it is dropped by the reduction. The hinged steel pendulum (1 m, 20 mm square, hinged at one
 //! end about z, released horizontal, gravity −y; four clamped-free modes) runs with every integrator;
 //! its tip follows the same beam given a tiny rotary inertia (1e-9 kg m² at each node) to 2e-7 m
-//! (measured 5.1e-8 to 6.2e-8 m, lumped and consistent mass) in no more steps (within the step
+//! (measured 4.8e-8 to 6.2e-8 m, lumped and consistent mass) in no more steps (within the step
 //! control's noise, 1 %), and with consistent mass it follows Exudyn's 32-element ANCF cable
-//! (tests/data/ancf_pendulum_tip.csv) to 3e-5 m, the four-mode truncation (measured 2.1e-5 m, against
+//! (tests/data/ancf_pendulum_tip.csv) to 3e-5 m, the four-mode truncation (measured 1.9e-5 to 2.0e-5 m, against
 //! the tip's elastic deflection of 2.6e-4 m; eight modes 7.3e-6 m). A free-floating beam without
 //! rotary inertia has nothing to hold its spin: the error names the body and the axis. About 4 s in
 //! release.
