@@ -23,47 +23,17 @@ fn scratch(name: &str) -> PathBuf {
     dir
 }
 
-/// The FE model: 40 beam elements, clamped at the hinge end for the modes, `mass` lumped or
-/// consistent, without rotary inertia; with `rotary > 0`, that much rotary inertia (kg m², about each
-/// axis) at every node; two static loads at the tip, a torque about the axis (a pure twist) and a
-/// force across it.
+/// The FE model: the peer's beam (models/peer/fe/beam_20x20.toml: 40 beam elements, clamped at the
+/// hinge end for the modes) with `mass` lumped or consistent and without rotary inertia; with
+/// `rotary > 0`, that much rotary inertia (kg m², about each axis) at every node; two static loads at
+/// the tip, a torque about the axis (a pure twist) and a force across it.
 fn fe_model(mass: &str, rotary: f64) -> String {
-    let mut text = format!(
-        r#"
-        [fe_model]
-        name = "beam"
-        mass = "{mass}"
-        [[material]]
-        name = "steel"
-        E = 2.1e11
-        nu = 0.3
-        rho = 7850
-        [[beam_section]]
-        name = "square"
-        material = "steel"
-        shape = "rectangle"
-        width = 0.02
-        height = 0.02
-        orientation = [0, 1, 0]
-        [[beam_line]]
-        name = "beam"
-        section = "square"
-        from = [0, 0, 0]
-        to = [1, 0, 0]
-        elements = 40
-        [[support]]
-        at = "beam.start"
-        dofs = "all"
-        [[static_load]]
-        name = "tip_twist"
-        at = "beam.end"
-        torque = [1, 0, 0]
-        [[static_load]]
-        name = "tip_fy"
-        at = "beam.end"
-        force = [0, 1, 0]
-        "#
-    );
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../models/peer/fe/beam_20x20.toml");
+    let peer = std::fs::read_to_string(path).unwrap();
+    assert!(peer.contains("mass = \"consistent\"") && peer.contains("rotary_inertia = true"), "the peer's beam changed");
+    let mut text = peer.replace("mass = \"consistent\"", &format!("mass = \"{mass}\"")).replace("rotary_inertia = true", "rotary_inertia = false");
+    text += "\n[[static_load]]\nname = \"tip_twist\"\nat = \"beam.end\"\ntorque = [1, 0, 0]\n\n\
+             [[static_load]]\nname = \"tip_fy\"\nat = \"beam.end\"\nforce = [0, 1, 0]\n";
     if rotary > 0.0 {
         for node in 1..=41 {
             text += &format!("[[mass]]\nat = {node}\nmass = 0\nrotary_inertia = [{rotary}, {rotary}, {rotary}]\n");
