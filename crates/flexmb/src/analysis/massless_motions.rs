@@ -53,8 +53,10 @@ pub(crate) fn check_massless_motions_held(model: &Model, data: &Data, q: &[f64],
         // Held together: B N has full column rank (each direction alone, and no combination, escapes).
         let held = DMatrix::from_columns(&columns);
         let smallest = if nc < motions.len() { 0.0 } else { held.singular_values().min() };
-        if !(smallest > NOT_HELD * largest) {
-            let unheld = columns.iter().position(|c| !(c.norm() > NOT_HELD * largest)).unwrap_or(0);
+        // NaN holds nothing.
+        let holds = |size: f64| size > NOT_HELD * largest;
+        if !holds(smallest) {
+            let unheld = columns.iter().position(|c| !holds(c.norm())).unwrap_or(0);
             return Err(AssemblyError::MasslessMotion {
                 body: model.bodies[b].name.clone(),
                 motion: motions[unheld].describe(),
