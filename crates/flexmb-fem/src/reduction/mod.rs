@@ -156,9 +156,9 @@ pub fn reduce(model: &FeModel, name: &str, settings: &ReductionSettings) -> Resu
         }
     }
     let (mut basis, mut modes) = raw_basis(set, &fe_modes, static_modes.as_ref());
+    drop_massless_modes(model, assembled, (&mut basis, &mut modes), &mut warnings);
     let mut modal_mass = basis.transpose() * (&assembled.mass * &basis);
     let mut modal_stiffness = basis.transpose() * (&assembled.stiffness * &basis);
-    massive_modes(model, assembled, &basis, &modal_mass, &modes)?;
     let basis_independence = scaled_gram_minimum(&modal_mass)?;
     if basis_independence < DEPENDENT {
         return Err(FemError::SingularBasis {
@@ -278,37 +278,51 @@ fn raw_basis(set: &ModeSet, fe: &VibrationModes, statics: Option<&StaticModes>) 
     (Mat::from_fn(n, columns.len(), |i, j| columns[j][i]), modes)
 }
 
-/// Every mode must move mass: a mode whose nodes only turn, at nodes without rotary inertia (a beam
-/// twisted about its own axis), has no modal mass and would make the body's mass matrix singular. The
-/// test is scale-free: the mode's mean squared translation of mass `φᵀMφ / m` against its largest
-/// nodal motion `|u|² + (L |θ|)²`, with `L` the size of the mesh.
-fn massive_modes(
-    model: &FeModel,
-    assembled: &AssembledModel,
-    basis: &Mat<f64>,
-    modal_mass: &Mat<f64>,
-    modes: &[ModeInfo],
-) -> Result<(), FemError> {
+/// The modes that move no mass: a mode whose nodes only turn, at nodes without rotary inertia (a beam
+/// twisted about its own axis, the static mode of a torque about it), has no modal mass and would make
+/// the body's mass matrix singular. The test is scale-free: the mode's mean squared translation of mass
+/// `φᵀMφ / m` against its largest nodal motion `|u|² + (L |θ|)²`, with `L` the size of the mesh.
+fn massless_modes(model: &FeModel, assembled: &AssembledModel, basis: &Mat<f64>, modal_mass: &Mat<f64>) -> Vec<usize> {
     let total_mass: f64 = assembled.mass_points.iter().map(|p| p.mass).sum();
     let size = model.mesh.size();
-    for (j, mode) in modes.iter().enumerate() {
-        let nodal = assembled.dofs.expand(&(0..basis.nrows()).map(|i| basis[(i, j)]).collect::<Vec<_>>());
-        let motion = nodal
-            .chunks(6)
-            .map(|d| d[..3].iter().map(|x| x * x).sum::<f64>() + size * size * d[3..].iter().map(|x| x * x).sum::<f64>())
-            .fold(0.0_f64, f64::max);
-        let mean_square = modal_mass[(j, j)] / total_mass;
-        if mean_square.is_nan() || mean_square <= 1e-12 * motion {
-            let what = mode.load.as_ref().map_or(String::new(), |l| format!(" ({l})"));
-            return Err(FemError::SingularBasis {
-                message: format!(
-                    "mode {}{what} moves no mass: it only turns nodes without rotary inertia; set rotary_inertia = true or drop the mode",
-                    mode.label
-                ),
-            });
-        }
+    (0..basis.ncols())
+        .filter(|&j| {
+            let nodal = assembled.dofs.expand(&(0..basis.nrows()).map(|i| basis[(i, j)]).collect::<Vec<_>>());
+            let motion = nodal
+                .chunks(6)
+                .map(|d| d[..3].iter().map(|x| x * x).sum::<f64>() + size * size * d[3..].iter().map(|x| x * x).sum::<f64>())
+                .fold(0.0_f64, f64::max);
+            let mean_square = modal_mass[(j, j)] / total_mass;
+            mean_square.is_nan() || mean_square <= 1e-12 * motion
+        })
+        .collect()
+}
+
+/// Removes the modes that move no mass from the basis ([`massless_modes`]), each named in a warning:
+/// they have no acceleration in a mechanism (their equation is static, `K a = f`), and the body
+/// becomes rigid against their loads, which then act on the frame and the other modes.
+fn drop_massless_modes(
+    model: &FeModel,
+    assembled: &AssembledModel,
+    (basis, modes): (&mut Mat<f64>, &mut Vec<ModeInfo>),
+    warnings: &mut Vec<String>,
+) {
+    let modal_mass = basis.transpose() * (&assembled.mass * &*basis);
+    let massless = massless_modes(model, assembled, basis, &modal_mass);
+    if massless.is_empty() {
+        return;
     }
-    Ok(())
+    for &j in &massless {
+        let what = modes[j].load.as_ref().map_or(String::new(), |l| format!(" ({l})"));
+        warnings.push(format!(
+            "mode {}{what} moves no mass (it only turns nodes without rotary inertia): dropped from the basis, the body is \
+             rigid against it; set rotary_inertia = true to keep it",
+            modes[j].label
+        ));
+    }
+    let kept: Vec<usize> = (0..basis.ncols()).filter(|j| !massless.contains(j)).collect();
+    *basis = Mat::from_fn(basis.nrows(), kept.len(), |i, k| basis[(i, kept[k])]);
+    *modes = kept.iter().map(|&j| modes[j].clone()).collect();
 }
 
 /// Smallest eigenvalue of `D^{-1/2} G D^{-1/2}` (`D` the diagonal of `G`).

@@ -6,6 +6,7 @@
 
 use faer::prelude::*;
 
+use super::massless_motions::check_massless_motions_held;
 use super::memory::{analysis_bytes, format_bytes, MemoryLimit};
 use super::redundancy::{dependency_of, find_redundant_rows, violated_rows, RedundantConstraint, ViolatedEquation};
 use super::static_deformation::static_deformation_step;
@@ -122,6 +123,20 @@ pub enum AssemblyError {
         /// What it is.
         value: f64,
     },
+    /// A motion of a flexible body carries no mass and no constraint in force holds it: its
+    /// acceleration is undetermined ([`ModalBody::massless_motions`](crate::body::ModalBody::massless_motions)).
+    #[error(
+        "flexible body '{body}': {motion} carries no mass (its nodes have no rotary inertia and lie on that axis, \
+         as a straight beam's do) and no joint holds it, so its acceleration is undetermined: attach a joint that \
+         holds that rotation, or give the body rotary inertia (rotary_inertia = true in its FE model, or a [[mass]] \
+         with rotary_inertia at a node)"
+    )]
+    MasslessMotion {
+        /// The body.
+        body: String,
+        /// The motion, in words (axis and point in the body frame).
+        motion: String,
+    },
     /// The workspace or the state is not of the model's sizes (made for another model).
     #[error(transparent)]
     SizeMismatch(#[from] SizeMismatch),
@@ -214,6 +229,8 @@ pub fn assemble(
         let dependency = dependency_of(model, data, &state.active, &violated[0]);
         return Err(AssemblyError::SingularPosition { t: state.t, level: "position", violated, dependency });
     }
+    run_kinematic_stages(model, data, state.t, &state.q, &state.v);
+    check_massless_motions_held(model, data, &state.q, &state.active)?;
     Ok(AssemblyReport {
         iterations,
         initial_residual,

@@ -8,6 +8,7 @@ mod check;
 mod equilibrium;
 mod eigen_analysis;
 mod linearization;
+mod massless_motions;
 mod memory;
 mod mode_tracking;
 mod operating_point;

@@ -114,8 +114,10 @@ impl ModelBuilder {
 
     /// Adds a flexible body. Its rigid properties (mass, centre of mass, inertia about it) are those
     /// of the undeformed FE model, from the invariants. The sizes of the modal description must agree
-    /// with its number of modes, its values be finite and the mass matrix of the undeformed body
-    /// positive definite.
+    /// with its number of modes, its values be finite and its modal mass positive definite; a motion
+    /// of its frame without mass (a straight beam's spin about its axis, without rotary inertia) is
+    /// allowed here and must be held by the joints, which the assembly checks
+    /// ([`ModalBody::massless_motions`]).
     pub fn add_flexible_body(
         &mut self,
         name: impl Into<String>,

@@ -1,16 +1,14 @@
 //! Validation of flexible bodies and of markers at their nodes.
 
-use nalgebra::DMatrix;
-
 use super::{BodyRef, ModelError};
 use crate::body::{Marker, ModalBody, RigidBody};
-use crate::math::skew;
 
 fn bad(name: &str, problem: String) -> ModelError {
     ModelError::BadValue { element: "body", name: name.to_string(), problem }
 }
 
-/// Sizes agree, values are finite, and the mass matrix of the undeformed body is positive definite.
+/// Sizes agree, values are finite, and the modal mass is positive definite (the frame's own motions
+/// may carry no mass: see [`ModalBody::massless_motions`]).
 pub(super) fn check_flexible_body(body: &RigidBody, modal: &ModalBody) -> Result<(), ModelError> {
     let name = &body.name;
     let inv = &modal.invariants;
@@ -66,51 +64,21 @@ pub(super) fn check_flexible_body(body: &RigidBody, modal: &ModalBody) -> Result
         return Err(ModelError::NonPositiveMass { body: name.clone(), mass: inv.mass });
     }
     super::rigid_checks::check_frame(&format!("body '{name}' initial orientation"), &body.initial.orientation.rotation_matrix())?;
-    let mass = undeformed_mass_matrix(modal);
+    let mass = modal.undeformed_mass_matrix();
     if !mass.iter().all(|x| x.is_finite()) || !modal.stiffness.iter().all(|x| x.is_finite()) {
         return Err(bad(name, "the invariants or the modal stiffness are not finite".into()));
     }
-    if nalgebra::Cholesky::new(mass).is_none() {
+    // The frame may have a motion without mass (a straight beam's spin about its axis) when joints
+    // hold it (checked by the assembly); the modes may not: nothing else would give them accelerations.
+    if m > 0 && nalgebra::Cholesky::new(inv.modal_mass()).is_none() {
         return Err(bad(
             name,
-            "the mass matrix of the undeformed body is not positive definite: some motion (a spin about a beam's axis, \
-             a mode that only turns nodes) carries no mass; lump rotary inertia in the FE model"
+            "the modal mass is not positive definite: some combination of the modes only turns nodes without \
+             rotary inertia (a twist of a beam) and carries no mass; drop those modes or lump rotary inertia in the FE model"
                 .into(),
         ));
     }
     Ok(())
-}
-
-/// The `(6 + m)`-square mass matrix at `a = 0` in the body frame (`A = I`).
-fn undeformed_mass_matrix(modal: &ModalBody) -> DMatrix<f64> {
-    let inv = &modal.invariants;
-    let m = modal.modes();
-    let n = 6 + m;
-    let mut mass = DMatrix::zeros(n, n);
-    let s_tilde = skew(&inv.c1);
-    let j = inv.undeformed_inertia();
-    let coupling = &inv.c6 + &inv.rotary_coupling;
-    let modal_mass = inv.modal_mass();
-    for r in 0..3 {
-        mass[(r, r)] = inv.mass;
-        for c in 0..3 {
-            mass[(r, 3 + c)] = -s_tilde[(r, c)];
-            mass[(3 + c, r)] = -s_tilde[(r, c)];
-            mass[(3 + r, 3 + c)] = j[(r, c)];
-        }
-        for k in 0..m {
-            mass[(r, 6 + k)] = inv.c2[(r, k)];
-            mass[(6 + k, r)] = inv.c2[(r, k)];
-            mass[(3 + r, 6 + k)] = coupling[(r, k)];
-            mass[(6 + k, 3 + r)] = coupling[(r, k)];
-        }
-    }
-    for a in 0..m {
-        for b in 0..m {
-            mass[(6 + a, 6 + b)] = modal_mass[(a, b)];
-        }
-    }
-    mass
 }
 
 /// A marker on a flexible body sits at one of its nodes; a marker on a rigid body does not name one.
