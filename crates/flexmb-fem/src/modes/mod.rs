@@ -9,6 +9,7 @@
 
 mod dense;
 mod lanczos;
+mod nested_dissection;
 pub mod rigid;
 pub mod shift_invert;
 
