@@ -3,7 +3,7 @@
 //! mass points (one per node for the lumped mass, the elements' Gauss points for the consistent
 //! one), from which the mass matrix and its square-root factor follow.
 
-use faer::sparse::{SparseColMat, Triplet};
+use faer::sparse::{SparseColMat, SymbolicSparseColMat, Triplet};
 use nalgebra::{Matrix3, Vector3};
 
 use crate::element::{element_matrices, MassPoint, NodalMass};
@@ -304,8 +304,8 @@ pub fn assemble(model: &FeModel) -> Result<AssembledModel, FemError> {
         return Err(FemError::NoMass);
     }
     let n = dofs.n_free();
-    let stiffness = SparseColMat::try_new_from_triplets(n, n, &stiffness_triplets)
-        .map_err(|e| FemError::LinearAlgebra(format!("stiffness assembly: {e:?}")))?;
+    let stiffness = compressed_columns(n, &stiffness_triplets).map_err(|e| FemError::LinearAlgebra(format!("stiffness assembly: {e}")))?;
+    drop(stiffness_triplets);
     let mass = mass_matrix(&dofs, &mass_points)?;
     let element_points = mass_points.len() - imported_points;
     let mass_root = mass_root(&dofs, &mass_points[..element_points], &root_rows)?;
@@ -401,8 +401,49 @@ fn mass_matrix(dofs: &DofMap, points: &[MassPoint]) -> Result<SparseColMat<usize
         }
     }
     let n = dofs.n_free();
-    SparseColMat::try_new_from_triplets(n, n, &triplets)
-        .map_err(|e| FemError::LinearAlgebra(format!("mass assembly: {e:?}")))
+    compressed_columns(n, &triplets).map_err(|e| FemError::LinearAlgebra(format!("mass assembly: {e}")))
+}
+
+/// The `n × n` compressed-column matrix of the sum of `triplets` (the duplicates added), built by a
+/// counting sort on the columns and a sort of each column's few rows. faer's general conversion
+/// sorts all the triplets at once, which took a quarter of the reduction of a 220,515-dof solid
+/// (33 million stiffness triplets, assembled twice).
+fn compressed_columns(n: usize, triplets: &[Triplet<usize, usize, f64>]) -> Result<SparseColMat<usize, f64>, String> {
+    if let Some(t) = triplets.iter().find(|t| t.row >= n || t.col >= n) {
+        return Err(format!("entry ({}, {}) outside the {n} equations", t.row, t.col));
+    }
+    let mut start = vec![0usize; n + 1];
+    for t in triplets {
+        start[t.col + 1] += 1;
+    }
+    for j in 0..n {
+        start[j + 1] += start[j];
+    }
+    let mut next = start.clone();
+    let mut entries = vec![(0usize, 0.0f64); triplets.len()];
+    for t in triplets {
+        entries[next[t.col]] = (t.row, t.val);
+        next[t.col] += 1;
+    }
+    let mut col_ptr = Vec::with_capacity(n + 1);
+    let (mut row_idx, mut values) = (Vec::new(), Vec::new());
+    col_ptr.push(0);
+    for j in 0..n {
+        let column = &mut entries[start[j]..start[j + 1]];
+        column.sort_unstable_by_key(|&(row, _)| row);
+        let first = row_idx.len();
+        for &(row, value) in column.iter() {
+            if row_idx.len() > first && row_idx.last() == Some(&row) {
+                *values.last_mut().expect("a value per row index") += value;
+            } else {
+                row_idx.push(row);
+                values.push(value);
+            }
+        }
+        col_ptr.push(row_idx.len());
+    }
+    let symbolic = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
+    Ok(SparseColMat::new(symbolic, values))
 }
 
 /// The square-root factor `F` of the mass (`Fᵀ F = M`), one row per massive translation or rotation

@@ -3,10 +3,10 @@
 //! mesh, generated in memory, is a steel plate-like link 1.2 m × 0.3 m × 20 mm of C3D8I bricks (240 ×
 //! 60 × 4 cells, 73,505 nodes), with a reference node at each end coupled rigidly to its end face and
 //! held in its six dofs (the interface). The whole reduction is timed: assembly (of the supported and
-//! the free model), the fixed-interface modes (shift-invert Lanczos on a sparse Cholesky factor with
-//! faer's AMD ordering), the constraint modes (12 solves with the same factor), the
-//! orthonormalization and the inertia invariants. Not in the default run (about 70 s of CPU and
-//! 2.5 GiB; docs/preprocessor.md, "Cost").
+//! the free model), the fixed-interface modes (block shift-invert Lanczos, blocks of 12 vectors, on a
+//! sparse Cholesky factor, nested dissection ordering), the constraint modes (one solve with 12
+//! right-hand sides with the same factor), the orthonormalization and the inertia invariants. Not in
+//! the default run (about 28 s of CPU and 2.2 GiB; docs/preprocessor.md, "Cost").
 
 use std::time::Instant;
 
@@ -101,7 +101,7 @@ pub fn run(repeat: usize) -> Result<(), String> {
     );
     println!(
         "(best of {repeat} runs; mesh of {} C3D8I bricks generated in {mesh_seconds:.2} s, not counted; f: fixed-interface \
-         frequencies; sparse Cholesky with faer's AMD ordering, shift-invert Lanczos; peak: the process's resident high-water mark)",
+         frequencies; sparse Cholesky with nested dissection or AMD ordering (the smaller factor), block shift-invert Lanczos (blocks of 12); peak: the process's resident high-water mark)",
         model.mesh.elements.len()
     );
     Ok(())

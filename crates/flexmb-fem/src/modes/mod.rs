@@ -9,6 +9,7 @@
 
 mod dense;
 mod lanczos;
+mod nested_dissection;
 pub mod rigid;
 pub mod shift_invert;
 
@@ -188,8 +189,9 @@ pub fn vibration_modes_and_operator(
     };
     let mut shapes = operator.mode_shapes(z.as_ref());
     let mut eigenvalues = Vec::with_capacity(count);
+    let (k_norms, m_norms) = (quadratic_forms(&assembled.stiffness, &shapes), quadratic_forms(&assembled.mass, &shapes));
     for j in 0..shapes.ncols() {
-        let (k_norm, m_norm) = (quadratic_form(&assembled.stiffness, &shapes, j), quadratic_form(&assembled.mass, &shapes, j));
+        let (k_norm, m_norm) = (k_norms[j], m_norms[j]);
         let scale = 1.0 / m_norm.sqrt();
         for i in 0..n {
             shapes[(i, j)] *= scale;
@@ -266,11 +268,10 @@ fn massive_dofs(assembled: &AssembledModel) -> usize {
     diagonal(&assembled.mass).iter().filter(|&&m| m > 0.0).count()
 }
 
-/// `φⱼᵀ A φⱼ`.
-fn quadratic_form(a: &faer::sparse::SparseColMat<usize, f64>, shapes: &Mat<f64>, j: usize) -> f64 {
-    let column = shapes.col(j);
-    let product = a * column;
-    (0..column.nrows()).map(|i| column[i] * product[i]).sum()
+/// `φⱼᵀ A φⱼ` of every column `j` (one product with all the columns).
+fn quadratic_forms(a: &faer::sparse::SparseColMat<usize, f64>, shapes: &Mat<f64>) -> Vec<f64> {
+    let product = a * shapes;
+    (0..shapes.ncols()).map(|j| (0..shapes.nrows()).map(|i| shapes[(i, j)] * product[(i, j)]).sum()).collect()
 }
 
 fn sort_modes(eigenvalues: &mut [f64], shapes: &mut Mat<f64>) {
@@ -300,6 +301,7 @@ fn check_mechanisms(assembled: &AssembledModel, eigenvalues: &[f64], rigid: usiz
 fn max_residual(assembled: &AssembledModel, eigenvalues: &[f64], shapes: &Mat<f64>) -> (usize, f64) {
     let k_phi = &assembled.stiffness * shapes;
     let m_phi = &assembled.mass * shapes;
+    let (k_rounding, m_rounding) = (absolute_product_norms(&assembled.stiffness, shapes), absolute_product_norms(&assembled.mass, shapes));
     let mut worst = (0, 0.0_f64);
     for (j, lambda) in eigenvalues.iter().enumerate() {
         let mut residual = 0.0_f64;
@@ -310,7 +312,7 @@ fn max_residual(assembled: &AssembledModel, eigenvalues: &[f64], shapes: &Mat<f6
         }
         let rounding = ROUNDING_FACTOR
             * f64::EPSILON
-            * (absolute_product_norm(&assembled.stiffness, shapes, j) + lambda.abs() * absolute_product_norm(&assembled.mass, shapes, j));
+            * (k_rounding[j] + lambda.abs() * m_rounding[j]);
         let relative = (residual.sqrt() - rounding).max(0.0) / norm.sqrt().max(f64::MIN_POSITIVE);
         if relative > worst.1 {
             worst = (j, relative);
@@ -323,15 +325,19 @@ fn max_residual(assembled: &AssembledModel, eigenvalues: &[f64], shapes: &Mat<f6
 /// few terms per row of an FE matrix and the rounding of `φ` itself.
 const ROUNDING_FACTOR: f64 = 16.0;
 
-/// `‖|A| |φ_j|‖`, the size of the terms that the product `A φ_j` sums.
-fn absolute_product_norm(a: &faer::sparse::SparseColMat<usize, f64>, shapes: &Mat<f64>, j: usize) -> f64 {
+/// `‖|A| |φ_j|‖` of every column `j`, the size of the terms that the product `A φ_j` sums (one pass
+/// over `A` for all the columns).
+fn absolute_product_norms(a: &faer::sparse::SparseColMat<usize, f64>, shapes: &Mat<f64>) -> Vec<f64> {
     let (col_ptr, row_idx, values) = (a.col_ptr(), a.row_idx(), a.val());
-    let mut sum = vec![0.0; a.nrows()];
+    let count = shapes.ncols();
+    let mut sum = vec![0.0; a.nrows() * count];
+    let mut x = vec![0.0; count];
     for col in 0..a.ncols() {
-        let x = shapes[(col, j)].abs();
+        x.iter_mut().enumerate().for_each(|(j, x)| *x = shapes[(col, j)].abs());
         for k in col_ptr[col]..col_ptr[col + 1] {
-            sum[row_idx[k]] += values[k].abs() * x;
+            let (row, v) = (row_idx[k], values[k].abs());
+            sum[row * count..(row + 1) * count].iter_mut().zip(&x).for_each(|(s, x)| *s += v * x);
         }
     }
-    sum.iter().map(|s| s * s).sum::<f64>().sqrt()
+    (0..count).map(|j| (0..a.nrows()).map(|row| sum[row * count + j].powi(2)).sum::<f64>().sqrt()).collect()
 }

@@ -14,7 +14,11 @@
 use faer::linalg::solvers::Solve;
 use faer::matrix_free::LinOp;
 use faer::prelude::*;
+use faer::dyn_stack::MemBuffer;
+use faer::perm::PermRef;
+use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, LltRef, SymbolicCholesky, SymmetricOrdering};
 use faer::sparse::linalg::LltError;
+use faer::Conj;
 use faer::sparse::SparseColMat;
 use faer::{dyn_stack::MemStack, dyn_stack::StackReq, MatMut, MatRef, Par, Side};
 
@@ -25,7 +29,7 @@ use crate::assembly::AssembledModel;
 pub struct ShiftInvert {
     /// The shift σ of `K + σ M` (1/s²).
     pub shift: f64,
-    factor: faer::sparse::linalg::solvers::Llt<usize, f64>,
+    factor: Factor,
     /// `F` (r × n).
     mass_root: SparseColMat<usize, f64>,
     /// `Fᵀ` (n × r).
@@ -47,7 +51,7 @@ impl ShiftInvert {
             let scaled = scale_sparse(&assembled.mass, shift);
             &assembled.stiffness + &scaled
         };
-        let factor = shifted.sp_cholesky(Side::Lower)?;
+        let factor = Factor::new(&shifted)?;
         let mass_root = assembled.mass_root.clone();
         let mass_root_transpose = mass_root.transpose().to_col_major().expect("the transpose of a valid sparse matrix");
         let mut deflation = &mass_root * rigid;
@@ -126,6 +130,37 @@ impl LinOp<f64> for ShiftInvert {
 
     fn conj_apply(&self, out: MatMut<'_, f64>, rhs: MatRef<'_, f64>, par: Par, stack: &mut MemStack) {
         self.apply(out, rhs, par, stack);
+    }
+}
+
+/// The sparse Cholesky factor of the shifted stiffness, with the fill-reducing ordering of the two
+/// below that gives the smaller factor: faer's approximate minimum degree (AMD), or the nested
+/// dissection of [`nested_dissection`](super::nested_dissection), which on the 220,515-dof solid of
+/// the `solid-reduction` benchmark has 18 % fewer nonzeros (159 million against 193 million) and
+/// factors faster. Both symbolic analyses are cheap next to the numeric factorization.
+#[derive(Debug)]
+struct Factor {
+    symbolic: SymbolicCholesky<usize>,
+    values: Vec<f64>,
+}
+
+impl Factor {
+    fn new(a: &SparseColMat<usize, f64>) -> Result<Self, LltError> {
+        let analyse = |ordering| factorize_symbolic_cholesky(a.symbolic(), Side::Lower, ordering, Default::default()).map_err(LltError::Generic);
+        let amd = analyse(SymmetricOrdering::Amd)?;
+        let (order, inverse) = super::nested_dissection::nested_dissection(a);
+        let dissection = analyse(SymmetricOrdering::Custom(PermRef::new_checked(&order, &inverse, a.ncols())))?;
+        let symbolic = if dissection.len_val() < amd.len_val() { dissection } else { amd };
+        let mut values = vec![0.0; symbolic.len_val()];
+        let scratch = symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default());
+        symbolic.factorize_numeric_llt(&mut values, a.as_ref(), Side::Lower, Default::default(), Par::Seq, MemStack::new(&mut MemBuffer::new(scratch)), Default::default())?;
+        Ok(Factor { symbolic, values })
+    }
+
+    /// Solves `A x = b` in place for the columns of `b` (one pass over the factor for all of them).
+    fn solve_in_place(&self, rhs: MatMut<'_, f64>) {
+        let scratch = self.symbolic.solve_in_place_scratch::<f64>(rhs.ncols(), Par::Seq);
+        LltRef::<usize, f64>::new(&self.symbolic, &self.values).solve_in_place_with_conj(Conj::No, rhs, Par::Seq, MemStack::new(&mut MemBuffer::new(scratch)));
     }
 }
 
