@@ -595,6 +595,13 @@ impl GeneralizedAlpha {
                 self.stats.error_test_failures += 1;
                 failure = AttemptFailure::ErrorTest { error_norm };
                 h = h_step * (SAFETY * error_norm.powf(-1.0 / self.tolerances.error_power(h_step, 3))).max(MIN_FACTOR);
+                if self.singular.asked.is_some() {
+                    // A step moved across a singular position ends as far past it as it starts before it,
+                    // whatever the step asked for within `[4/3, 2]` times that distance: retried at a factor
+                    // above 2/3 it would be the same step with the same error, for ever (the four-bar at 1e-9,
+                    // at its sixth position). At most half of it ends before the position instead.
+                    h = h.min(0.5 * h_step);
+                }
                 rejected = true;
                 continue;
             }
