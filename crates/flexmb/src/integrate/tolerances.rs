@@ -17,8 +17,8 @@ use super::ToleranceSpan;
 /// component weighted by `atol + rtol |y|`, is at most `h / span` (error per unit step, Shampine 1994
 /// §1.5): the local errors of the steps of one span then add up to at most the tolerance, whatever the
 /// number of steps. The share `h / span` is never below what the arithmetic resolves in one step,
-/// `1e-12 / rtol`. With [`ToleranceSpan::Step`] (the default) the test is the classical one, at most 1
-/// per step.
+/// `1e-12 / rtol`. The span is by default the run's length ([`ToleranceSpan::Run`]); with
+/// [`ToleranceSpan::Step`] the test is the classical one, at most 1 per step.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tolerances {
     /// Relative tolerance of the global error of positions and velocities. Default `1e-6`; at least
@@ -30,7 +30,8 @@ pub struct Tolerances {
     /// size `h` may make `h / span` of it (error per unit step), and the global error then falls in
     /// proportion to the tolerance. [`ToleranceSpan::Run`], the run's length, keeps the promise: the 3-D
     /// slider-crank over 5 s 3.6 to 4.4 tolerances from 1e-3 to 1e-8 with the BDF (a fixed 1 s: 13 to
-    /// 20). Default [`ToleranceSpan::Step`], the classical error per step (360 to 6,500 there).
+    /// 20; [`ToleranceSpan::Step`], the classical error per step: 360 to 6,500). Default
+    /// [`ToleranceSpan::Run`].
     pub span: ToleranceSpan,
     /// Largest step (s). Default unlimited.
     pub h_max: f64,
@@ -42,7 +43,7 @@ pub struct Tolerances {
 
 impl Default for Tolerances {
     fn default() -> Self {
-        Self { rtol: 1e-6, atol: 1e-6, span: ToleranceSpan::Step, h_max: f64::INFINITY, h_init: None, max_steps: 10_000_000 }
+        Self { rtol: 1e-6, atol: 1e-6, span: ToleranceSpan::Run, h_max: f64::INFINITY, h_init: None, max_steps: 10_000_000 }
     }
 }
 
@@ -104,6 +105,34 @@ impl Tolerances {
             (h / span).clamp(floor, 1.0)
         } else {
             1.0
+        }
+    }
+
+    /// The share of the tolerance a first-order step of size `h` may spend: the geometric mean
+    /// `√(h / span)` of error per unit step and error per step (at least [`step_share`](Self::step_share)).
+    ///
+    /// A first-order step's local error falls as `h²`, so error per unit step, `h²/2 |ÿ| ≤ tol h / span`,
+    /// asks `h ∝ tol` and a number of steps inversely proportional to the tolerance (a generated model of
+    /// 0.05 s with `max_order = 1` at 1e-6: more than 466,000 steps, against 1,042 with error per step).
+    /// With this floor the steps are `h ∝ tol^(2/3)`. What it adds to the promise is bounded by
+    /// Cauchy–Schwarz: the shares of `N₁` first-order steps add up to `Σ √(hᵢ / span) ≤ √(N₁ Σ hᵢ / span)
+    /// ≤ √N₁` tolerances. It is the share of a BDF held to order 1 (`max_order = 1`), first order
+    /// throughout: its error is then at most about `√N₁` tolerances, falling as `tol^(2/3)`, as no
+    /// first-order method keeps a global error proportional to the tolerance at a number of steps that
+    /// does not grow as `1 / tol`. At the default orders the promise is kept by the higher orders, and
+    /// order 1 (the first steps, the restarts after three failed attempts) keeps `h / span`.
+    pub(crate) fn first_order_share(&self, h: f64) -> f64 {
+        self.step_share(h).sqrt()
+    }
+
+    /// The power of `h` in the ratio of a first-order estimate (of order `h²`) to
+    /// [`first_order_share`](Self::first_order_share): 1.5 while the share is `√(h / span)`, 2 where it is
+    /// bounded.
+    pub(crate) fn first_order_error_power(&self, h: f64) -> f64 {
+        if self.per_unit_step(h) {
+            1.5
+        } else {
+            2.0
         }
     }
 
@@ -169,6 +198,22 @@ mod tests {
         assert_eq!(finest.error_power(1e-9, 4), 4.0);
         let per_step = Tolerances { span: ToleranceSpan::Step, ..Tolerances::default() };
         assert_eq!((per_step.step_share(1e-3), per_step.error_power(1e-3, 4)), (1.0, 4.0));
+        assert_eq!((per_step.first_order_share(1e-3), per_step.first_order_error_power(1e-3)), (1.0, 2.0));
+    }
+
+    /// A first-order step's share is `√(h / span)`: `N` equal first-order steps over a span spend `√N`
+    /// tolerances, and unequal ones no more (Cauchy–Schwarz).
+    #[test]
+    fn first_order_steps_spend_at_most_the_root_of_their_number() {
+        let tolerances = Tolerances { span: ToleranceSpan::Seconds(2.0), ..Tolerances::new(1e-3, 1e-3) };
+        for n in [4, 100, 1000] {
+            let h = 2.0 / n as f64;
+            let total: f64 = (0..n).map(|_| tolerances.first_order_share(h)).sum();
+            assert!((total - (n as f64).sqrt()).abs() < 1e-9 * total, "{n} steps: {total}");
+            assert_eq!(tolerances.first_order_error_power(h), 1.5);
+            let uneven: f64 = (0..n).map(|i| tolerances.first_order_share(h * 2.0 * (i as f64 + 0.5) / n as f64)).sum();
+            assert!(uneven <= (n as f64).sqrt(), "{n} uneven steps: {uneven}");
+        }
     }
 
     /// Tolerances finer than the arithmetic allows are raised to the finest, and the message says which
