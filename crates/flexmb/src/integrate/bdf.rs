@@ -122,9 +122,6 @@ pub struct Bdf {
     res: Vec<f64>,
     yp: Vec<f64>,
     scale: Vec<f64>,
-    /// The factor of each component's error weight: a modal rate's is its mode's frequency over one
-    /// second ([`modal_rate_weights`](super::modal_rate_weights)), every other component's 1.
-    weight_factor: Vec<f64>,
     change_tmp: Vec<f64>,
     /// The counters so far.
     pub stats: Stats,
@@ -188,8 +185,6 @@ impl Bdf {
         data.angle_reference.copy_from_slice(&references);
         let jac = IterationMatrix::new(&model, &yl);
         let singular = SingularPassage::new(&model, &state.active, tolerances.rtol);
-        let mut weight_factor = vec![1.0; n];
-        weight_factor[yl.v.clone()].copy_from_slice(&super::modal_rate_weights::velocity_weight_factors(&model));
         let mut bdf = Self {
             model,
             yl,
@@ -222,7 +217,6 @@ impl Bdf {
             res: vec![0.0; n],
             yp: yp0,
             scale: vec![0.0; n],
-            weight_factor,
             change_tmp: vec![0.0; (MAX_ORDER + 1) * n],
             stats: Stats::default(),
             data,
@@ -630,7 +624,7 @@ impl Bdf {
         }
         let Tolerances { atol, rtol, .. } = self.tolerances;
         for k in 0..n {
-            self.scale[k] = error_weight(atol, rtol, self.y_pred[k]) * self.weight_factor[k];
+            self.scale[k] = error_weight(atol, rtol, self.y_pred[k]);
         }
     }
 
@@ -648,7 +642,7 @@ impl Bdf {
     fn local_error(&mut self) -> f64 {
         let Tolerances { atol, rtol, .. } = self.tolerances;
         for k in 0..self.n_diff {
-            self.scale[k] = error_weight(atol, rtol, self.y_new[k]) * self.weight_factor[k];
+            self.scale[k] = error_weight(atol, rtol, self.y_new[k]);
         }
         let order = self.order;
         let share = self.step_share();

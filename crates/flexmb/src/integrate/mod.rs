@@ -33,7 +33,6 @@ mod error_norm;
 pub mod generalized_alpha;
 mod integrator;
 mod iteration_matrix;
-mod modal_rate_weights;
 mod newton;
 mod newton_rounding;
 mod share_floor;
