@@ -10,6 +10,21 @@ use crate::measure::{Measure, MeasureKind};
 use crate::model::{BodyRef, Model, ModelBuilder, OutputKind};
 use crate::Data;
 
+/// A flexible strip of two lumped nodes (1 kg each, rotary inertia 1e-3 kg m², at x = 0 and 1 m) whose
+/// one mode moves the far node by 1 m along z and turns both by 1 rad about −y: modal mass 1 + 2e-3,
+/// modal stiffness `stiffness`.
+pub fn two_node_strip(stiffness: f64) -> crate::body::ModalBody {
+    use nalgebra::{DMatrix, Matrix3xX};
+    let node = |x: f64| crate::body::LumpedNode {
+        position: Vec3::new(x, 0.0, 0.0),
+        mass: 1.0,
+        rotary_inertia: Mat3::identity() * 1e-3,
+        psi: Matrix3xX::from_column_slice(&[0.0, 0.0, x]),
+        theta: Matrix3xX::from_column_slice(&[0.0, -1.0, 0.0]),
+    };
+    crate::body::ModalBody::from_lumped_nodes(&[node(0.0), node(1.0)], DMatrix::from_element(1, 1, stiffness)).unwrap()
+}
+
 /// `model` assembled, its velocities moved off zero (by `0.1 sin k`) and made consistent, with the
 /// accelerations and multipliers there: a state at which every term of the equations of motion is
 /// alive, for finite-difference tests.

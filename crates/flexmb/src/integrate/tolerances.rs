@@ -107,6 +107,34 @@ impl Tolerances {
         }
     }
 
+    /// The share of the tolerance a first-order step of size `h` may spend: the geometric mean
+    /// `√(h / span)` of error per unit step and error per step (at least [`step_share`](Self::step_share)).
+    ///
+    /// A first-order step's local error falls as `h²`, so error per unit step, `h²/2 |ÿ| ≤ tol h / span`,
+    /// asks `h ∝ tol` and a number of steps inversely proportional to the tolerance (a generated model of
+    /// 0.05 s with `max_order = 1` at 1e-6: more than 466,000 steps, against 1,042 with error per step).
+    /// With this floor the steps are `h ∝ tol^(2/3)`. What it adds to the promise is bounded by
+    /// Cauchy–Schwarz: the shares of `N₁` first-order steps add up to `Σ √(hᵢ / span) ≤ √(N₁ Σ hᵢ / span)
+    /// ≤ √N₁` tolerances. It is the share of a BDF held to order 1 (`max_order = 1`), first order
+    /// throughout: its error is then at most about `√N₁` tolerances, falling as `tol^(2/3)`, as no
+    /// first-order method keeps a global error proportional to the tolerance at a number of steps that
+    /// does not grow as `1 / tol`. At the default orders the promise is kept by the higher orders, and
+    /// order 1 (the first steps, the restarts after three failed attempts) keeps `h / span`.
+    pub(crate) fn first_order_share(&self, h: f64) -> f64 {
+        self.step_share(h).sqrt()
+    }
+
+    /// The power of `h` in the ratio of a first-order estimate (of order `h²`) to
+    /// [`first_order_share`](Self::first_order_share): 1.5 while the share is `√(h / span)`, 2 where it is
+    /// bounded.
+    pub(crate) fn first_order_error_power(&self, h: f64) -> f64 {
+        if self.per_unit_step(h) {
+            1.5
+        } else {
+            2.0
+        }
+    }
+
     /// Whether the share of a step of size `h` is `h / span` (not bounded by 1 or by the rounding floor).
     fn per_unit_step(&self, h: f64) -> bool {
         let share = h / self.span.seconds();
@@ -169,6 +197,22 @@ mod tests {
         assert_eq!(finest.error_power(1e-9, 4), 4.0);
         let per_step = Tolerances { span: ToleranceSpan::Step, ..Tolerances::default() };
         assert_eq!((per_step.step_share(1e-3), per_step.error_power(1e-3, 4)), (1.0, 4.0));
+        assert_eq!((per_step.first_order_share(1e-3), per_step.first_order_error_power(1e-3)), (1.0, 2.0));
+    }
+
+    /// A first-order step's share is `√(h / span)`: `N` equal first-order steps over a span spend `√N`
+    /// tolerances, and unequal ones no more (Cauchy–Schwarz).
+    #[test]
+    fn first_order_steps_spend_at_most_the_root_of_their_number() {
+        let tolerances = Tolerances { span: ToleranceSpan::Seconds(2.0), ..Tolerances::new(1e-3, 1e-3) };
+        for n in [4, 100, 1000] {
+            let h = 2.0 / n as f64;
+            let total: f64 = (0..n).map(|_| tolerances.first_order_share(h)).sum();
+            assert!((total - (n as f64).sqrt()).abs() < 1e-9 * total, "{n} steps: {total}");
+            assert_eq!(tolerances.first_order_error_power(h), 1.5);
+            let uneven: f64 = (0..n).map(|i| tolerances.first_order_share(h * 2.0 * (i as f64 + 0.5) / n as f64)).sum();
+            assert!(uneven <= (n as f64).sqrt(), "{n} uneven steps: {uneven}");
+        }
     }
 
     /// Tolerances finer than the arithmetic allows are raised to the finest, and the message says which

@@ -188,14 +188,7 @@ fn a_measure_needs_a_joint_of_the_right_kind_and_a_component_0_to_2() {
 
 /// A flexible body of two lumped nodes and one mode.
 fn strip() -> ModalBody {
-    let node = |x: f64| LumpedNode {
-        position: Vec3::new(x, 0.0, 0.0),
-        mass: 1.0,
-        rotary_inertia: Mat3::identity() * 1e-3,
-        psi: Matrix3xX::from_column_slice(&[0.0, 0.0, x]),
-        theta: Matrix3xX::from_column_slice(&[0.0, -1.0, 0.0]),
-    };
-    ModalBody::from_lumped_nodes(&[node(0.0), node(1.0)], DMatrix::from_element(1, 1, 100.0)).unwrap()
+    crate::analysis::test_models::two_node_strip(100.0)
 }
 
 #[test]
