@@ -110,7 +110,10 @@ fn the_thresholds_are_settings_of_the_model_file() {
     let s = summary(&dir.join("spin_up.json"));
     assert!(s["t_reached"].as_f64().unwrap() > 12.0, "{}", s["t_reached"]);
     assert_eq!(s["physics_checks"]["elastic_deflection"]["limit"], 1e9, "a limit not given is at least the warning");
-    assert!(s["warnings"].as_array().unwrap().is_empty(), "{}", s["warnings"]);
+    // No warning of the watchdog's; on the approach to the failure the integrator may say its Newton
+    // increments reached the residual's rounding (a `tolerance` warning, not a physics check).
+    let watchdog_warnings: Vec<_> = s["warnings"].as_array().unwrap().iter().filter(|w| w["kind"] != "tolerance").collect();
+    assert!(watchdog_warnings.is_empty(), "{}", s["warnings"]);
 
     // A warning above its limit is a located error.
     let dir = scratch("spin-up-inconsistent");
