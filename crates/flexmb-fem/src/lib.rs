@@ -1,8 +1,8 @@
 //! # flexmb-fem — the finite-element preprocessor of flexmb
 //!
 //! A flexible body of flexmb is built, as in the DADS code of Haug's *Dynamics of Articulated
-//! Structures*, from a lumped-mass finite-element model (or, as an option, one with the consistent
-//! mass): 3D beams and flat shells (membrane plus bending) with 6 degrees of freedom per node, and
+//! Structures*, from a finite-element model (the seed's lumped mass, or the consistent one, the default of
+//! beams and solids): 3D beams and flat shells (membrane plus bending) with 6 degrees of freedom per node, and
 //! solid elements (CalculiX's C3D4 … C3D20R) whose nodes have the three translations, tied to joints
 //! through rigid couplings to reference nodes. This crate
 //!
