@@ -156,8 +156,8 @@ pub fn reduce(model: &FeModel, name: &str, settings: &ReductionSettings) -> Resu
         }
     }
     let (mut basis, mut modes) = raw_basis(set, &fe_modes, static_modes.as_ref());
-    drop_massless_modes(model, assembled, (&mut basis, &mut modes), &mut warnings);
     let mut modal_mass = basis.transpose() * (&assembled.mass * &basis);
+    drop_massless_modes(model, assembled, (&mut basis, &mut modes, &mut modal_mass), &mut warnings);
     let mut modal_stiffness = basis.transpose() * (&assembled.stiffness * &basis);
     let basis_independence = scaled_gram_minimum(&modal_mass)?;
     if basis_independence < DEPENDENT {
@@ -176,11 +176,7 @@ pub fn reduce(model: &FeModel, name: &str, settings: &ReductionSettings) -> Resu
         basis = &basis * &ritz;
         modal_mass = basis.transpose() * (&assembled.mass * &basis);
         modal_stiffness = basis.transpose() * (&assembled.stiffness * &basis);
-        modes = reduced_frequencies_hz
-            .iter()
-            .enumerate()
-            .map(|(j, f)| ModeInfo { label: format!("O{}", j + 1), kind: ModeKind::Orthonormal, frequency_hz: Some(*f), load: None })
-            .collect();
+        modes = orthonormal_modes(&reduced_frequencies_hz);
     }
     let mut body = flexible_body(
         model,
@@ -224,11 +220,7 @@ fn reduce_on_interface(
     let modal_mass = basis.transpose() * (&free.assembled.mass * &basis);
     let modal_stiffness = basis.transpose() * (&free.assembled.stiffness * &basis);
     let reduced_frequencies_hz: Vec<f64> = eigenvalues.iter().map(|l| hz(*l)).collect();
-    let modes = reduced_frequencies_hz
-        .iter()
-        .enumerate()
-        .map(|(j, f)| ModeInfo { label: format!("O{}", j + 1), kind: ModeKind::Orthonormal, frequency_hz: Some(*f), load: None })
-        .collect();
+    let modes = orthonormal_modes(&reduced_frequencies_hz);
     // The geometric stiffness of the unit inertia and interface loads is that of the supported body's
     // statics; an interface set's body is free, so it has none (the field stays absent, and a model
     // asking for stiffening gets the warning of a body without the terms).
@@ -244,6 +236,15 @@ fn reduce_on_interface(
         &raw.fe_modes,
     )?;
     Ok(Reduction { body, fe_modes: raw.fe_modes, static_modes: raw.static_modes, basis_independence, warnings })
+}
+
+/// The modes of an orthonormalized basis, `O1`, `O2`, …, with their reduced frequencies (Hz).
+fn orthonormal_modes(frequencies_hz: &[f64]) -> Vec<ModeInfo> {
+    frequencies_hz
+        .iter()
+        .enumerate()
+        .map(|(j, f)| ModeInfo { label: format!("O{}", j + 1), kind: ModeKind::Orthonormal, frequency_hz: Some(*f), load: None })
+        .collect()
 }
 
 fn hz(eigenvalue: f64) -> f64 {
@@ -298,17 +299,17 @@ fn massless_modes(model: &FeModel, assembled: &AssembledModel, basis: &Mat<f64>,
         .collect()
 }
 
-/// Removes the modes that move no mass from the basis ([`massless_modes`]), each named in a warning:
-/// they have no acceleration in a mechanism (their equation is static, `K a = f`), and the body
-/// becomes rigid against their loads, which then act on the frame and the other modes.
+/// Removes the modes that move no mass from the basis, its mode list and its modal mass
+/// ([`massless_modes`]), each named in a warning: they have no acceleration in a mechanism (their
+/// equation is static, `K a = f`), and the body becomes rigid against their loads, which then act on
+/// the frame and the other modes.
 fn drop_massless_modes(
     model: &FeModel,
     assembled: &AssembledModel,
-    (basis, modes): (&mut Mat<f64>, &mut Vec<ModeInfo>),
+    (basis, modes, modal_mass): (&mut Mat<f64>, &mut Vec<ModeInfo>, &mut Mat<f64>),
     warnings: &mut Vec<String>,
 ) {
-    let modal_mass = basis.transpose() * (&assembled.mass * &*basis);
-    let massless = massless_modes(model, assembled, basis, &modal_mass);
+    let massless = massless_modes(model, assembled, basis, modal_mass);
     if massless.is_empty() {
         return;
     }
@@ -323,6 +324,7 @@ fn drop_massless_modes(
     let kept: Vec<usize> = (0..basis.ncols()).filter(|j| !massless.contains(j)).collect();
     *basis = Mat::from_fn(basis.nrows(), kept.len(), |i, k| basis[(i, kept[k])]);
     *modes = kept.iter().map(|&j| modes[j].clone()).collect();
+    *modal_mass = Mat::from_fn(kept.len(), kept.len(), |i, k| modal_mass[(kept[i], kept[k])]);
 }
 
 /// Smallest eigenvalue of `D^{-1/2} G D^{-1/2}` (`D` the diagonal of `G`).

@@ -229,8 +229,7 @@ pub fn assemble(
         let dependency = dependency_of(model, data, &state.active, &violated[0]);
         return Err(AssemblyError::SingularPosition { t: state.t, level: "position", violated, dependency });
     }
-    run_kinematic_stages(model, data, state.t, &state.q, &state.v);
-    check_massless_motions_held(model, data, &state.q, &state.active)?;
+    check_massless_motions_held(model, data, state)?;
     Ok(AssemblyReport {
         iterations,
         initial_residual,

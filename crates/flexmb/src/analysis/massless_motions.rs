@@ -10,25 +10,31 @@
 
 use nalgebra::{DMatrix, DVector, Vector4};
 
-use super::AssemblyError;
+use super::{AssemblyError, State};
 use crate::data::Data;
 use crate::math::rotation_matrix;
 use crate::model::Model;
-use crate::stage::jacobian_entries;
+use crate::stage::{jacobian_entries, run_kinematic_stages};
 
 /// `|B n|` below this share of the largest entry of `B` on the body's columns: `B` does not hold `n`.
 const NOT_HELD: f64 = 1e-8;
 
-/// Checks, at the state of the last kinematic stages (positions `q`), that the constraint rows in
-/// force (`active`) hold every massless motion of every flexible body.
-pub(crate) fn check_massless_motions_held(model: &Model, data: &Data, q: &[f64], active: &[bool]) -> Result<(), AssemblyError> {
-    let nc = model.layout.nc;
+/// Checks, at the assembled `state`, that its constraint rows in force hold every massless motion of
+/// every flexible body (the kinematic stages are run at the state once a body has such motions).
+pub(crate) fn check_massless_motions_held(model: &Model, data: &mut Data, state: &State) -> Result<(), AssemblyError> {
+    let (nc, q, active) = (model.layout.nc, &state.q, &state.active);
+    let mut staged = false;
     for (b, modal) in model.modal.iter().enumerate() {
         let Some(modal) = modal else { continue };
         let motions = modal.massless_motions();
         if motions.is_empty() {
             continue;
         }
+        if !staged {
+            run_kinematic_stages(model, data, state.t, q, &state.v);
+            staged = true;
+        }
+        let data = &*data;
         let span = model.layout.v_span(b);
         let qo = model.layout.q_offset[b];
         let a = rotation_matrix(&Vector4::new(q[qo + 3], q[qo + 4], q[qo + 5], q[qo + 6]));

@@ -681,7 +681,6 @@ impl Bdf {
         }
     }
 
-
     /// The Newton tolerance of the attempt at the current step's share, the one its iteration is tested
     /// against and the rate monitor predicts for.
     fn newton_tolerance(&self) -> f64 {
@@ -942,7 +941,6 @@ fn compute_r(order: usize, factor: f64) -> [[f64; MAX_ORDER + 1]; MAX_ORDER + 1]
     m
 }
 
-/// First step from the size of the state and its derivative (Hairer, Nørsett and Wanner, II.4).
 /// The power of `h` in the ratio of an estimate of order `h^power` (of the order `power − 1`) to its
 /// share of the tolerance ([`Bdf::share_at_order`]; `first_order_method`: the BDF is held to order 1).
 fn error_power(tolerances: &Tolerances, h: f64, power: usize, first_order_method: bool) -> f64 {
@@ -953,6 +951,7 @@ fn error_power(tolerances: &Tolerances, h: f64, power: usize, first_order_method
     }
 }
 
+/// First step from the size of the state and its derivative (Hairer, Nørsett and Wanner, II.4).
 fn initial_step(tolerances: &Tolerances, y0: &[f64], yp0: &[f64]) -> f64 {
     let Tolerances { atol, rtol, .. } = *tolerances;
     let norm = |x: &[f64]| weighted_rms_norm(x.iter().zip(y0).map(|(&xi, &yi)| (xi, error_weight(atol, rtol, yi))));
