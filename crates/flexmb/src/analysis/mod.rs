@@ -29,6 +29,7 @@ pub mod test_models;
 pub use accelerations::{AccelerationError, AccelerationSolver, Accelerations};
 pub use assembly::{assemble, AssemblyError, AssemblyReport, AssemblySettings, ModalAssembly};
 pub use check::{check_model, CheckReport};
+pub(crate) use massless_motions::massless_gauges;
 pub use equilibrium::{
     equilibrium_outputs, joint_reactions, static_equilibrium, BodyMotion, EquilibriumError, EquilibriumFallback, EquilibriumIteration, EquilibriumMethod,
     EquilibriumReport, EquilibriumSettings, FreeMotion, JointReaction, ReactionSide,

@@ -367,7 +367,8 @@ impl ModelBuilder {
         let equations: Vec<_> = self.joints.iter().map(|j| j.kind.equations()).collect();
         let modes: Vec<usize> = self.modal.iter().map(|m| m.as_ref().map_or(0, ModalBody::modes)).collect();
         let layout = Layout::new(&modes, &equations);
-        (Model {
+        let bodies = self.bodies.len();
+        let mut model = Model {
             name: self.name,
             gravity: self.gravity,
             bodies: self.bodies,
@@ -381,8 +382,10 @@ impl ModelBuilder {
             outputs: self.outputs,
             output_expressions: self.output_expressions,
             layout,
-        })
-        .with_checked_output_expressions()
+            massless_gauges: vec![crate::math::Mat3::zeros(); bodies],
+        };
+        model.massless_gauges = crate::analysis::massless_gauges(&model);
+        model.with_checked_output_expressions()
     }
 
     fn counts(&self) -> Counts {

@@ -63,6 +63,9 @@ pub struct Model {
     /// The expressions of the [`OutputKind::UserExpression`] outputs.
     pub(crate) output_expressions: Vec<UserOutput>,
     pub(crate) layout: Layout,
+    /// The gauge inertia of each body in its angular-velocity block (body frame; zero but for a flexible
+    /// body whose massless spin no joint holds: [`massless_gauges`](crate::analysis::massless_gauges)).
+    pub(crate) massless_gauges: Vec<crate::math::Mat3>,
 }
 
 impl Model {

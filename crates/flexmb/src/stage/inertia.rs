@@ -58,11 +58,20 @@ pub(crate) fn body_mass_entries(model: &Model, data: &Data, b: usize, mut f: imp
 }
 
 /// Calls `f(r, c, value)` for every entry of `∂(inertia forces)/∂v̇` of body `b`: its mass matrix
-/// ([`body_mass_entries`]) and, for a body with geometric stiffening, the derivative of `K_G a` in
-/// the accelerations. The matrix of the acceleration solve, the Newton iterations and the
+/// ([`body_mass_entries`]), the gauge inertia of a massless spin no joint holds (the module
+/// `analysis::massless_motions`) and, for a body with geometric stiffening, the derivative of `K_G a`
+/// in the accelerations. The matrix of the acceleration solve, the Newton iterations and the
 /// linearization; the kinetic energy and the momenta use the mass matrix alone.
 pub(crate) fn inertia_jacobian_entries(model: &Model, data: &Data, b: usize, mut f: impl FnMut(usize, usize, f64)) {
     body_mass_entries(model, data, b, &mut f);
+    let gauge = &model.massless_gauges[b];
+    if gauge.amax() > 0.0 {
+        for r in 0..3 {
+            for c in 0..3 {
+                f(3 + r, 3 + c, gauge[(r, c)]);
+            }
+        }
+    }
     geometric_stiffening_entries(model, data, b, f);
 }
 
@@ -107,7 +116,9 @@ pub(crate) fn inertia_forces(model: &Model, data: &mut Data, vdot: &[f64]) {
             gyro += (inv.c4[k] + ms.c5a[k].transpose()) * ms.a_dot[k];
         }
         let trans = body.mass * rdd - a * s.cross(&wd) + a * c2_add + a * (w.cross(&w.cross(&s)) + 2.0 * w.cross(&c2_ad));
-        let rot = s.cross(&(a.transpose() * rdd)) + j * wd + cp_add + w.cross(&(j * w)) - 2.0 * gyro * w + w.cross(&rotary_ad);
+        // The gauge of a massless spin (zero for most bodies) holds the frame's spin acceleration about it.
+        let gauge = model.massless_gauges[b] * wd;
+        let rot = s.cross(&(a.transpose() * rdd)) + j * wd + gauge + cp_add + w.cross(&(j * w)) - 2.0 * gyro * w + w.cross(&rotary_ad);
         for k in 0..3 {
             data.inertia[o + k] = trans[k];
             data.inertia[o + 3 + k] = rot[k];
