@@ -83,23 +83,29 @@ pub(super) fn interface_basis(
     if set.free_vibration() > 0 && interface.is_empty() {
         return Err(mode_set_error("a free-interface set needs an interface: the supports' held dofs".into()));
     }
-    // The supported model's equations among the free model's.
+    // The supported model's equations among the free model's. The free model holds a dof of each of
+    // its rigid motions that move no mass (a straight beam's spin about its axis without rotary
+    // inertia; `prepare`): the supported model's modes lose their component there, a massless turn.
     let n = dofs.n_free();
     let supported_dofs = &supported.assembled.dofs;
-    let mut to_free = vec![usize::MAX; supported_dofs.n_free()];
+    let mut to_free = vec![None; supported_dofs.n_free()];
     let mut to_supported = vec![None; n];
     for global in 0..6 * model.mesh.nodes.len() {
         if let Some(e) = supported_dofs.equation_of(global) {
+            if free.held_massless.contains(&(global / 6, Dof::ALL[global % 6])) {
+                continue;
+            }
             let f = dofs.equation_of(global).ok_or_else(|| {
                 mode_set_error("a support on a node of a distributing coupling changes which dofs the coupling eliminates: support its reference node instead".into())
             })?;
-            to_free[e] = f;
+            to_free[e] = Some(f);
             to_supported[f] = Some(e);
         }
     }
     let lift = |m: &Mat<f64>| {
         let mut lifted = Mat::zeros(n, m.ncols());
-        for (e, &f) in to_free.iter().enumerate() {
+        for (e, f) in to_free.iter().enumerate() {
+            let Some(f) = *f else { continue };
             for j in 0..m.ncols() {
                 lifted[(f, j)] = m[(e, j)];
             }

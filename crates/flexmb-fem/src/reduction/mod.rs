@@ -6,6 +6,7 @@ mod flexible_body;
 mod geometric_stiffness;
 mod interface_modes;
 mod invariants;
+mod massless_directions;
 mod modal_stress;
 mod mode_set;
 mod serde_matrix;
@@ -28,6 +29,7 @@ use crate::error::FemError;
 use crate::mesh::FeModel;
 use crate::modes::{check_memory, prepare, vibration_modes_of, EigenSettings, VibrationModes};
 use crate::static_correction::{static_correction_modes, StaticModes};
+use massless_directions::drop_massless_directions;
 
 /// What to reduce to.
 #[derive(Clone, Debug, PartialEq)]
@@ -155,9 +157,11 @@ pub fn reduce(model: &FeModel, name: &str, settings: &ReductionSettings) -> Resu
             }
         }
     }
-    let (mut basis, mut modes) = raw_basis(set, &fe_modes, static_modes.as_ref());
-    let mut modal_mass = basis.transpose() * (&assembled.mass * &basis);
-    drop_massless_modes(model, assembled, (&mut basis, &mut modes, &mut modal_mass), &mut warnings);
+    let (mut basis, modes) = raw_basis(set, &fe_modes, static_modes.as_ref());
+    let names: Vec<String> =
+        modes.iter().map(|m| m.load.as_ref().map_or(m.label.clone(), |l| format!("{} ({l})", m.label))).collect();
+    let (mut modal_mass, kept) = drop_massless_directions(model, assembled, &mut basis, &names, &mut warnings);
+    let mut modes: Vec<ModeInfo> = kept.iter().map(|&j| modes[j].clone()).collect();
     let mut modal_stiffness = basis.transpose() * (&assembled.stiffness * &basis);
     let basis_independence = scaled_gram_minimum(&modal_mass)?;
     if basis_independence < DEPENDENT {
@@ -208,10 +212,13 @@ fn reduce_on_interface(
             message: "Craig–Bampton and free-interface sets are orthonormalized (their span holds rigid motions, which the floating frame carries): use the orthonormal basis".into(),
         });
     }
-    let raw = interface_modes::interface_basis(model, supported, set, &settings.eigen)?;
+    let mut raw = interface_modes::interface_basis(model, supported, set, &settings.eigen)?;
+    let mut warnings = warnings;
+    let names: Vec<String> =
+        set.groups.iter().flat_map(|g| (1..=g.count()).map(move |j| format!("{}{j}", g.letter()))).collect();
+    drop_massless_directions(&raw.free.model, &raw.free.assembled, &mut raw.basis, &names, &mut warnings);
     let free = &raw.free;
     let (eigenvalues, basis, basis_independence) = interface_modes::orthonormal_elastic_span(free, &raw.basis, raw.rigid_in_span, set)?;
-    let mut warnings = warnings;
     if basis_independence < NEARLY_DEPENDENT {
         warnings.push(format!(
             "the modes of {set} are nearly dependent (scaled Gram eigenvalue {basis_independence:.1e}) once their rigid motions are removed"
@@ -277,54 +284,6 @@ fn raw_basis(set: &ModeSet, fe: &VibrationModes, statics: Option<&StaticModes>) 
         }
     }
     (Mat::from_fn(n, columns.len(), |i, j| columns[j][i]), modes)
-}
-
-/// The modes that move no mass: a mode whose nodes only turn, at nodes without rotary inertia (a beam
-/// twisted about its own axis, the static mode of a torque about it), has no modal mass and would make
-/// the body's mass matrix singular. The test is scale-free: the mode's mean squared translation of mass
-/// `φᵀMφ / m` against its largest nodal motion `|u|² + (L |θ|)²`, with `L` the size of the mesh.
-fn massless_modes(model: &FeModel, assembled: &AssembledModel, basis: &Mat<f64>, modal_mass: &Mat<f64>) -> Vec<usize> {
-    let total_mass: f64 = assembled.mass_points.iter().map(|p| p.mass).sum();
-    let size = model.mesh.size();
-    (0..basis.ncols())
-        .filter(|&j| {
-            let nodal = assembled.dofs.expand(&(0..basis.nrows()).map(|i| basis[(i, j)]).collect::<Vec<_>>());
-            let motion = nodal
-                .chunks(6)
-                .map(|d| d[..3].iter().map(|x| x * x).sum::<f64>() + size * size * d[3..].iter().map(|x| x * x).sum::<f64>())
-                .fold(0.0_f64, f64::max);
-            let mean_square = modal_mass[(j, j)] / total_mass;
-            mean_square.is_nan() || mean_square <= 1e-12 * motion
-        })
-        .collect()
-}
-
-/// Removes the modes that move no mass from the basis, its mode list and its modal mass
-/// ([`massless_modes`]), each named in a warning: they have no acceleration in a mechanism (their
-/// equation is static, `K a = f`), and the body becomes rigid against their loads, which then act on
-/// the frame and the other modes.
-fn drop_massless_modes(
-    model: &FeModel,
-    assembled: &AssembledModel,
-    (basis, modes, modal_mass): (&mut Mat<f64>, &mut Vec<ModeInfo>, &mut Mat<f64>),
-    warnings: &mut Vec<String>,
-) {
-    let massless = massless_modes(model, assembled, basis, modal_mass);
-    if massless.is_empty() {
-        return;
-    }
-    for &j in &massless {
-        let what = modes[j].load.as_ref().map_or(String::new(), |l| format!(" ({l})"));
-        warnings.push(format!(
-            "mode {}{what} moves no mass (it only turns nodes without rotary inertia): dropped from the basis, the body is \
-             rigid against it; set rotary_inertia = true to keep it",
-            modes[j].label
-        ));
-    }
-    let kept: Vec<usize> = (0..basis.ncols()).filter(|j| !massless.contains(j)).collect();
-    *basis = Mat::from_fn(basis.nrows(), kept.len(), |i, k| basis[(i, kept[k])]);
-    *modes = kept.iter().map(|&j| modes[j].clone()).collect();
-    *modal_mass = Mat::from_fn(kept.len(), kept.len(), |i, k| modal_mass[(kept[i], kept[k])]);
 }
 
 /// Smallest eigenvalue of `D^{-1/2} G D^{-1/2}` (`D` the diagonal of `G`).
