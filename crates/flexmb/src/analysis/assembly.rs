@@ -123,8 +123,10 @@ pub enum AssemblyError {
         /// What it is.
         value: f64,
     },
-    /// A motion of a flexible body carries no mass and no constraint in force holds it: its
-    /// acceleration is undetermined ([`ModalBody::massless_motions`](crate::body::ModalBody::massless_motions)).
+    /// A motion of a flexible body carries no mass and neither a constraint in force nor the gauge of
+    /// the frame's spin holds it: its acceleration is undetermined
+    /// ([`ModalBody::massless_motions`](crate::body::ModalBody::massless_motions); the gauge: the module
+    /// `analysis::massless_motions`).
     #[error(
         "flexible body '{body}': {motion} carries no mass (its nodes have no rotary inertia and lie on that axis, \
          as a straight beam's do) and no joint holds it, so its acceleration is undetermined: attach a joint that \

@@ -1,10 +1,12 @@
 //! Motions of a flexible body that carry no mass: the null space of the mass matrix of the undeformed
 //! body, `(6 + m)`-square in the body frame. A straight line of point masses without rotary inertia
 //! (a beam of Euler–Bernoulli elements, as ANCF cables are) has no inertia about its own axis: the
-//! frame's spin about it moves no mass. Such a body can still be simulated when the joints hold that
-//! motion (the matrix `[M Bᵀ; B 0]` of the accelerations stays regular, and no solve inverts `M`
-//! alone); the assembly checks that they do. Modes that carry no mass (a twist without polar inertia)
-//! are dropped by the reduction, so the modal block itself is positive definite.
+//! frame's spin about it moves no mass. Such a body is simulated: where the joints hold that motion the
+//! matrix `[M Bᵀ; B 0]` of the accelerations stays regular (no solve inverts `M` alone), and where none
+//! holds it a gauge fixes the frame's spin about the axis, which moves no mass point (the module
+//! `analysis::massless_motions`); the assembly checks that one or the other does. Modes and
+//! combinations of modes that carry no mass (a twist without polar inertia) are dropped by the
+//! reduction, so the modal block itself is positive definite.
 
 use nalgebra::{DMatrix, DVector};
 
