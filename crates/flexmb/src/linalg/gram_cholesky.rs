@@ -200,7 +200,7 @@ impl GramCholesky {
 mod tests {
     use super::*;
 
-    /// A 4 × 6 `B` with two rows sharing columns and one apart: `(B Bᵀ) y = r` solved to round-off
+    /// A 4 × 6 `B` whose rows share columns pairwise (0 with 1 and 3, 2 with 3): `(B Bᵀ) y = r` solved to round-off
     /// against the product formed entry by entry, entries outside the pattern refused, and dependent
     /// rows found singular.
     #[test]
