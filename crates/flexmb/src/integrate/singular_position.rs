@@ -13,7 +13,8 @@
 //! stopped at t = 0.7141 s, generalized-α at 0.7104 s, each with its step size collapsing as the step ends
 //! came nearer the position.
 //!
-//! Hence, for mechanisms whose rows in force are few enough to measure `κ` densely ([`MAX_ROWS`]):
+//! Hence, for a mechanism with any number of constraint rows in force (`B Bᵀ` is sparse, and its Cholesky
+//! factor costs in proportion to the joints: [`GramCholesky`]):
 //!
 //! - after every accepted step, `σ` is measured (inverse iteration on `B Bᵀ`, warm-started). While `κ`
 //!   exceeds [`WATCH`] and grows, the zero of `σ` is extrapolated linearly from the last two step ends:
@@ -37,12 +38,10 @@
 //! two steps.
 
 use crate::data::Data;
+use crate::linalg::GramCholesky;
 use crate::model::Model;
 use crate::stage::jacobian_entries;
 
-/// Most constraint rows in force whose conditioning is measured (a dense `B Bᵀ` and its Cholesky factor,
-/// `O(rows³)` per step): the four-bar has 29, the peer's chain of 4 rods 12.
-pub(crate) const MAX_ROWS: usize = 64;
 /// The approach to a singular position is watched once `κ` at a step end exceeds this.
 const WATCH: f64 = 20.0;
 /// A step that would end within half a step before the predicted zero of `σ`, or past it, ends half a step
@@ -56,8 +55,11 @@ const NOISE_ESTIMATE: f64 = 0.3;
 /// A step end is moved only where the steps would be resolved to more than this fraction of `rtol`
 /// ([`resolution`](SingularPassage::resolution) at the `κ` predicted there).
 const PLACE_FRACTION: f64 = 0.1;
-/// Inverse iterations per measurement, from the last smallest singular vector.
+/// Inverse iterations per measurement, from the last smallest singular vector plus [`MIX`] of a vector
+/// with a share of every direction.
 const INVERSE_ITERATIONS: usize = 3;
+/// The share of every direction added to the last smallest singular vector before a measurement.
+const MIX: f64 = 0.1;
 /// The rounding of a constrained solution near a singular position is about `ROUND_OFF κ` of it: ten units
 /// of rounding, as [`Tolerances`](super::Tolerances)'s round-off of an increment, times the condition
 /// number.
@@ -87,18 +89,22 @@ const QUIET: f64 = WATCH / 4.0;
 const QUIET_STEPS: usize = 8;
 
 /// The conditioning of the constraint rows in force: `σ_rms / σ_min` of `B` (see the module documentation).
+/// `B Bᵀ` is sparse (two rows share entries only where their joints share a body) and factored by
+/// [`GramCholesky`], its pattern analysed at the first measurement: a measurement costs in proportion to
+/// the joints, and allocates nothing after the first.
 struct Conditioning {
-    /// Dense row of each constraint row in force (`usize::MAX`: not in force).
+    /// Row of `B` of each constraint row in force (`usize::MAX`: not in force).
     row_of: Vec<usize>,
     rows: usize,
     nv: usize,
-    /// `B`, row-major (`rows × nv`).
-    b: Vec<f64>,
-    /// `B Bᵀ`, then its lower Cholesky factor (`rows × rows`, row-major).
-    gram: Vec<f64>,
+    /// `B` and the Cholesky factor of `B Bᵀ`, from the first measurement on.
+    gram: Option<GramCholesky>,
     /// The last smallest singular vector (in constraint space) and the inverse iteration's work vector.
     x: Vec<f64>,
     y: Vec<f64>,
+    /// A fixed unit vector with every component of its own size, [`MIX`] of which is added to the last
+    /// singular vector before each measurement (see there).
+    spread: Vec<f64>,
 }
 
 impl Conditioning {
@@ -111,41 +117,62 @@ impl Conditioning {
                 rows += 1;
             }
         }
-        if rows == 0 || rows > MAX_ROWS {
+        if rows == 0 {
             return None;
         }
         let nv = model.layout.nv;
         let x = vec![1.0 / (rows as f64).sqrt(); rows];
-        Some(Self { row_of, rows, nv, b: vec![0.0; rows * nv], gram: vec![0.0; rows * rows], x, y: vec![0.0; rows] })
+        // Components 1 to 2 in a sequence of the golden ratio (no two alike, none zero), then unit length.
+        let mut spread: Vec<f64> = (0..rows).map(|k| 1.0 + (k as f64 * 0.618_033_988_749_895).fract()).collect();
+        let norm = spread.iter().map(|v| v * v).sum::<f64>().sqrt();
+        spread.iter_mut().for_each(|v| *v /= norm);
+        Some(Self { row_of, rows, nv, gram: None, x, y: vec![0.0; rows], spread })
+    }
+
+    /// Adds the entries of `B` at the kinematics in `data` to `gram`; `false` if one lies outside its
+    /// pattern.
+    fn fill(gram: &mut GramCholesky, row_of: &[usize], model: &Model, data: &Data) -> bool {
+        gram.clear();
+        let mut inside = true;
+        jacobian_entries(model, data, |r, c, x| {
+            if row_of[r] != usize::MAX {
+                inside &= gram.add(row_of[r], c, x);
+            }
+        });
+        inside
     }
 
     /// `κ = σ_rms / σ_min` of `B` at the kinematics in `data` (infinite when `B Bᵀ` is singular to working
     /// precision).
     fn condition(&mut self, model: &Model, data: &Data) -> f64 {
-        let (n, nv) = (self.rows, self.nv);
-        self.b.fill(0.0);
-        let (b, row_of) = (&mut self.b, &self.row_of);
-        jacobian_entries(model, data, |r, c, x| {
-            if row_of[r] != usize::MAX {
-                b[row_of[r] * nv + c] += x;
-            }
-        });
-        let mut trace = 0.0;
-        for i in 0..n {
-            for j in 0..=i {
-                let s: f64 = (0..nv).map(|k| self.b[i * nv + k] * self.b[j * nv + k]).sum();
-                self.gram[i * n + j] = s;
-            }
-            trace += self.gram[i * n + i];
+        let n = self.rows;
+        let filled = self.gram.as_mut().is_some_and(|gram| Self::fill(gram, &self.row_of, model, data));
+        if !filled {
+            // The first measurement (or a pattern of `B` not seen before): analyse the pattern.
+            let mut entries = Vec::new();
+            jacobian_entries(model, data, |r, c, _| {
+                if self.row_of[r] != usize::MAX {
+                    entries.push((self.row_of[r], c));
+                }
+            });
+            let gram = self.gram.insert(GramCholesky::new(n, self.nv, entries));
+            Self::fill(gram, &self.row_of, model, data);
         }
-        if !cholesky_in_place(&mut self.gram, n, 1e-14 * trace / n as f64) {
+        let gram = self.gram.as_mut().expect("analysed above");
+        let Some(trace) = gram.factor(1e-14) else {
             return f64::INFINITY;
-        }
+        };
         // Inverse iteration: y = (B Bᵀ)⁻¹ x, the smallest eigenvalue 1/‖y‖ for a unit x along its vector.
+        // From the last vector with a share of every direction: where the mechanism is several ones
+        // that share no body (`B Bᵀ` block diagonal), the last vector lies in one block, and a start
+        // there would never see another block's approach to its own singular position.
+        self.x.iter_mut().zip(&self.spread).for_each(|(x, s)| *x += MIX * s);
+        let norm = self.x.iter().map(|v| v * v).sum::<f64>().sqrt();
+        self.x.iter_mut().for_each(|x| *x /= norm);
         let mut smallest = f64::INFINITY;
         for _ in 0..INVERSE_ITERATIONS {
             self.y.copy_from_slice(&self.x);
-            cholesky_solve(&self.gram, n, &mut self.y);
+            gram.solve_in_place(&mut self.y);
             let norm = self.y.iter().map(|v| v * v).sum::<f64>().sqrt();
             if !norm.is_finite() || norm == 0.0 {
                 self.x.fill(1.0 / (n as f64).sqrt());
@@ -155,35 +182,6 @@ impl Conditioning {
             self.x.iter_mut().zip(&self.y).for_each(|(x, y)| *x = y / norm);
         }
         (trace / n as f64 / smallest).sqrt()
-    }
-}
-
-/// `A = L Lᵀ` in place (lower triangle, row-major `n × n`); false when a pivot is at most `tiny`.
-fn cholesky_in_place(a: &mut [f64], n: usize, tiny: f64) -> bool {
-    for j in 0..n {
-        let d = a[j * n + j] - (0..j).map(|k| a[j * n + k] * a[j * n + k]).sum::<f64>();
-        if d <= tiny {
-            return false;
-        }
-        let d = d.sqrt();
-        a[j * n + j] = d;
-        for i in j + 1..n {
-            let s = a[i * n + j] - (0..j).map(|k| a[i * n + k] * a[j * n + k]).sum::<f64>();
-            a[i * n + j] = s / d;
-        }
-    }
-    true
-}
-
-/// Solves `L Lᵀ y = y` with the factor of [`cholesky_in_place`].
-fn cholesky_solve(l: &[f64], n: usize, y: &mut [f64]) {
-    for i in 0..n {
-        let s = y[i] - (0..i).map(|k| l[i * n + k] * y[k]).sum::<f64>();
-        y[i] = s / l[i * n + i];
-    }
-    for i in (0..n).rev() {
-        let s = y[i] - (i + 1..n).map(|k| l[k * n + i] * y[k]).sum::<f64>();
-        y[i] = s / l[i * n + i];
     }
 }
 
@@ -215,7 +213,7 @@ pub(crate) struct SingularPassage {
 
 impl SingularPassage {
     /// The guard of a model whose constraint rows in force are `active`, integrated at relative tolerance
-    /// `rtol`; inactive (it never acts) when the rows are more than [`MAX_ROWS`] or none.
+    /// `rtol`; inactive (it never acts) when there are none.
     pub fn new(model: &Model, active: &[bool], rtol: f64) -> Self {
         Self {
             conditioning: Conditioning::new(model, active),
@@ -352,26 +350,5 @@ impl SingularPassage {
             _ => {}
         }
         watched.then_some(condition)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The Cholesky factor solves a symmetric positive definite system, and a singular one is refused.
-    #[test]
-    fn the_cholesky_factor_solves_and_refuses_a_singular_matrix() {
-        let mut a = vec![4.0, 0.0, 0.0, 2.0, 5.0, 0.0, 1.0, 3.0, 6.0];
-        let full = [[4.0, 2.0, 1.0], [2.0, 5.0, 3.0], [1.0, 3.0, 6.0]];
-        assert!(cholesky_in_place(&mut a, 3, 1e-14));
-        let mut y = vec![1.0, 2.0, 3.0];
-        cholesky_solve(&a, 3, &mut y);
-        for (i, row) in full.iter().enumerate() {
-            let r: f64 = row.iter().zip(&y).map(|(a, y)| a * y).sum();
-            assert!((r - [1.0, 2.0, 3.0][i]).abs() < 1e-14, "row {i}: {r}");
-        }
-        let mut singular = vec![1.0, 0.0, 1.0, 1.0];
-        assert!(!cholesky_in_place(&mut singular, 2, 1e-14));
     }
 }

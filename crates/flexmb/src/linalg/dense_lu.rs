@@ -7,9 +7,68 @@
 //! rigid pendulum's 16 unknowns: 5,200 instructions per solve with `faer`, 28 % of a generalized-α run,
 //! against about 1,000 for the loops, which touch each factor entry once, as the blocked solve does).
 
-use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::lu::partial_pivoting::factor;
-use faer::{Mat, Par};
+use faer::{Mat, MatMut, MatRef, Par};
+
+/// The workspace of [`lu_in_place`] for an `n × n` matrix.
+pub(crate) fn lu_in_place_scratch(n: usize) -> StackReq {
+    factor::lu_in_place_scratch::<usize, f64>(n, n, Par::Seq, Default::default())
+}
+
+/// `P A = L U` in place (`faer`'s LU with partial pivoting: `L` unit lower and `U` upper packed in `a`,
+/// row `i` of `P A` row `perm[i]` of `A`); the smallest over the largest magnitude of `U`'s pivots, 0 if
+/// one is zero or not finite.
+pub(crate) fn lu_in_place(mut a: MatMut<'_, f64>, perm: &mut [usize], perm_inv: &mut [usize], stack: &mut MemStack) -> f64 {
+    factor::lu_in_place(a.as_mut(), perm, perm_inv, Par::Seq, stack, Default::default());
+    let (mut smallest, mut largest) = (f64::INFINITY, 0.0_f64);
+    for k in 0..a.nrows() {
+        let pivot = a[(k, k)];
+        if pivot == 0.0 || !pivot.is_finite() {
+            return 0.0;
+        }
+        smallest = smallest.min(pivot.abs());
+        largest = largest.max(pivot.abs());
+    }
+    if a.nrows() == 0 {
+        1.0
+    } else {
+        smallest / largest
+    }
+}
+
+/// Solves `A x = b` in place (`rhs` holds `b` on entry) with the factors of [`lu_in_place`]; `work` is
+/// of `A`'s dimension.
+pub(crate) fn solve_with_lu(lu: MatRef<'_, f64>, perm: &[usize], rhs: &mut [f64], work: &mut [f64]) {
+    let n = lu.nrows();
+    assert_eq!(rhs.len(), n, "right-hand side of the wrong length");
+    let x = work;
+    for (xi, &p) in x.iter_mut().zip(perm) {
+        *xi = rhs[p];
+    }
+    // L y = P b, column by column.
+    for j in 0..n {
+        let xj = x[j];
+        if xj != 0.0 {
+            let column = &lu.col(j).try_as_col_major().expect("contiguous columns").as_slice()[j + 1..];
+            for (xi, l) in x[j + 1..].iter_mut().zip(column) {
+                *xi -= l * xj;
+            }
+        }
+    }
+    // U x = y, column by column from the last.
+    for j in (0..n).rev() {
+        let column = &lu.col(j).try_as_col_major().expect("contiguous columns").as_slice()[..=j];
+        let xj = x[j] / column[j];
+        x[j] = xj;
+        if xj != 0.0 {
+            for (xi, u) in x[..j].iter_mut().zip(column) {
+                *xi -= u * xj;
+            }
+        }
+    }
+    rhs.copy_from_slice(x);
+}
 
 /// An `n × n` matrix and, after [`factor`](Self::factor), its packed LU factors and row permutation.
 pub(crate) struct DenseLu {
@@ -27,7 +86,7 @@ impl DenseLu {
             lu: Mat::zeros(n, n),
             perm: vec![0; n],
             perm_inv: vec![0; n],
-            factor_buffer: MemBuffer::new(factor::lu_in_place_scratch::<usize, f64>(n, n, Par::Seq, Default::default())),
+            factor_buffer: MemBuffer::new(lu_in_place_scratch(n)),
             work: vec![0.0; n],
         }
     }
@@ -42,44 +101,12 @@ impl DenseLu {
             }
         }
         let stack = MemStack::new(&mut self.factor_buffer);
-        factor::lu_in_place(self.lu.as_mut(), &mut self.perm, &mut self.perm_inv, Par::Seq, stack, Default::default());
-        (0..self.lu.nrows()).all(|k| {
-            let pivot = self.lu[(k, k)];
-            pivot != 0.0 && pivot.is_finite()
-        })
+        lu_in_place(self.lu.as_mut(), &mut self.perm, &mut self.perm_inv, stack) > 0.0
     }
 
-    /// Solves `A x = b` in place with the factors `P A = L U` (`faer`'s: row `i` of `P b` is row
-    /// `perm[i]` of `b`; `L` unit lower, `U` upper, packed in `lu`).
+    /// Solves `A x = b` in place with the factors.
     pub(crate) fn solve_in_place(&mut self, rhs: &mut [f64]) {
-        let n = self.lu.nrows();
-        assert_eq!(rhs.len(), n, "right-hand side of the wrong length");
-        let x = &mut self.work;
-        for (xi, &p) in x.iter_mut().zip(&self.perm) {
-            *xi = rhs[p];
-        }
-        // L y = P b, column by column.
-        for j in 0..n {
-            let xj = x[j];
-            if xj != 0.0 {
-                let column = &self.lu.col_as_slice(j)[j + 1..];
-                for (xi, l) in x[j + 1..].iter_mut().zip(column) {
-                    *xi -= l * xj;
-                }
-            }
-        }
-        // U x = y, column by column from the last.
-        for j in (0..n).rev() {
-            let column = &self.lu.col_as_slice(j)[..=j];
-            let xj = x[j] / column[j];
-            x[j] = xj;
-            if xj != 0.0 {
-                for (xi, u) in x[..j].iter_mut().zip(column) {
-                    *xi -= u * xj;
-                }
-            }
-        }
-        rhs.copy_from_slice(x);
+        solve_with_lu(self.lu.as_ref(), &self.perm, rhs, &mut self.work);
     }
 }
 

@@ -1,11 +1,12 @@
-//! Global (sparse) linear algebra on top of `faer` (LU of the iteration matrices, a rank-revealing QR by
-//! Givens rotations, the normal equations of minimum-norm corrections), and the colouring and steps of finite-difference
-//! Jacobians.
+//! Global (sparse) linear algebra on top of `faer` (LU of the iteration matrices, the Cholesky factor of
+//! `B Bᵀ` for a sparse `B`, a rank-revealing QR by Givens rotations, the normal equations of minimum-norm
+//! corrections), and the colouring and steps of finite-difference Jacobians.
 
 mod colouring;
 mod dense_lu;
 mod finite_difference;
 mod givens_qr;
+mod gram_cholesky;
 mod lu_refactorization;
 mod normal_equations;
 mod sparse_lu;
@@ -18,7 +19,11 @@ pub use sparse_lu::SingularMatrix;
 // the engine's invariants, not a user's input.
 pub(crate) use lu_refactorization::InvalidPivots;
 pub(crate) use sparse_lu::SparseLu;
+// The dense LU of the Adams method's partition (its factors kept in a checkpoint).
+pub(crate) use dense_lu::{lu_in_place, lu_in_place_scratch, solve_with_lu};
 // The initial-condition analyses' sparse Jacobians, their rank and their minimum-norm corrections.
 pub(crate) use givens_qr::dependent_rows;
+// The conditioning of the constraint Jacobian in force (the singular-position guard).
+pub(crate) use gram_cholesky::GramCholesky;
 pub(crate) use normal_equations::{solve_normal_equations, NormalEquations};
 pub(crate) use sparse_rows::SparseRows;

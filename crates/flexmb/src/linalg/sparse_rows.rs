@@ -1,16 +1,19 @@
-//! A sparse matrix stored by rows (compressed sparse rows, columns sorted within a row): the constraint
-//! Jacobians of the initial-condition analyses, which hold a few entries per row (the velocity
+//! A sparse matrix stored by rows (`faer`'s compressed sparse rows, columns sorted within a row): the
+//! constraint Jacobians of the initial-condition analyses, which hold a few entries per row (the velocity
 //! coordinates of the one or two bodies a joint connects), so that their memory and work grow with
-//! the bodies, not with their square.
+//! the bodies, not with their square. The products with `A` and `Aᵀ` are plain loops over the entries
+//! (one vector each, as the analyses use them).
+
+use faer::sparse::{SparseRowMat, Triplet};
 
 /// An `nrows × ncols` sparse matrix by rows; each row's columns ascending and distinct.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub(crate) struct SparseRows {
-    ncols: usize,
-    /// Row `r`'s entries are `row_ptr[r]..row_ptr[r + 1]` of `cols` and `values`.
-    row_ptr: Vec<usize>,
-    cols: Vec<usize>,
-    values: Vec<f64>,
+#[derive(Clone, Debug)]
+pub(crate) struct SparseRows(SparseRowMat<usize, f64>);
+
+impl PartialEq for SparseRows {
+    fn eq(&self, other: &Self) -> bool {
+        self.same_pattern(other) && self.0.val() == other.0.val()
+    }
 }
 
 impl SparseRows {
@@ -20,57 +23,42 @@ impl SparseRows {
     /// # Panics
     /// If an entry is outside the matrix: the callers make the entries from a model's layout, so that is
     /// a bug of the engine, not a user's mistake.
-    pub(crate) fn from_entries(nrows: usize, ncols: usize, mut entries: Vec<(usize, usize, f64)>) -> Self {
-        entries.sort_unstable_by_key(|&(r, c, _)| (r, c));
-        let mut row_ptr = Vec::with_capacity(nrows + 1);
-        let mut cols = Vec::with_capacity(entries.len());
-        let mut values: Vec<f64> = Vec::with_capacity(entries.len());
-        row_ptr.push(0);
-        let mut row = 0;
-        for (r, c, x) in entries {
-            assert!(r < nrows && c < ncols, "entry ({r}, {c}) outside a {nrows}×{ncols} matrix");
-            while row < r {
-                row_ptr.push(cols.len());
-                row += 1;
-            }
-            if cols.len() > row_ptr[r] && cols.last() == Some(&c) {
-                *values.last_mut().expect("a value beside each column") += x;
-            } else {
-                cols.push(c);
-                values.push(x);
-            }
-        }
-        while row < nrows {
-            row_ptr.push(cols.len());
-            row += 1;
-        }
-        Self { ncols, row_ptr, cols, values }
+    pub(crate) fn from_entries(nrows: usize, ncols: usize, entries: Vec<(usize, usize, f64)>) -> Self {
+        let triplets: Vec<Triplet<usize, usize, f64>> = entries
+            .into_iter()
+            .map(|(r, c, x)| {
+                assert!(r < nrows && c < ncols, "entry ({r}, {c}) outside a {nrows}×{ncols} matrix");
+                Triplet::new(r, c, x)
+            })
+            .collect();
+        Self(SparseRowMat::try_new_from_triplets(nrows, ncols, &triplets).expect("memory for a sparse matrix by rows"))
     }
 
     /// Number of rows.
     pub(crate) fn nrows(&self) -> usize {
-        self.row_ptr.len() - 1
+        self.0.nrows()
     }
 
     /// Number of columns.
     pub(crate) fn ncols(&self) -> usize {
-        self.ncols
+        self.0.ncols()
     }
 
     /// Number of stored entries.
     pub(crate) fn nnz(&self) -> usize {
-        self.cols.len()
+        self.0.val().len()
     }
 
     /// Whether `other` has the same dimensions and entries (whatever their values).
     pub(crate) fn same_pattern(&self, other: &Self) -> bool {
-        self.ncols == other.ncols && self.row_ptr == other.row_ptr && self.cols == other.cols
+        let (a, b) = (self.0.symbolic(), other.0.symbolic());
+        a.nrows() == b.nrows() && a.ncols() == b.ncols() && a.row_ptr() == b.row_ptr() && a.col_idx() == b.col_idx()
     }
 
     /// The columns and values of row `r`.
     pub(crate) fn row(&self, r: usize) -> (&[usize], &[f64]) {
-        let range = self.row_ptr[r]..self.row_ptr[r + 1];
-        (&self.cols[range.clone()], &self.values[range])
+        let range = self.0.row_range(r);
+        (&self.0.symbolic().col_idx()[range.clone()], &self.0.val()[range])
     }
 
     /// The Euclidean length of row `r`.
@@ -98,22 +86,13 @@ impl SparseRows {
 
     /// `Aᵀ`, stored by rows: the entries of each column of `A`, in row order.
     pub(crate) fn transposed(&self) -> Self {
-        let entries = (0..self.nrows())
-            .flat_map(|r| {
-                let (cols, values) = self.row(r);
-                cols.iter().zip(values).map(move |(c, x)| (*c, r, *x))
-            })
-            .collect();
-        Self::from_entries(self.ncols, self.nrows(), entries)
+        Self(self.0.to_col_major().expect("memory for a sparse matrix by columns").into_transpose())
     }
 
     /// The rows of each column, in row order (the transposed pattern).
     pub(crate) fn column_rows(&self) -> Vec<Vec<usize>> {
-        let mut rows = vec![Vec::new(); self.ncols];
-        for r in 0..self.nrows() {
-            self.row(r).0.iter().for_each(|&c| rows[c].push(r));
-        }
-        rows
+        let t = self.transposed();
+        (0..t.nrows()).map(|c| t.row(c).0.to_vec()).collect()
     }
 }
 

@@ -12,15 +12,19 @@
 //! for `u` fails.
 //!
 //! The constraints hold to Newton tolerance at every evaluation, not only after the steps; the price
-//! is a Newton solve (chord iterations with the last factors of `Φ̂_u`, dense here, plus one
+//! is a Newton solve (chord iterations with the last factors of `Φ̂_u`, dense here (`faer`'s LU), plus one
 //! refactorization at the converged point for the velocities) inside every evaluation, a restart of
 //! the multistep history at every repartition, and an error test that sees only the independent
 //! coordinates. See [`super::mechanism`] for the comparison with projection.
 
 use std::sync::Arc;
 
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::{MatMut, MatRef};
+
 use crate::data::Data;
 use crate::integrate::{check_len, CheckpointError};
+use crate::linalg::{lu_in_place, lu_in_place_scratch, solve_with_lu};
 use crate::math::euler_parameters::g_matrix;
 use crate::math::{Vec3, Vec4};
 
@@ -58,66 +62,31 @@ pub struct PartitionReport {
     pub factorizations: usize,
 }
 
-/// A dense square matrix with its LU factors (partial pivoting), factored in place.
+/// A dense square matrix (column-major) with its LU factors, factored in place by `faer`'s LU with
+/// partial pivoting ([`lu_in_place`]); kept in a checkpoint.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 struct DenseLu {
     n: usize,
     a: Vec<f64>,
-    pivots: Vec<usize>,
+    perm: Vec<usize>,
+    perm_inv: Vec<usize>,
 }
 
 impl DenseLu {
     fn new(n: usize) -> Self {
-        Self { n, a: vec![0.0; n * n], pivots: vec![0; n] }
+        Self { n, a: vec![0.0; n * n], perm: vec![0; n], perm_inv: vec![0; n] }
     }
 
-    /// Factors `a` in place; returns the smallest over the largest pivot magnitude (0 if singular).
-    fn factor(&mut self) -> f64 {
-        let n = self.n;
-        let (mut smallest, mut largest) = (f64::INFINITY, 0.0_f64);
-        for k in 0..n {
-            let p = (k..n).fold(k, |p, i| if self.a[i * n + k].abs() > self.a[p * n + k].abs() { i } else { p });
-            self.pivots[k] = p;
-            if p != k {
-                for j in 0..n {
-                    self.a.swap(k * n + j, p * n + j);
-                }
-            }
-            let pivot = self.a[k * n + k];
-            smallest = smallest.min(pivot.abs());
-            largest = largest.max(pivot.abs());
-            if pivot == 0.0 || !pivot.is_finite() {
-                return 0.0;
-            }
-            for i in k + 1..n {
-                let f = self.a[i * n + k] / pivot;
-                self.a[i * n + k] = f;
-                for j in k + 1..n {
-                    self.a[i * n + j] -= f * self.a[k * n + j];
-                }
-            }
-        }
-        if n == 0 {
-            1.0
-        } else {
-            smallest / largest
-        }
+    /// Factors `a` in place with the workspace `buffer` ([`lu_in_place_scratch`]); returns the smallest
+    /// over the largest pivot magnitude (0 if singular).
+    fn factor(&mut self, buffer: &mut MemBuffer) -> f64 {
+        let a = MatMut::from_column_major_slice_mut(&mut self.a, self.n, self.n);
+        lu_in_place(a, &mut self.perm, &mut self.perm_inv, MemStack::new(buffer))
     }
 
-    /// Solves `A x = b` in place with the factors.
-    fn solve(&self, b: &mut [f64]) {
-        let n = self.n;
-        for k in 0..n {
-            b.swap(k, self.pivots[k]);
-        }
-        for i in 0..n {
-            let s: f64 = (0..i).map(|j| self.a[i * n + j] * b[j]).sum();
-            b[i] -= s;
-        }
-        for i in (0..n).rev() {
-            let s: f64 = (i + 1..n).map(|j| self.a[i * n + j] * b[j]).sum();
-            b[i] = (b[i] - s) / self.a[i * n + i];
-        }
+    /// Solves `A x = b` in place with the factors; `work` is of the matrix's dimension.
+    fn solve(&self, b: &mut [f64], work: &mut [f64]) {
+        solve_with_lu(MatRef::from_column_major_slice(&self.a, self.n, self.n), &self.perm, b, work);
     }
 }
 
@@ -137,6 +106,9 @@ pub(super) struct PartitionedMechanism {
     elimination: Vec<f64>,
     chosen: Vec<bool>,
     phi: Vec<f64>,
+    /// Workspace of the factorization of `Φ̂_u` and of its solves.
+    lu_buffer: MemBuffer,
+    lu_work: Vec<f64>,
     rtol: f64,
     atol: f64,
     pub evaluations: usize,
@@ -225,6 +197,8 @@ impl PartitionedMechanism {
             elimination: vec![0.0; m * nq],
             chosen: vec![false; nq],
             phi: vec![0.0; m],
+            lu_buffer: MemBuffer::new(lu_in_place_scratch(m)),
+            lu_work: vec![0.0; m],
             rtol,
             atol,
             evaluations: 0,
@@ -376,11 +350,11 @@ impl PartitionedMechanism {
         let (m, nq) = (self.m, self.nq);
         for i in 0..m {
             for (j, &c) in self.state.dependent.iter().enumerate() {
-                self.state.lu.a[i * m + j] = self.state.jac[i * nq + c];
+                self.state.lu.a[j * m + i] = self.state.jac[i * nq + c];
             }
         }
         self.state.report.factorizations += 1;
-        let ratio = self.state.lu.factor();
+        let ratio = self.state.lu.factor(&mut self.lu_buffer);
         self.state.factored = ratio > 0.0;
         if self.state.factored {
             Ok(ratio)
@@ -407,7 +381,7 @@ impl PartitionedMechanism {
             }
             let mut dx = std::mem::take(&mut self.phi);
             dx.iter_mut().for_each(|x| *x = -*x);
-            self.state.lu.solve(&mut dx);
+            self.state.lu.solve(&mut dx, &mut self.lu_work);
             let mut sum = 0.0;
             let mut at_round_off = true;
             for (j, &c) in self.state.dependent.iter().enumerate() {
@@ -464,7 +438,7 @@ impl PartitionedMechanism {
             self.phi[i] = -phi_t - jw;
         }
         let mut rates = std::mem::take(&mut self.phi);
-        self.state.lu.solve(&mut rates);
+        self.state.lu.solve(&mut rates, &mut self.lu_work);
         for (j, &c) in self.state.dependent.iter().enumerate() {
             self.state.qdot[c] = rates[j];
         }
@@ -506,7 +480,8 @@ impl PartitionedMechanism {
     /// the state the next step starts from as it was, so that outputs do not change the steps.
     pub fn positions_and_velocities(&mut self, t: f64, y: &[f64], q: &mut [f64], v: &mut [f64]) {
         self.state.saved_lu.a.copy_from_slice(&self.state.lu.a);
-        self.state.saved_lu.pivots.copy_from_slice(&self.state.lu.pivots);
+        self.state.saved_lu.perm.copy_from_slice(&self.state.lu.perm);
+        self.state.saved_lu.perm_inv.copy_from_slice(&self.state.lu.perm_inv);
         let (factored, needs_repartition) = (self.state.factored, self.state.needs_repartition);
         self.state.saved_q.copy_from_slice(&self.state.q);
         self.state.saved_qdot.copy_from_slice(&self.state.qdot);
