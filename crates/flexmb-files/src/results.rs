@@ -154,6 +154,7 @@ pub fn summary_json(
             "singular_position_steps": s.singular_position_steps,
             "singular_position_condition": s.singular_position_condition,
             "singular_positions": s.singular_positions,
+            "singular_position_tolerance": s.singular_position_tolerance,
             "steps_per_order": orders,
             "rms_step_size": s.rms_step(),
             "wall_time_s": report.wall_time,

@@ -130,28 +130,13 @@ fn every_method_passes_the_ten_singular_positions_at_its_finest_completing_toler
 /// the matrix made there (`integrate/generalized_alpha`). About 1 s in release.
 #[test]
 fn generalized_alpha_at_a_fine_tolerance_passes_the_first_singular_position() {
-    let model = workspace().join("models/benchmarks/double_four_bar.toml");
     let dir = scratch("singular-passage-generalized-alpha");
-    let run = |integrator: &str, tolerance: &str| {
-        let out = dir.join(format!("{integrator}-{tolerance}"));
-        let (model, out_dir) = (model.to_str().unwrap(), out.to_str().unwrap());
-        let args = ["run", model, "--integrator", integrator, "--rtol", tolerance, "--atol", tolerance];
-        succeed(&[&args[..], &["--t-end", "0.8", "--output-step", "0.001", "--quiet", "--out", out_dir]].concat());
-        out
-    };
-    let (alpha, adams) = (run("gen-alpha", "1e-11"), run("adams", "1e-12"));
-    let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(alpha.join("double_four_bar.json")).unwrap()).unwrap();
+    let (alpha, adams) = (past_the_first(&dir, "gen-alpha", "1e-11", "step"), past_the_first(&dir, "adams", "1e-12", "step"));
+    let summary = summary_of(&alpha);
     let statistics = &summary["statistics"];
     assert_eq!(statistics["singular_positions"], 1, "{statistics}");
     let (a, b) = (ResultCsv::read(&adams.join("double_four_bar.csv")), ResultCsv::read(&alpha.join("double_four_bar.csv")));
-    let mut worst = 0.0_f64;
-    for column in ["b0.position.x", "b0.position.y"] {
-        let (x, y) = (a.column(column), b.column(column));
-        assert_eq!(x.len(), 801);
-        assert_eq!(y.len(), x.len(), "generalized-α completes the 0.8 s");
-        worst = worst.max(program::largest_difference(&x, &y));
-    }
+    let worst = b0_off(&a, &b, 801, "generalized-α");
     eprintln!("generalized-α at 1e-11: B0 off the Adams path at 1e-12 by {worst:.1e} m; {statistics}");
     assert!(worst < 1e-7, "B0 follows the Adams method's path: {worst:e} m");
 }
@@ -246,4 +231,64 @@ fn a_mechanism_of_more_than_64_rows_passes_its_singular_positions_with_the_guard
     }
     eprintln!("three four-bars, BDF at 1e-11: the B0s off the Adams path at 1e-12 by {worst:.1e} m; {statistics}");
     assert!(worst < 1e-7, "the B0s follow the Adams method's path: {worst:e} m");
+}
+
+/// The BDF and the generalized-α method at rtol = atol = 1e-8 with error per unit step over a span of
+/// 10 s (the model's run: `--tolerance-span run` of the whole 10 s holds its steps to these shares) pass the
+/// first singular position to 0.8 s. Before the guard compared the amplified rounding with what a step is
+/// held to, `rtol` times its share of the tolerance (`integrate/singular_position.rs`, `matters`), it never
+/// acted at this tolerance, and both stopped just before the position: the BDF at t = 0.714255 s, its Newton
+/// increments stalled at 4 to 50 shares at every step size down to 1e-15 s (κ = 7,900), generalized-α at
+/// 0.709415 s. Now each counts the passage, warns that the steps near it are resolved more coarsely than
+/// their share asks, and B0 follows the Adams method's path at 1e-12 (BDF 1.1e-9 m, 394 steps; generalized-α
+/// 7.3e-9 m, 11,447 steps). About 3 s in release.
+#[test]
+fn error_per_unit_step_at_1e_8_passes_the_first_singular_position() {
+    let dir = scratch("singular-passage-over-the-run");
+    let adams = ResultCsv::read(&past_the_first(&dir, "adams", "1e-12", "step").join("double_four_bar.csv"));
+    for (integrator, bound) in [("bdf", 1e-8), ("gen-alpha", 5e-8)] {
+        let out = past_the_first(&dir, integrator, "1e-8", "10");
+        let summary = summary_of(&out);
+        let statistics = &summary["statistics"];
+        assert_eq!(statistics["singular_positions"], 1, "{integrator}: {statistics}");
+        let held = statistics["singular_position_tolerance"].as_f64().unwrap();
+        assert!(held > 0.0 && held < 1e-10, "{integrator}: the steps near it held to rtol times their share: {held:e}");
+        let warnings = summary["warnings"].as_array().unwrap();
+        let warning = warnings.iter().find(|w| w["message"].as_str().unwrap().contains("singular position just passed"));
+        let warning = warning.unwrap_or_else(|| panic!("{integrator}: a warning at the passage: {warnings:?}"));
+        assert_eq!(warning["kind"], "tolerance");
+        assert!(warning["message"].as_str().unwrap().contains("they are held to"), "{warning}");
+        let worst = b0_off(&adams, &ResultCsv::read(&out.join("double_four_bar.csv")), 801, integrator);
+        eprintln!("{integrator} at 1e-8 over a span of 10 s: B0 off the Adams path at 1e-12 by {worst:.1e} m; {statistics}");
+        assert!(worst < bound, "{integrator}: B0 follows the Adams method's path: {worst:e} m");
+    }
+}
+
+/// B0's largest distance from its path in `reference` over the `rows` output rows both must have (`what`
+/// ran `result`).
+fn b0_off(reference: &ResultCsv, result: &ResultCsv, rows: usize, what: &str) -> f64 {
+    let mut worst = 0.0_f64;
+    for column in ["b0.position.x", "b0.position.y"] {
+        let (x, y) = (reference.column(column), result.column(column));
+        assert_eq!(x.len(), rows);
+        assert_eq!(y.len(), x.len(), "{what} completes the run");
+        worst = worst.max(program::largest_difference(&x, &y));
+    }
+    worst
+}
+
+/// Runs the double four-bar with `integrator` at rtol = atol = `tolerance` and the tolerance span `span`
+/// to 0.8 s, past the first singular position, with an output every millisecond; the output directory.
+fn past_the_first(dir: &std::path::Path, integrator: &str, tolerance: &str, span: &str) -> std::path::PathBuf {
+    let model = workspace().join("models/benchmarks/double_four_bar.toml");
+    let out = dir.join(format!("{integrator}-{tolerance}-{span}"));
+    let (model, out_dir) = (model.to_str().unwrap(), out.to_str().unwrap());
+    let args = ["run", model, "--integrator", integrator, "--rtol", tolerance, "--atol", tolerance, "--tolerance-span", span];
+    succeed(&[&args[..], &["--t-end", "0.8", "--output-step", "0.001", "--quiet", "--out", out_dir]].concat());
+    out
+}
+
+/// The JSON summary of the run in `out`.
+fn summary_of(out: &std::path::Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(out.join("double_four_bar.json")).unwrap()).unwrap()
 }

@@ -404,7 +404,7 @@ impl Bdf {
             }
             let mut t_new = t + h;
             // Not at a step end where a singular position leaves the constraints ill-conditioned.
-            match self.singular.placed_end(t, t_new) {
+            match self.singular.placed_end(t, t_new, self.share_floor.share(&self.tolerances, h)) {
                 Some(end) if end < t_stop => {
                     self.change_differences(self.order, (end - t) / h);
                     h = end - t;
@@ -414,7 +414,7 @@ impl Bdf {
                 }
                 _ => self.singular.asked = None,
             }
-            self.amplification = self.singular.amplification(t, t_new);
+            self.amplification = self.singular.amplification(t, t_new, self.share_floor.share(&self.tolerances, t_new - t));
             if t_new >= t_stop - 4.0 * f64::EPSILON * t_stop.abs() {
                 t_new = t_stop;
                 self.change_differences(self.order, (t_new - t) / h);
@@ -510,6 +510,9 @@ impl Bdf {
             self.stability.accepted(h, error_norm);
             self.share_floor.accepted(h, self.share);
             self.rounding.accepted(test.at_floor);
+            if self.amplification > 1.0 {
+                self.stats.held_near_singular_position(self.tolerances.rtol * self.share);
+            }
             if test.at_floor {
                 self.stats.rounding_floor_steps += 1;
                 self.stats.rounding_floor = self.stats.rounding_floor.max(self.rounding.floor * self.tolerances.rtol);

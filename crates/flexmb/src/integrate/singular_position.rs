@@ -52,8 +52,11 @@ const JUMP_REACH: f64 = 0.75;
 /// What an error estimate within the amplified rounding counts as (in shares of the tolerance): it passes,
 /// and the next step may be longer.
 const NOISE_ESTIMATE: f64 = 0.3;
-/// A step end is moved only where the steps would be resolved to more than this fraction of `rtol`
-/// ([`resolution`](SingularPassage::resolution) at the `κ` predicted there).
+/// A step end is moved, and the guard's tests are those of the amplified rounding, only where the steps
+/// would be resolved to more than this fraction of `rtol` ([`resolution`](SingularPassage::resolution) at
+/// the `κ` predicted there), or where the amplified rounding itself, `10 ε κ`, is more than this fraction
+/// of what the step is held to, `rtol` times its share of the tolerance (error per unit step; see
+/// [`matters`](SingularPassage::matters)).
 const PLACE_FRACTION: f64 = 0.1;
 /// Inverse iterations per measurement, from the last smallest singular vector plus [`MIX`] of a vector
 /// with a share of every direction.
@@ -215,8 +218,13 @@ impl SingularPassage {
     /// The guard of a model whose constraint rows in force are `active`, integrated at relative tolerance
     /// `rtol`; inactive (it never acts) when there are none.
     pub fn new(model: &Model, active: &[bool], rtol: f64) -> Self {
+        Self::measuring(Conditioning::new(model, active), rtol)
+    }
+
+    /// The guard measuring `conditioning` (none: it never acts) at relative tolerance `rtol`.
+    fn measuring(conditioning: Option<Conditioning>, rtol: f64) -> Self {
         Self {
-            conditioning: Conditioning::new(model, active),
+            conditioning,
             last: None,
             window: None,
             rtol,
@@ -227,9 +235,10 @@ impl SingularPassage {
         }
     }
 
-    /// The end of an attempt from `t` that would end at `t_new`: `None` to keep it, else where it ends
-    /// instead, so that the step ends lie about half a step or more from a predicted singular position.
-    pub fn placed_end(&mut self, t: f64, t_new: f64) -> Option<f64> {
+    /// The end of an attempt from `t` that would end at `t_new`, held to `share` of the tolerance: `None` to
+    /// keep it, else where it ends instead, so that the step ends lie about half a step or more from a
+    /// predicted singular position.
+    pub fn placed_end(&mut self, t: f64, t_new: f64, share: f64) -> Option<f64> {
         self.asked = None;
         let w = self.window?;
         let (d, h) = (w.centre - t, t_new - t);
@@ -239,7 +248,7 @@ impl SingularPassage {
         // Only where the rounding at the end would matter to the tolerance: at ordinary tolerances a dip of
         // the conditioning (the 3-D slider-crank's) leaves the steps alone.
         let predicted = 1.0 / (w.slope * (t_new - w.centre).abs());
-        if Self::resolution(predicted) <= PLACE_FRACTION * self.rtol {
+        if !self.matters(predicted, share) {
             return None;
         }
         self.asked = Some(h);
@@ -247,11 +256,11 @@ impl SingularPassage {
         Some(end)
     }
 
-    /// The factor by which the rounding of the solution at the end `t_new` of a step from `t` exceeds that
-    /// of a well-conditioned one: `κ` at the last step end once it exceeds [`WATCH`], or the `κ` predicted
-    /// at `t_new` if larger; 1 where the rounding so amplified is not [`PLACE_FRACTION`] of `rtol` (the
-    /// tests are then those of a well-conditioned step).
-    pub fn amplification(&self, t: f64, t_new: f64) -> f64 {
+    /// The factor by which the rounding of the solution at the end `t_new` of a step from `t`, held to
+    /// `share` of the tolerance, exceeds that of a well-conditioned one: `κ` at the last step end once it
+    /// exceeds [`WATCH`], or the `κ` predicted at `t_new` if larger; 1 where the rounding so amplified does
+    /// not [`matter`](Self::matters) to the step (its tests are then those of a well-conditioned step).
+    pub fn amplification(&self, t: f64, t_new: f64, share: f64) -> f64 {
         let Some((_, last)) = self.last else {
             return 1.0;
         };
@@ -260,11 +269,32 @@ impl SingularPassage {
             Some(w) => measured.max(1.0 / (w.slope * (t_new - w.centre).abs()).max(0.25 * w.slope * (t_new - t))),
             None => measured,
         };
-        if Self::resolution(amplification) > PLACE_FRACTION * self.rtol {
+        if self.matters(amplification, share) {
             amplification
         } else {
             1.0
         }
+    }
+
+    /// Whether the rounding amplified by the condition number `condition` matters to a step held to `share`
+    /// of the tolerance: what the steps there resolve, [`resolution`](Self::resolution), is more than
+    /// [`PLACE_FRACTION`] of `rtol`, or the amplified rounding itself, `10 ε κ`, is more than
+    /// [`PLACE_FRACTION`] of what the step is held to, `rtol · share`.
+    ///
+    /// The second bound is that of error per unit step ([`ToleranceSpan`](super::ToleranceSpan)), where a
+    /// step's share is `h / span`, far below 1 (the double four-bar over its run of 10 s at rtol 1e-8:
+    /// `1e-4` to `1.6e-4`, a step held to 1e-12 to 1.6e-12 of the solution), and the share near a singular
+    /// position cannot be below what the arithmetic resolves there. Without it the guard never acted at
+    /// rtol 1e-8 (`500 ε κ` reached 1e-9 only at κ = 9,000), while the rounding `10 ε κ` exceeded the
+    /// steps' share from κ ≈ 65 on: the BDF's Newton increments stalled at 4 to 50 shares (rates 0.8 to
+    /// 2.7 at every step size from 9e-6 s to 2e-14 s) 0.1 ms before the position, at κ = 7,900, and the run
+    /// stopped at t = 0.714255 s; generalized-α stopped at 0.709415 s. Per step (`share = 1`) the second
+    /// bound is within the first, and nothing changes; at ordinary conditioning (the 3-D slider-crank's dip
+    /// to κ = 25 at rtol 1e-8 over the run, its estimates 20 to 30 shares, truncation) it does not act:
+    /// with `resolution(κ)` in place of `10 ε κ` it did, and passed those estimates, and E rose from 4.7 to
+    /// 17 tolerances.
+    fn matters(&self, condition: f64, share: f64) -> bool {
+        Self::resolution(condition) > PLACE_FRACTION * self.rtol || ROUND_OFF * condition > PLACE_FRACTION * self.rtol * share
     }
 
     /// The amplification of the rounding in the generalized-α method's step equations at a step end of
@@ -350,5 +380,25 @@ impl SingularPassage {
             _ => {}
         }
         watched.then_some(condition)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Where the amplified rounding matters: per step (share 1) only where `500 ε κ` is a tenth of rtol, as
+    /// before; with error per unit step also where `10 ε κ` is a tenth of what the step is held to. The
+    /// double four-bar at rtol 1e-8 over its 10 s (shares 1e-4 to 1.6e-4): from κ ≈ 65 on, where per step it
+    /// never acted below κ = 9,000; the 3-D slider-crank's dip to κ = 25 at the same tolerance and share: not.
+    #[test]
+    fn the_rounding_matters_against_what_the_step_is_held_to() {
+        let guard = |rtol| SingularPassage::measuring(None, rtol);
+        let per_step = guard(1e-8);
+        assert!(!per_step.matters(8_000.0, 1.0) && per_step.matters(10_000.0, 1.0));
+        assert!(guard(1e-12).matters(21.0, 1.0), "per step at the finest tolerance: from the watch on");
+        assert!(per_step.matters(70.0, 1.4e-4) && !per_step.matters(40.0, 1.4e-4));
+        assert!(!per_step.matters(25.0, 1e-4), "the slider-crank's dip");
+        assert!(!guard(1e-6).matters(8_000.0, 3e-4), "at an ordinary tolerance over the run (steps of 3 ms)");
     }
 }

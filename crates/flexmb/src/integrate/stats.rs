@@ -42,6 +42,11 @@ pub struct Stats {
     /// Singular positions passed (windows around a predicted one that the steps ended past).
     #[serde(default)]
     pub singular_positions: usize,
+    /// The finest fraction of the solution that a step near a singular position was held to while its tests
+    /// allowed the amplified rounding (`rtol` times the step's share of the tolerance: `rtol` with error per
+    /// step, far less with error per unit step); 0 when no step was.
+    #[serde(default)]
+    pub singular_position_tolerance: f64,
 }
 
 impl Stats {
@@ -69,7 +74,14 @@ impl Stats {
             singular_position_steps: self.singular_position_steps + later.singular_position_steps,
             singular_position_condition: self.singular_position_condition.max(later.singular_position_condition),
             singular_positions: self.singular_positions + later.singular_positions,
+            singular_position_tolerance: finest_nonzero(self.singular_position_tolerance, later.singular_position_tolerance),
         }
+    }
+
+    /// A step near a singular position, its tests allowing the amplified rounding, was accepted, held to
+    /// `fraction` of the solution ([`singular_position_tolerance`](Self::singular_position_tolerance)).
+    pub(crate) fn held_near_singular_position(&mut self, fraction: f64) {
+        self.singular_position_tolerance = finest_nonzero(self.singular_position_tolerance, fraction);
     }
 
     /// Root-mean-square accepted step size (s), the seed's "RMS integration stepsize".
@@ -79,5 +91,14 @@ impl Stats {
         } else {
             (self.sum_h_squared / self.steps as f64).sqrt()
         }
+    }
+}
+
+/// The smaller of two levels, 0 standing for none.
+fn finest_nonzero(a: f64, b: f64) -> f64 {
+    match (a > 0.0, b > 0.0) {
+        (true, true) => a.min(b),
+        (true, false) => a,
+        _ => b,
     }
 }

@@ -510,8 +510,9 @@ impl Simulation {
             self.report.warnings.push(SimulationWarning { t: self.integrator.t(), kind: WarningKind::Tolerance, message });
         }
         if self.report.stats.singular_positions > singular_before {
-            let (condition, rtol) = (self.report.stats.singular_position_condition, self.settings.tolerances.rtol);
-            if let Some(message) = singular_position_warning(condition, rtol) {
+            let stats = &self.report.stats;
+            let (condition, rtol) = (stats.singular_position_condition, self.settings.tolerances.rtol);
+            if let Some(message) = singular_position_warning(condition, rtol, stats.singular_position_tolerance) {
                 self.report.warnings.push(SimulationWarning { t: self.integrator.t(), kind: WarningKind::Tolerance, message });
             }
         }
@@ -704,16 +705,25 @@ fn rounding_floor_warning(level: f64, rtol: f64) -> String {
 /// The warning of a step just past a singular position whose conditioning limits what the steps near it
 /// resolve: the constraint Jacobian's condition number `condition` at their ends (the largest so far), which
 /// amplifies the rounding of the constrained solution to about `500 ε condition` of it (where the Newton
-/// increments are taken as converged); `None` when that is within `rtol`.
-fn singular_position_warning(condition: f64, rtol: f64) -> Option<String> {
+/// increments are taken as converged); `None` when that is within what the steps there were held to: `rtol`
+/// with error per step, `held` (the finest `rtol` times a step's share of the tolerance,
+/// [`Stats::singular_position_tolerance`](crate::integrate::Stats::singular_position_tolerance); 0: none)
+/// with error per unit step.
+fn singular_position_warning(condition: f64, rtol: f64, held: f64) -> Option<String> {
     let level = crate::integrate::singular_position::SingularPassage::resolution(condition);
-    (level > rtol).then(|| {
+    let asked = if held > 0.0 && held < rtol {
+        format!("the {held:.1e} they are held to (rtol {rtol:e} times their share of the tolerance span)")
+    } else {
+        format!("rtol {rtol:e}")
+    };
+    (level > rtol.min(if held > 0.0 { held } else { rtol })).then(|| {
         format!(
             "tolerance finer than the equations can be resolved near the singular position just passed: the constraint \
              Jacobian's condition number reached {condition:.1e} at the step ends near it (kept about half a step away \
              from it), which amplifies the rounding of the constrained solution there: the steps near it are resolved \
-             to about {level:.1e} of the solution instead of rtol {rtol:e}; the statistics singular_positions, singular_position_steps and \
-             singular_position_condition count them and give the largest condition number"
+             to about {level:.1e} of the solution instead of {asked}; the statistics singular_positions, singular_position_steps, \
+             singular_position_condition and singular_position_tolerance count them and give the largest condition number \
+             and the finest level asked"
         )
     })
 }

@@ -511,11 +511,12 @@ impl GeneralizedAlpha {
             let reach = t + h * (1.0 + 1e-4) >= t_stop - 4.0 * f64::EPSILON * t_stop.abs();
             let (mut t_new, mut h_step) = if reach { (t_stop, t_stop - t) } else { (t + h, h) };
             // Not at a step end where a singular position leaves the constraints ill-conditioned.
-            match self.singular.placed_end(t, t_new) {
+            match self.singular.placed_end(t, t_new, self.share_floor.share(&self.tolerances, h_step)) {
                 Some(end) if end < t_stop && self.fixed_step.is_none() => (t_new, h_step) = (end, end - t),
                 _ => self.singular.asked = None,
             }
-            self.amplification = SingularPassage::quadratic_beyond(self.singular.amplification(t, t_new));
+            let share = self.share_floor.share(&self.tolerances, t_new - t);
+            self.amplification = SingularPassage::quadratic_beyond(self.singular.amplification(t, t_new, share));
             let newton_tolerance = self.newton_tolerance(h_step);
             if self.refresh_next
                 || !self.derivatives_current
@@ -611,6 +612,9 @@ impl GeneralizedAlpha {
                 self.stats.singular_position_condition = self.stats.singular_position_condition.max(condition);
             }
             self.stats.singular_positions = self.singular.passages;
+            if self.amplification > 1.0 {
+                self.stats.held_near_singular_position(self.tolerances.rtol * share);
+            }
             self.rounding.accepted(self.newton_at_floor);
             if self.newton_at_floor {
                 self.stats.rounding_floor_steps += 1;
