@@ -183,6 +183,9 @@ pub struct AssembledModel {
     /// Lumped mass and rotary inertia at each node, elements and point masses together: the mass
     /// points of the lumped mass, and each node's share of the mass with the consistent one.
     pub nodal_masses: Vec<NodalMass>,
+    /// The undeformed position of every equation's node (m): where the fill-reducing ordering of
+    /// the factorizations cuts the mesh.
+    pub equation_positions: Vec<Vector3<f64>>,
 }
 
 impl AssembledModel {
@@ -191,8 +194,9 @@ impl AssembledModel {
     /// mass factor less their columns (and the rows left empty). That is what [`assemble`] gives (the
     /// same element matrices at the same places; the held dofs' terms dropped), but without computing
     /// the element matrices and sorting their entries again. `None` where the supports change more
-    /// than which equations there are (see `DofMap::restriction_to`): assemble `supported` then.
-    pub(crate) fn with_supports(&self, supported: &FeModel) -> Result<Option<AssembledModel>, FemError> {
+    /// than which equations there are (a support on a node of a distributing coupling changes what the
+    /// coupling eliminates): assemble `supported` then.
+    pub fn with_supports(&self, supported: &FeModel) -> Result<Option<AssembledModel>, FemError> {
         supported.check_references()?;
         let mesh = &supported.mesh;
         let present = present_dofs(mesh);
@@ -213,6 +217,7 @@ impl AssembledModel {
             dofs,
             mass_points: self.mass_points.clone(),
             nodal_masses: self.nodal_masses.clone(),
+            equation_positions: (0..self.dofs.n_free()).filter(|&f| kept[f].is_some()).map(|f| self.equation_positions[f]).collect(),
         }))
     }
 }
@@ -416,7 +421,13 @@ pub fn assemble(model: &FeModel) -> Result<AssembledModel, FemError> {
     let mass = mass_matrix(&dofs, &mass_points)?;
     let element_points = mass_points.len() - imported_points;
     let mass_root = mass_root(&dofs, &mass_points[..element_points], &root_rows)?;
-    Ok(AssembledModel { dofs, stiffness, mass, mass_root, mass_points, nodal_masses })
+    let mut equation_positions = vec![Vector3::zeros(); n];
+    for (global, node) in (0..6 * n_nodes).map(|g| (g, &mesh.nodes[g / 6])) {
+        if let Some(e) = dofs.equation_of(global) {
+            equation_positions[e] = node.position;
+        }
+    }
+    Ok(AssembledModel { dofs, stiffness, mass, mass_root, mass_points, nodal_masses, equation_positions })
 }
 
 /// What imported matrices add to the assembly besides their stiffness.

@@ -2,8 +2,8 @@
 //! block of dense vectors, in one pass over the sparse matrix.
 //!
 //! faer's sparse–dense product takes the dense columns one at a time and reads the whole sparse
-//! matrix for each: with the 17.9 million nonzeros of the `solid-reduction` benchmark's stiffness and
-//! 20 to 32 mode shapes, that is 20 to 32 passes over 290 MB. Here the vectors are laid out by rows
+//! matrix for each: with the 20 to 32 mode shapes of the `solid-reduction` benchmark, 20 to 32
+//! passes over its stiffness of 220,515 equations. Here the vectors are laid out by rows
 //! (a row of the block contiguous), and column `j` of the result is `Σ_i A_ij x_i`, the rows `x_i`
 //! gathered along column `j` of `A` (`Aᵀ x`, which is `A x` for a symmetric `A`): the sparse matrix is
 //! read once, and every nonzero updates all the vectors with one contiguous multiply–add.
