@@ -108,6 +108,12 @@ impl DofMap {
         self.equations.get(global).copied().flatten()
     }
 
+    /// Whether every equation is a translation (a mesh of solid elements, whose nodes have no
+    /// rotations, with any reference node held).
+    pub fn only_translations(&self) -> bool {
+        self.equations.iter().enumerate().all(|(global, e)| e.is_none() || global % 6 < 3)
+    }
+
     /// Number of free degrees of freedom (the size of the assembled matrices).
     pub fn n_free(&self) -> usize {
         self.n_free

@@ -46,7 +46,12 @@ pub struct ShiftInvert {
 impl ShiftInvert {
     /// Factors `K + shift M`; `rigid` holds the rigid motions over the free dofs (any basis).
     pub fn new(assembled: &AssembledModel, rigid: &Mat<f64>, shift: f64) -> Result<Self, LltError> {
-        let positions = &assembled.equation_positions;
+        // Coordinate cuts where every equation is a translation (solid elements; their interface
+        // nodes held); with rotations (beams, shells) the breadth-first levels. On the shell plate of
+        // the `plate-modes` benchmark the coordinate cuts gave a factor with fewer nonzeros (4.47
+        // million against AMD's 5.55 million) whose numeric factorization took four times as long
+        // (1.4 s against 0.33 s; its estimated operations were fewer too, the cause is not found).
+        let positions = assembled.dofs.only_translations().then_some(&assembled.equation_positions[..]);
         let factor = if shift == 0.0 {
             Factor::new(&assembled.stiffness, positions)?
         } else {
@@ -136,7 +141,7 @@ impl LinOp<f64> for ShiftInvert {
 /// The sparse Cholesky factor of the shifted stiffness, with the fill-reducing ordering of the two
 /// below that gives the smaller factor: faer's approximate minimum degree (AMD), or the nested
 /// dissection of [`nested_dissection`](super::nested_dissection) (coordinate bisection of the
-/// equations' nodes), which on the 220,515-dof solid of the `solid-reduction` benchmark has
+/// equations' nodes for solids, breadth-first levels otherwise), which on the 220,515-dof solid of the `solid-reduction` benchmark has
 /// 108.1 million nonzeros against AMD's 193.4 million (159.0 million with breadth-first levels) and factors faster. Both symbolic analyses
 /// are cheap next to the numeric factorization.
 #[derive(Debug)]
@@ -146,11 +151,11 @@ struct Factor {
 }
 
 impl Factor {
-    /// Factors `a`, whose equations are at `positions` (the nested dissection's cuts).
-    fn new(a: &SparseColMat<usize, f64>, positions: &[Vector3<f64>]) -> Result<Self, LltError> {
+    /// Factors `a`, whose equations are at `positions` where given (the nested dissection's cuts).
+    fn new(a: &SparseColMat<usize, f64>, positions: Option<&[Vector3<f64>]>) -> Result<Self, LltError> {
         let analyse = |ordering| factorize_symbolic_cholesky(a.symbolic(), Side::Lower, ordering, Default::default()).map_err(LltError::Generic);
         let amd = analyse(SymmetricOrdering::Amd)?;
-        let (order, inverse) = super::nested_dissection::nested_dissection(a, Some(positions));
+        let (order, inverse) = super::nested_dissection::nested_dissection(a, positions);
         let dissection = analyse(SymmetricOrdering::Custom(PermRef::new_checked(&order, &inverse, a.ncols())))?;
         let symbolic = if dissection.len_val() < amd.len_val() { dissection } else { amd };
         let mut values = vec![0.0; symbolic.len_val()];
