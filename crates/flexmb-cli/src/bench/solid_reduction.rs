@@ -5,8 +5,9 @@
 //! held in its six dofs (the interface). The whole reduction is timed: assembly (of the free model,
 //! the supported model's matrices taken from it), the fixed-interface modes (block shift-invert
 //! Lanczos, blocks of 12 vectors, on a sparse Cholesky factor, nested dissection by coordinate
-//! bisection), the constraint modes (one solve with 12 right-hand sides with the same factor), the orthonormalization and the inertia invariants. Not in
-//! the default run (about 17 s of CPU and 1.8 GiB; docs/preprocessor.md, "Cost").
+//! bisection), the constraint modes (one solve with 12 right-hand sides with the same factor), the
+//! orthonormalization and the inertia invariants. Not in the default run (about 17 s of CPU and 1.8
+//! GiB; docs/preprocessor.md, "Cost").
 
 use std::time::Instant;
 
