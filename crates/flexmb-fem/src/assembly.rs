@@ -108,6 +108,12 @@ impl DofMap {
         self.equations.get(global).copied().flatten()
     }
 
+    /// Whether every equation is a translation (a mesh of solid elements, whose nodes have no
+    /// rotations, with any reference node held).
+    pub fn only_translations(&self) -> bool {
+        self.equations.iter().enumerate().all(|(global, e)| e.is_none() || global % 6 < 3)
+    }
+
     /// Number of free degrees of freedom (the size of the assembled matrices).
     pub fn n_free(&self) -> usize {
         self.n_free
@@ -127,9 +133,40 @@ impl DofMap {
     /// Scatters a vector over the free dofs into all `6 n_nodes` nodal dofs (zeros at supports, and
     /// where `free` is shorter than [`n_free`](Self::n_free)).
     pub fn expand(&self, free: &[f64]) -> Vec<f64> {
+        let value = |e: usize| free.get(e).copied().unwrap_or(0.0);
         (0..self.equations.len())
-            .map(|g| self.terms(g).iter().map(|&(e, c)| c * free.get(e).copied().unwrap_or(0.0)).sum())
+            .map(|g| match (self.equations[g], self.dependent.get(&g)) {
+                (Some(e), _) => value(e),
+                (None, Some(terms)) => terms.iter().map(|&(e, c)| c * value(e)).sum(),
+                (None, None) => 0.0,
+            })
             .collect()
+    }
+
+    /// The map of `self`, the equations of a model, to those of `supported`, the same model with
+    /// more dofs held: for each equation of `self`, its equation in `supported` (`None` where held).
+    /// `None` if `supported` is not `self` with equations removed: an equation of its own, a dof
+    /// present in one and absent in the other, or a dependent dof that depends on other equations
+    /// (a support on a node of a distributing coupling changes what the coupling eliminates).
+    fn restriction_to(&self, supported: &DofMap) -> Option<Vec<Option<usize>>> {
+        if self.present != supported.present || self.dependent.len() != supported.dependent.len() {
+            return None;
+        }
+        let mut kept = vec![None; self.n_free];
+        for (own, &restricted) in self.equations.iter().zip(&supported.equations) {
+            match (own, restricted) {
+                (Some(f), Some(e)) => kept[*f] = Some(e),
+                (None, Some(_)) => return None,
+                _ => {}
+            }
+        }
+        for (global, terms) in &self.dependent {
+            let restricted: Vec<(usize, f64)> = terms.iter().filter_map(|&(f, c)| kept[f].map(|e| (e, c))).collect();
+            if supported.dependent.get(global) != Some(&restricted) {
+                return None;
+            }
+        }
+        Some(kept)
     }
 }
 
@@ -152,6 +189,87 @@ pub struct AssembledModel {
     /// Lumped mass and rotary inertia at each node, elements and point masses together: the mass
     /// points of the lumped mass, and each node's share of the mass with the consistent one.
     pub nodal_masses: Vec<NodalMass>,
+    /// The undeformed position of every equation's node (m): where the fill-reducing ordering of
+    /// the factorizations cuts the mesh.
+    pub equation_positions: Vec<Vector3<f64>>,
+}
+
+impl AssembledModel {
+    /// The assembly of `supported`, the model `self` was assembled from with more supports, taken
+    /// from `self`: the stiffness and mass less the rows and columns of the newly held equations, the
+    /// mass factor less their columns (and the rows left empty). That is what [`assemble`] gives (the
+    /// same element matrices at the same places; the held dofs' terms dropped), but without computing
+    /// the element matrices and sorting their entries again. `None` where the supports change more
+    /// than which equations there are (a support on a node of a distributing coupling changes what the
+    /// coupling eliminates): assemble `supported` then.
+    pub fn with_supports(&self, supported: &FeModel) -> Result<Option<AssembledModel>, FemError> {
+        supported.check_references()?;
+        let mesh = &supported.mesh;
+        let present = present_dofs(mesh);
+        let held = supported_dofs(supported);
+        let dependent = dependent_dofs(supported, &present, &held)?;
+        let dofs = DofMap::with_couplings(mesh.nodes.len(), &held, &present, &dependent);
+        if dofs.n_free() == 0 {
+            return Err(FemError::NoFreeDofs);
+        }
+        let Some(kept) = self.dofs.restriction_to(&dofs) else {
+            return Ok(None);
+        };
+        let n = dofs.n_free();
+        Ok(Some(AssembledModel {
+            stiffness: principal_submatrix(&self.stiffness, &kept, n),
+            mass: principal_submatrix(&self.mass, &kept, n),
+            mass_root: without_columns(&self.mass_root, &kept, n),
+            dofs,
+            mass_points: self.mass_points.clone(),
+            nodal_masses: self.nodal_masses.clone(),
+            equation_positions: (0..self.dofs.n_free()).filter(|&f| kept[f].is_some()).map(|f| self.equation_positions[f]).collect(),
+        }))
+    }
+}
+
+/// The rows and columns `i` of `a` with `kept[i]` some, at `kept[i]` (increasing with `i`) of an
+/// `n × n` matrix.
+fn principal_submatrix(a: &SparseColMat<usize, f64>, kept: &[Option<usize>], n: usize) -> SparseColMat<usize, f64> {
+    let mut col_ptr = Vec::with_capacity(n + 1);
+    col_ptr.push(0);
+    let (mut row_idx, mut values) = (Vec::with_capacity(a.compute_nnz()), Vec::with_capacity(a.compute_nnz()));
+    for column in (0..a.ncols()).filter(|&j| kept[j].is_some()) {
+        for (i, v) in a.row_idx_of_col(column).zip(a.val_of_col(column)) {
+            if let Some(row) = kept[i] {
+                row_idx.push(row);
+                values.push(*v);
+            }
+        }
+        col_ptr.push(row_idx.len());
+    }
+    SparseColMat::new(SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx), values)
+}
+
+/// The columns `j` of `a` with `kept[j]` some, at `kept[j]` (increasing with `j`) of `n` columns,
+/// and the rows that have an entry in them, in their order.
+fn without_columns(a: &SparseColMat<usize, f64>, kept: &[Option<usize>], n: usize) -> SparseColMat<usize, f64> {
+    let columns = || (0..a.ncols()).filter(|&j| kept[j].is_some());
+    let mut row_of = vec![None; a.nrows()];
+    for column in columns() {
+        a.row_idx_of_col(column).for_each(|i| row_of[i] = Some(0));
+    }
+    let mut rows = 0;
+    for row in row_of.iter_mut().flatten() {
+        *row = rows;
+        rows += 1;
+    }
+    let mut col_ptr = Vec::with_capacity(n + 1);
+    col_ptr.push(0);
+    let (mut row_idx, mut values) = (Vec::new(), Vec::new());
+    for column in columns() {
+        for (i, v) in a.row_idx_of_col(column).zip(a.val_of_col(column)) {
+            row_idx.push(row_of[i].expect("a row with an entry in a kept column"));
+            values.push(*v);
+        }
+        col_ptr.push(row_idx.len());
+    }
+    SparseColMat::new(SymbolicSparseColMat::new_checked(rows, n, col_ptr, None, row_idx), values)
 }
 
 /// The supported dofs of every node. A support at a node the mesh does not have is left out here;
@@ -309,7 +427,13 @@ pub fn assemble(model: &FeModel) -> Result<AssembledModel, FemError> {
     let mass = mass_matrix(&dofs, &mass_points)?;
     let element_points = mass_points.len() - imported_points;
     let mass_root = mass_root(&dofs, &mass_points[..element_points], &root_rows)?;
-    Ok(AssembledModel { dofs, stiffness, mass, mass_root, mass_points, nodal_masses })
+    let mut equation_positions = vec![Vector3::zeros(); n];
+    for (global, node) in (0..6 * n_nodes).map(|g| (g, &mesh.nodes[g / 6])) {
+        if let Some(e) = dofs.equation_of(global) {
+            equation_positions[e] = node.position;
+        }
+    }
+    Ok(AssembledModel { dofs, stiffness, mass, mass_root, mass_points, nodal_masses, equation_positions })
 }
 
 /// What imported matrices add to the assembly besides their stiffness.

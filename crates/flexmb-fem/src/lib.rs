@@ -35,6 +35,7 @@ pub mod mesh;
 pub mod modes;
 pub mod reduction;
 pub mod static_correction;
+mod symmetric_product;
 
 pub use error::FemError;
 

@@ -218,6 +218,31 @@ fn interface_bodies_are_orthonormal_and_free_of_rigid_motion() {
     }
 }
 
+/// A Craig–Bampton reduction assembles the unsupported model once and takes the supported model's
+/// matrices from it (the held rows and columns removed): they are those of assembling the
+/// supported model, for a rigid coupling (a distributing one may decline: its supports can change
+/// what it eliminates).
+#[test]
+fn the_supported_assembly_is_the_unsupported_one_less_the_held_equations() {
+    for kind in ["kinematic", "distributing"] {
+        let model = two_ended_link(kind);
+        let direct = assemble(&model).unwrap();
+        let Some(taken) = assemble(&unsupported(&model)).unwrap().with_supports(&model).unwrap() else {
+            assert_eq!(kind, "distributing", "the supports of a rigid coupling's reference nodes only remove equations");
+            continue;
+        };
+        assert_eq!(taken.dofs, direct.dofs);
+        assert_eq!(taken.equation_positions, direct.equation_positions);
+        for (name, a, b) in [("K", &taken.stiffness, &direct.stiffness), ("M", &taken.mass, &direct.mass), ("F", &taken.mass_root, &direct.mass_root)] {
+            assert_eq!((a.nrows(), a.ncols()), (b.nrows(), b.ncols()), "{kind}: {name}'s shape");
+            let (a, b) = (a.to_dense(), b.to_dense());
+            let difference = (0..a.nrows()).flat_map(|i| (0..a.ncols()).map(move |j| (i, j))).map(|(i, j)| (a[(i, j)] - b[(i, j)]).abs()).fold(0.0, f64::max);
+            let size = (0..b.nrows()).flat_map(|i| (0..b.ncols()).map(move |j| (i, j))).map(|(i, j)| b[(i, j)].abs()).fold(0.0, f64::max);
+            assert!(difference <= 1e-14 * size, "{kind}: {name} differs by {difference:e} of {size:e}");
+        }
+    }
+}
+
 #[test]
 fn interface_set_errors_say_what_to_write() {
     let model = two_ended_link("kinematic");

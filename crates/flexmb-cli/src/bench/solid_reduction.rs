@@ -2,11 +2,12 @@
 //! 20 fixed-interface normal modes plus the constraint modes of two interface nodes (`20N12C`). The
 //! mesh, generated in memory, is a steel plate-like link 1.2 m × 0.3 m × 20 mm of C3D8I bricks (240 ×
 //! 60 × 4 cells, 73,505 nodes), with a reference node at each end coupled rigidly to its end face and
-//! held in its six dofs (the interface). The whole reduction is timed: assembly (of the supported and
-//! the free model), the fixed-interface modes (block shift-invert Lanczos, blocks of 12 vectors, on a
-//! sparse Cholesky factor, nested dissection ordering), the constraint modes (one solve with 12
-//! right-hand sides with the same factor), the orthonormalization and the inertia invariants. Not in
-//! the default run (about 28 s of CPU and 2.2 GiB; docs/preprocessor.md, "Cost").
+//! held in its six dofs (the interface). The whole reduction is timed: assembly (of the free model,
+//! the supported model's matrices taken from it), the fixed-interface modes (block shift-invert
+//! Lanczos, blocks of 12 vectors, on a sparse Cholesky factor, nested dissection by coordinate
+//! bisection), the constraint modes (one solve with 12 right-hand sides with the same factor), the
+//! orthonormalization and the inertia invariants. Not in the default run (about 17 s of CPU and 1.8
+//! GiB; docs/preprocessor.md, "Cost").
 
 use std::time::Instant;
 

@@ -19,6 +19,7 @@ use crate::assembly::{assemble, AssembledModel};
 use crate::error::FemError;
 use crate::memory::{dense_eigensolver_bytes, mode_analysis_bytes};
 use crate::mesh::{Dof, DofSet, FeModel, Support};
+use crate::symmetric_product::symmetric_times;
 use shift_invert::ShiftInvert;
 
 /// Which eigensolver to use.
@@ -124,7 +125,24 @@ pub struct PreparedModel {
 /// it; one dof per such motion is held, which leaves every vibration mode unchanged (the modes can be
 /// chosen zero there) and makes the shifted stiffness positive definite.
 pub fn prepare(model: &FeModel) -> Result<PreparedModel, FemError> {
-    let assembled = assemble(model)?;
+    prepare_assembled(model, assemble(model)?)
+}
+
+/// [`prepare`] of `model` given `free`, the preparation of the same model without supports (or with
+/// fewer): where it holds no massless motion and the supports only remove equations, the supported
+/// model's matrices are the free model's less the held rows and columns, and the model is not
+/// assembled again (a Craig–Bampton reduction needs both).
+pub fn prepare_supported(model: &FeModel, free: &PreparedModel) -> Result<PreparedModel, FemError> {
+    if free.held_massless.is_empty() {
+        if let Some(assembled) = free.assembled.with_supports(model)? {
+            return prepare_assembled(model, assembled);
+        }
+    }
+    prepare(model)
+}
+
+/// [`prepare`] of `model` assembled as `assembled`.
+fn prepare_assembled(model: &FeModel, assembled: AssembledModel) -> Result<PreparedModel, FemError> {
     let rigid = rigid::free_rigid_motions(&model.mesh, &assembled.dofs);
     let massless = rigid::massless_rigid_motions(&assembled.mass, &rigid);
     if massless.ncols() == 0 {
@@ -188,23 +206,26 @@ pub fn vibration_modes_and_operator(
         _ => lanczos::largest_eigenvectors(&operator, count, settings.lanczos_tolerance)?,
     };
     let mut shapes = operator.mode_shapes(z.as_ref());
+    // K φ and M φ once, for the Rayleigh quotients, the residuals and the M-orthogonality check.
+    let mut k_phi = symmetric_times(&assembled.stiffness, shapes.as_ref());
+    let mut m_phi = symmetric_times(&assembled.mass, shapes.as_ref());
     let mut eigenvalues = Vec::with_capacity(count);
-    let (k_norms, m_norms) = (quadratic_forms(&assembled.stiffness, &shapes), quadratic_forms(&assembled.mass, &shapes));
     for j in 0..shapes.ncols() {
-        let (k_norm, m_norm) = (k_norms[j], m_norms[j]);
+        let k_norm: f64 = (0..n).map(|i| shapes[(i, j)] * k_phi[(i, j)]).sum();
+        let m_norm: f64 = (0..n).map(|i| shapes[(i, j)] * m_phi[(i, j)]).sum();
         let scale = 1.0 / m_norm.sqrt();
-        for i in 0..n {
-            shapes[(i, j)] *= scale;
+        for matrix in [&mut shapes, &mut k_phi, &mut m_phi] {
+            matrix.col_mut(j).iter_mut().for_each(|x| *x *= scale);
         }
         eigenvalues.push(k_norm / m_norm);
     }
-    sort_modes(&mut eigenvalues, &mut shapes);
+    sort_modes(&mut eigenvalues, [&mut shapes, &mut k_phi, &mut m_phi]);
     check_mechanisms(assembled, &eigenvalues, rigid.ncols())?;
-    let max_residual = max_residual(assembled, &eigenvalues, &shapes);
+    let max_residual = max_residual(assembled, &eigenvalues, &shapes, (&k_phi, &m_phi));
     if max_residual.1 > settings.residual_tolerance {
         return Err(FemError::EigenResidual { mode: max_residual.0 + 1, residual: max_residual.1, tolerance: settings.residual_tolerance });
     }
-    let gram = shapes.transpose() * (&assembled.mass * &shapes);
+    let gram = shapes.transpose() * &m_phi;
     let mut max_orthogonality_error = 0.0_f64;
     for i in 0..count {
         for j in 0..count {
@@ -268,19 +289,16 @@ fn massive_dofs(assembled: &AssembledModel) -> usize {
     diagonal(&assembled.mass).iter().filter(|&&m| m > 0.0).count()
 }
 
-/// `φⱼᵀ A φⱼ` of every column `j` (one product with all the columns).
-fn quadratic_forms(a: &faer::sparse::SparseColMat<usize, f64>, shapes: &Mat<f64>) -> Vec<f64> {
-    let product = a * shapes;
-    (0..shapes.ncols()).map(|j| (0..shapes.nrows()).map(|i| shapes[(i, j)] * product[(i, j)]).sum()).collect()
-}
-
-fn sort_modes(eigenvalues: &mut [f64], shapes: &mut Mat<f64>) {
+/// Sorts the eigenvalues ascending and the columns of `shapes` (and of the matrices whose columns
+/// go with them) in the same order.
+fn sort_modes<const N: usize>(eigenvalues: &mut [f64], shapes: [&mut Mat<f64>; N]) {
     let mut order: Vec<usize> = (0..eigenvalues.len()).collect();
     order.sort_by(|&a, &b| eigenvalues[a].total_cmp(&eigenvalues[b]));
     let sorted_values: Vec<f64> = order.iter().map(|&k| eigenvalues[k]).collect();
-    let sorted_shapes = Mat::from_fn(shapes.nrows(), shapes.ncols(), |i, j| shapes[(i, order[j])]);
     eigenvalues.copy_from_slice(&sorted_values);
-    *shapes = sorted_shapes;
+    for matrix in shapes {
+        *matrix = Mat::from_fn(matrix.nrows(), matrix.ncols(), |i, j| matrix[(i, order[j])]);
+    }
 }
 
 /// A zero eigenvalue among the elastic modes is a mechanism the supports and the geometry do not
@@ -298,9 +316,8 @@ fn check_mechanisms(assembled: &AssembledModel, eigenvalues: &[f64], rigid: usiz
 /// rounding explains: computing `K φ − λ M φ` in floating point leaves about `ε ‖|K| |φ|‖ + ε |λ|
 /// ‖|M| |φ|‖` by itself, which exceeds the tolerance for a mode much softer than the stiffest
 /// element (a shell's drilling rotation, a near-mechanism), however exact the mode.
-fn max_residual(assembled: &AssembledModel, eigenvalues: &[f64], shapes: &Mat<f64>) -> (usize, f64) {
-    let k_phi = &assembled.stiffness * shapes;
-    let m_phi = &assembled.mass * shapes;
+/// `K φ` and `M φ` are given (`products`).
+fn max_residual(assembled: &AssembledModel, eigenvalues: &[f64], shapes: &Mat<f64>, (k_phi, m_phi): (&Mat<f64>, &Mat<f64>)) -> (usize, f64) {
     let (k_rounding, m_rounding) = (absolute_product_norms(&assembled.stiffness, shapes), absolute_product_norms(&assembled.mass, shapes));
     let mut worst = (0, 0.0_f64);
     for (j, lambda) in eigenvalues.iter().enumerate() {

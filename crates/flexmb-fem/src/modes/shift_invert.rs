@@ -23,6 +23,7 @@ use faer::sparse::SparseColMat;
 use faer::{dyn_stack::MemStack, dyn_stack::StackReq, MatMut, MatRef, Par, Side};
 
 use crate::assembly::AssembledModel;
+use nalgebra::Vector3;
 
 /// The factored shifted stiffness, the mass factor and the rigid-motion projector.
 #[derive(Debug)]
@@ -45,13 +46,17 @@ pub struct ShiftInvert {
 impl ShiftInvert {
     /// Factors `K + shift M`; `rigid` holds the rigid motions over the free dofs (any basis).
     pub fn new(assembled: &AssembledModel, rigid: &Mat<f64>, shift: f64) -> Result<Self, LltError> {
-        let shifted = if shift == 0.0 {
-            assembled.stiffness.clone()
+        // Coordinate cuts where every equation is a translation (solid elements; their interface
+        // nodes held); with rotations (beams, shells) the breadth-first levels. On the shell plate of
+        // the `plate-modes` benchmark the coordinate cuts gave a factor with fewer nonzeros (4.47
+        // million against AMD's 5.55 million) whose numeric factorization took four times as long
+        // (1.4 s against 0.33 s; its estimated operations were fewer too, the cause is not found).
+        let positions = assembled.dofs.only_translations().then_some(&assembled.equation_positions[..]);
+        let factor = if shift == 0.0 {
+            Factor::new(&assembled.stiffness, positions)?
         } else {
-            let scaled = scale_sparse(&assembled.mass, shift);
-            &assembled.stiffness + &scaled
+            Factor::new(&(&assembled.stiffness + &scale_sparse(&assembled.mass, shift)), positions)?
         };
-        let factor = Factor::new(&shifted)?;
         let mass_root = assembled.mass_root.clone();
         let mass_root_transpose = mass_root.transpose().to_col_major().expect("the transpose of a valid sparse matrix");
         let mut deflation = &mass_root * rigid;
@@ -135,9 +140,10 @@ impl LinOp<f64> for ShiftInvert {
 
 /// The sparse Cholesky factor of the shifted stiffness, with the fill-reducing ordering of the two
 /// below that gives the smaller factor: faer's approximate minimum degree (AMD), or the nested
-/// dissection of [`nested_dissection`](super::nested_dissection), which on the 220,515-dof solid of
-/// the `solid-reduction` benchmark has 18 % fewer nonzeros (159 million against 193 million) and
-/// factors faster. Both symbolic analyses are cheap next to the numeric factorization.
+/// dissection of [`nested_dissection`](super::nested_dissection) (coordinate bisection of the
+/// equations' nodes for solids, breadth-first levels otherwise), which on the 220,515-dof solid of the `solid-reduction` benchmark has
+/// 108.1 million nonzeros against AMD's 193.4 million (159.0 million with breadth-first levels) and factors faster. Both symbolic analyses
+/// are cheap next to the numeric factorization.
 #[derive(Debug)]
 struct Factor {
     symbolic: SymbolicCholesky<usize>,
@@ -145,10 +151,11 @@ struct Factor {
 }
 
 impl Factor {
-    fn new(a: &SparseColMat<usize, f64>) -> Result<Self, LltError> {
+    /// Factors `a`, whose equations are at `positions` where given (the nested dissection's cuts).
+    fn new(a: &SparseColMat<usize, f64>, positions: Option<&[Vector3<f64>]>) -> Result<Self, LltError> {
         let analyse = |ordering| factorize_symbolic_cholesky(a.symbolic(), Side::Lower, ordering, Default::default()).map_err(LltError::Generic);
         let amd = analyse(SymmetricOrdering::Amd)?;
-        let (order, inverse) = super::nested_dissection::nested_dissection(a);
+        let (order, inverse) = super::nested_dissection::nested_dissection(a, positions);
         let dissection = analyse(SymmetricOrdering::Custom(PermRef::new_checked(&order, &inverse, a.ncols())))?;
         let symbolic = if dissection.len_val() < amd.len_val() { dissection } else { amd };
         let mut values = vec![0.0; symbolic.len_val()];

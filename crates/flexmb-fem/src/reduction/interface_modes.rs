@@ -29,10 +29,11 @@ use crate::error::FemError;
 use crate::mesh::{Dof, FeModel};
 use crate::modes::rigid::pivot_dofs;
 use crate::modes::shift_invert::ShiftInvert;
-use crate::modes::{prepare, vibration_modes_and_operator, vibration_modes_of, EigenSettings, EigenSolver, PreparedModel, VibrationModes};
+use crate::modes::{vibration_modes_and_operator, vibration_modes_of, EigenSettings, EigenSolver, PreparedModel, VibrationModes};
 use crate::static_correction::{m_orthogonal_to, solve_with_extra_supports, static_correction_modes, static_responses, StaticModes};
 
 use super::ModeSet;
+use crate::symmetric_product::{symmetric_projection, symmetric_times};
 
 /// Below this, a direction of the projected basis' scaled Gram matrix is a rigid motion (dropped).
 const RIGID_DIRECTION: f64 = 1e-10;
@@ -57,15 +58,16 @@ pub fn interface_dofs(model: &FeModel) -> Vec<(usize, Dof)> {
     supported_dofs(model).iter().enumerate().flat_map(|(node, set)| set.iter().map(move |dof| (node, dof))).collect()
 }
 
-/// The raw basis of the interface set `set` of `model`, whose supported model is `supported`.
+/// The raw basis of the interface set `set` of `model`, whose supported model is `supported` and
+/// unsupported one `free`.
 pub(super) fn interface_basis(
     model: &FeModel,
     supported: &PreparedModel,
+    free: PreparedModel,
     set: &ModeSet,
     eigen: &EigenSettings,
 ) -> Result<InterfaceBasis, FemError> {
     let mode_set_error = |message: String| FemError::ModeSet { text: set.to_string(), message };
-    let free = prepare(&FeModel { supports: Vec::new(), ..model.clone() })?;
     let dofs = &free.assembled.dofs;
     let interface: Vec<usize> = interface_dofs(model)
         .into_iter()
@@ -236,7 +238,7 @@ pub(super) fn orthonormal_elastic_span(
 ) -> Result<(Vec<f64>, Mat<f64>, f64), FemError> {
     let (assembled, rigid) = (&free.assembled, &free.rigid);
     let m = basis.ncols();
-    let mass_basis = &assembled.mass * basis;
+    let mass_basis = symmetric_times(&assembled.mass, basis.as_ref());
     // Each column's own M-norm, before the projection: the scale against which a projected
     // direction counts as vanished.
     let mut scaled = if rigid.ncols() > 0 { m_orthogonal_to(assembled, rigid, basis)? } else { basis.clone() };
@@ -249,7 +251,7 @@ pub(super) fn orthonormal_elastic_span(
             scaled[(i, j)] /= norm;
         }
     }
-    let gram = scaled.transpose() * (&assembled.mass * &scaled);
+    let gram = symmetric_projection(&assembled.mass, scaled.as_ref());
     let gram = Mat::from_fn(m, m, |i, j| 0.5 * (gram[(i, j)] + gram[(j, i)]));
     let eigen = gram.self_adjoint_eigen(Side::Lower).map_err(|e| FemError::LinearAlgebra(format!("interface basis Gram matrix: {e:?}")))?;
     let kept: Vec<usize> = (0..m).filter(|&k| eigen.S()[k] > RIGID_DIRECTION).collect();
@@ -265,7 +267,7 @@ pub(super) fn orthonormal_elastic_span(
     // W = B V Λ^{-1/2}: M-orthonormal, no rigid motion.
     let w_coefficients = Mat::from_fn(m, kept.len(), |i, c| eigen.U()[(i, kept[c])] / eigen.S()[kept[c]].sqrt());
     let w = &scaled * &w_coefficients;
-    let reduced = w.transpose() * (&assembled.stiffness * &w);
+    let reduced = symmetric_projection(&assembled.stiffness, w.as_ref());
     let r = kept.len();
     let reduced = Mat::from_fn(r, r, |i, j| 0.5 * (reduced[(i, j)] + reduced[(j, i)]));
     let eigen = reduced.self_adjoint_eigen(Side::Lower).map_err(|e| FemError::LinearAlgebra(format!("interface reduced eigenproblem: {e:?}")))?;

@@ -24,6 +24,7 @@ use faer::{Mat, Side};
 
 use crate::assembly::AssembledModel;
 use crate::mesh::FeModel;
+use crate::symmetric_product::symmetric_projection;
 
 /// Below this share of the body's mass per unit of nodal motion, a direction moves no mass.
 const MASSLESS: f64 = 1e-12;
@@ -41,7 +42,7 @@ pub(super) fn drop_massless_directions(
     names: &[String],
     warnings: &mut Vec<String>,
 ) -> (Mat<f64>, Vec<usize>) {
-    let modal_mass = symmetric(&(basis.transpose() * (&assembled.mass * &*basis)));
+    let modal_mass = symmetric(&symmetric_projection(&assembled.mass, basis.as_ref()));
     let m = basis.ncols();
     let all = (0..m).collect();
     if m == 0 {
@@ -72,7 +73,7 @@ pub(super) fn drop_massless_directions(
     let kept: Vec<usize> = (0..m).filter(|j| !pivots.contains(j)).collect();
     let mut coefficients = Mat::from_fn(m, kept.len(), |i, k| if i == kept[k] { 1.0 } else { 0.0 });
     // Stiffness-orthogonal to the massless directions: X − Z (ZᵀKZ)⁻¹ ZᵀK X.
-    let stiffness = symmetric(&(basis.transpose() * (&assembled.stiffness * &*basis)));
+    let stiffness = symmetric(&symmetric_projection(&assembled.stiffness, basis.as_ref()));
     let zk = directions.transpose() * &stiffness;
     let zkz = symmetric(&(&zk * &directions));
     if let Ok(factor) = zkz.llt(Side::Lower) {

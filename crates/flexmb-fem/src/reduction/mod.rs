@@ -27,8 +27,9 @@ pub use mode_set::{ModeGroup, ModeSet};
 use crate::assembly::{AssembledModel, MassProperties};
 use crate::error::FemError;
 use crate::mesh::FeModel;
-use crate::modes::{check_memory, prepare, vibration_modes_of, EigenSettings, VibrationModes};
+use crate::modes::{check_memory, prepare, prepare_supported, vibration_modes_of, EigenSettings, PreparedModel, VibrationModes};
 use crate::static_correction::{static_correction_modes, StaticModes};
+use crate::symmetric_product::symmetric_projection;
 use massless_directions::drop_massless_directions;
 
 /// What to reduce to.
@@ -124,7 +125,13 @@ pub fn reduce(model: &FeModel, name: &str, settings: &ReductionSettings) -> Resu
     }
     model.check_references()?;
     check_memory(model, &settings.eigen)?;
-    let prepared = prepare(model)?;
+    // An interface set reduces the unsupported model: assembled once, the supported model's
+    // matrices taken from it.
+    let free = if set.uses_interface() { Some(prepare(&FeModel { supports: Vec::new(), ..model.clone() })?) } else { None };
+    let prepared = match &free {
+        Some(free) => prepare_supported(model, free)?,
+        None => prepare(model)?,
+    };
     let (model, assembled, rigid) = (&prepared.model, &prepared.assembled, &prepared.rigid);
     let mut warnings = Vec::new();
     for &(node, dof) in &prepared.held_massless {
@@ -140,8 +147,8 @@ pub fn reduce(model: &FeModel, name: &str, settings: &ReductionSettings) -> Resu
             "the supports leave {rigid_count} rigid motion(s) (zero-frequency mechanisms); they are excluded from the vibration modes"
         ));
     }
-    if set.uses_interface() {
-        return reduce_on_interface(model, &prepared, name, settings, warnings);
+    if let Some(free) = free {
+        return reduce_on_interface(model, &prepared, free, name, settings, warnings);
     }
     let fe_count = set.len().max(set.vibration());
     let mut fe_modes = vibration_modes_of(assembled, rigid, fe_count, &settings.eigen)?;
@@ -162,7 +169,7 @@ pub fn reduce(model: &FeModel, name: &str, settings: &ReductionSettings) -> Resu
         modes.iter().map(|m| m.load.as_ref().map_or(m.label.clone(), |l| format!("{} ({l})", m.label))).collect();
     let (mut modal_mass, kept) = drop_massless_directions(model, assembled, &mut basis, &names, &mut warnings);
     let mut modes: Vec<ModeInfo> = kept.iter().map(|&j| modes[j].clone()).collect();
-    let mut modal_stiffness = basis.transpose() * (&assembled.stiffness * &basis);
+    let mut modal_stiffness = symmetric_projection(&assembled.stiffness, basis.as_ref());
     let basis_independence = scaled_gram_minimum(&modal_mass)?;
     if basis_independence < DEPENDENT {
         return Err(FemError::SingularBasis {
@@ -178,8 +185,8 @@ pub fn reduce(model: &FeModel, name: &str, settings: &ReductionSettings) -> Resu
     let reduced_frequencies_hz: Vec<f64> = reduced_eigenvalues.iter().map(|l| hz(*l)).collect();
     if settings.basis == Basis::Orthonormal {
         basis = &basis * &ritz;
-        modal_mass = basis.transpose() * (&assembled.mass * &basis);
-        modal_stiffness = basis.transpose() * (&assembled.stiffness * &basis);
+        modal_mass = symmetric_projection(&assembled.mass, basis.as_ref());
+        modal_stiffness = symmetric_projection(&assembled.stiffness, basis.as_ref());
         modes = orthonormal_modes(&reduced_frequencies_hz);
     }
     let mut body = flexible_body(
@@ -200,7 +207,8 @@ pub fn reduce(model: &FeModel, name: &str, settings: &ReductionSettings) -> Resu
 /// [`reduce`] for a Craig–Bampton or free-interface set ([`interface_modes`]).
 fn reduce_on_interface(
     model: &FeModel,
-    supported: &crate::modes::PreparedModel,
+    supported: &PreparedModel,
+    free: PreparedModel,
     name: &str,
     settings: &ReductionSettings,
     warnings: Vec<String>,
@@ -212,7 +220,7 @@ fn reduce_on_interface(
             message: "Craig–Bampton and free-interface sets are orthonormalized (their span holds rigid motions, which the floating frame carries): use the orthonormal basis".into(),
         });
     }
-    let mut raw = interface_modes::interface_basis(model, supported, set, &settings.eigen)?;
+    let mut raw = interface_modes::interface_basis(model, supported, free, set, &settings.eigen)?;
     let mut warnings = warnings;
     let names: Vec<String> =
         set.groups.iter().flat_map(|g| (1..=g.count()).map(move |j| format!("{}{j}", g.letter()))).collect();
@@ -224,8 +232,8 @@ fn reduce_on_interface(
             "the modes of {set} are nearly dependent (scaled Gram eigenvalue {basis_independence:.1e}) once their rigid motions are removed"
         ));
     }
-    let modal_mass = basis.transpose() * (&free.assembled.mass * &basis);
-    let modal_stiffness = basis.transpose() * (&free.assembled.stiffness * &basis);
+    let modal_mass = symmetric_projection(&free.assembled.mass, basis.as_ref());
+    let modal_stiffness = symmetric_projection(&free.assembled.stiffness, basis.as_ref());
     let reduced_frequencies_hz: Vec<f64> = eigenvalues.iter().map(|l| hz(*l)).collect();
     let modes = orthonormal_modes(&reduced_frequencies_hz);
     // The geometric stiffness of the unit inertia and interface loads is that of the supported body's
