@@ -283,6 +283,7 @@ impl Bdf {
             last_error: self.stability.last_error,
             share_floor: self.share_floor.stored(),
             newton_rounding: self.rounding.stored(),
+            newton_rounding_level: self.rounding_level,
             active: self.active.clone(),
             angle_reference: self.data.angle_reference.clone(),
             stats: self.stats,
@@ -314,7 +315,7 @@ impl Bdf {
         self.jac.set_stored_parts(&c.jacobian, &c.jacobian_derivative);
         self.jac.keep_pivots(c.kept_pivots.as_deref())?;
         self.reuse.factored_c = c.factored_c.filter(|&cf| self.jac.factor(cf).is_ok());
-        self.rounding_level = None;
+        self.rounding_level = c.newton_rounding_level.filter(|_| self.reuse.factored_c.is_some());
         self.reuse.at_attempt = c.jacobian_at_attempt;
         self.reuse.rate = c.newton_rate;
         self.filter_steps = c.filter_steps;
