@@ -99,6 +99,11 @@ pub struct BdfCheckpoint {
     /// step (zero in checkpoints written before the floor).
     #[serde(default)]
     pub newton_rounding: [f64; 2],
+    /// The rounding level of the Newton increments estimated with the current factors, in tolerances
+    /// (`None`: not estimated yet, and in checkpoints written before the level), so that a resumed run
+    /// converges where the uninterrupted one does.
+    #[serde(default)]
+    pub newton_rounding_level: Option<f64>,
     /// The constraint rows in force.
     pub active: Vec<bool>,
     /// Last accepted relative angle of each joint (for continuing angles past ±π).

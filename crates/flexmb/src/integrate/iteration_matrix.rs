@@ -245,6 +245,19 @@ impl IterationMatrix {
         }
     }
 
+    /// `out = |A| |y|`, `A` the matrix last formed by [`factor`](Self::factor): the row sums of the
+    /// magnitudes whose rounding the residual at `y` carries (see `rounding_level`).
+    pub fn absolute_product(&self, y: &[f64], out: &mut [f64]) {
+        out.fill(0.0);
+        for c in 0..self.lu.n() {
+            let (range, rows) = self.lu.column(c);
+            let yc = y[c].abs();
+            for (x, &r) in self.lu.values[range].iter().zip(rows) {
+                out[r] += x.abs() * yc;
+            }
+        }
+    }
+
     /// The stored `∂F/∂y` and `∂F/∂ẏ`, in the order of the sparse pattern (for a checkpoint).
     pub fn stored_parts(&self) -> (&[f64], &[f64]) {
         (&self.f_y, &self.f_yp)

@@ -35,6 +35,7 @@ mod integrator;
 mod iteration_matrix;
 mod newton;
 mod newton_rounding;
+mod rounding_level;
 mod share_floor;
 pub(crate) mod singular_position;
 mod stats;

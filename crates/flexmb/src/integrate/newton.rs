@@ -20,6 +20,7 @@ pub(crate) enum Verdict {
 /// Below this fraction of the tolerance an increment is round-off: IDA's test (`PT0001 * toldel`).
 const NEGLIGIBLE: f64 = 1e-4;
 
+
 /// The test over the iterations of one Newton solve.
 pub(crate) struct ConvergenceTest {
     tolerance: f64,
@@ -44,6 +45,13 @@ pub(crate) struct ConvergenceTest {
     /// The contraction rate carried from earlier iterations with the same factors, which lets the first
     /// increment converge on its own (0: none; see [`with_carried_rate`](Self::with_carried_rate)).
     carried_rate: f64,
+    /// Increments after the first at or below this have converged whatever their rate: the rounding of
+    /// the residual amplified by the iteration matrix, estimated a priori
+    /// ([`rounding_level`](super::rounding_level)); `None` before it is estimated (once per iteration,
+    /// when first needed).
+    rounding_level: Option<f64>,
+    /// The iteration converged by the rounding level, not by its rate.
+    pub at_level: bool,
 }
 
 impl ConvergenceTest {
@@ -60,7 +68,33 @@ impl ConvergenceTest {
             smallest_after_first: f64::INFINITY,
             at_floor: false,
             carried_rate: 0.0,
+            rounding_level: None,
+            at_level: false,
         }
+    }
+
+    /// Whether the increment of iteration `k` of weighted norm `norm` needs the rounding level to be
+    /// judged: one after the first that converges neither outright nor by its rate, while no level is held.
+    pub fn needs_rounding_level(&self, k: usize, norm: f64) -> bool {
+        if k == 0 || self.rounding_level.is_some() || norm == 0.0 || norm <= (NEGLIGIBLE * self.tolerance).max(self.round_off) {
+            return false;
+        }
+        let rate = self.last.map_or(0.0, |old| norm / old);
+        !(rate < 1.0 && rate / (1.0 - rate) * norm < self.tolerance)
+    }
+
+    /// This test with the rounding level `level` known from the start (estimated for an earlier
+    /// iteration with the same factors; see [`set_rounding_level`](Self::set_rounding_level)).
+    pub fn with_rounding_level(mut self, level: Option<f64>) -> Self {
+        self.rounding_level = level;
+        self
+    }
+
+    /// Increments after the first at or below `level` (in the test's norm) have converged whatever their
+    /// rate: the rounding of the residual amplified by the iteration matrix. The rate of such an
+    /// increment is measured only against a predecessor above the level, one that was a correction.
+    pub fn set_rounding_level(&mut self, level: f64) {
+        self.rounding_level = Some(level);
     }
 
     /// This test with the contraction rate `rate` expected of this iteration, measured by earlier ones with
@@ -114,6 +148,17 @@ impl ConvergenceTest {
         if norm == 0.0 || (k > 0 && norm <= (NEGLIGIBLE * self.tolerance).max(self.round_off)) {
             return Verdict::Converged;
         }
+        if let Some(level) = self.rounding_level.filter(|&level| k > 0 && norm <= level) {
+            // Rounding: converged whatever its rate. The rate from a correction above the level is still
+            // one of the matrix, which the rate monitor needs; one from an increment that was rounding
+            // itself says nothing.
+            if let Some(old) = self.last.filter(|&old| old > level) {
+                self.last_rate = norm / old;
+                self.slowest = self.slowest.max(self.last_rate);
+            }
+            self.at_level = true;
+            return Verdict::Converged;
+        }
         if k > 0 {
             self.smallest_after_first = self.smallest_after_first.min(norm);
             if norm <= self.rounding_floor && norm > self.tolerance {
@@ -150,6 +195,12 @@ pub(crate) trait NewtonSystem {
     fn increment_norm(&mut self) -> f64;
     /// Adds the increment to the iterate.
     fn apply(&mut self);
+    /// The weighted norm (the test's measure) of the increment that the rounding of the residual at the
+    /// current iterate produces: increments at or below it have converged whatever their rate. 0 (the
+    /// default) for a system that does not estimate it.
+    fn rounding_level(&mut self) -> f64 {
+        0.0
+    }
 }
 
 /// How a Newton iteration ended.
@@ -177,7 +228,11 @@ pub(crate) fn iterate(system: &mut impl NewtonSystem, test: &mut ConvergenceTest
             return end(false, k + 1, solves);
         }
         solves += 1;
-        let verdict = test.assess(k, system.increment_norm());
+        let norm = system.increment_norm();
+        if test.needs_rounding_level(k, norm) {
+            test.set_rounding_level(system.rounding_level());
+        }
+        let verdict = test.assess(k, norm);
         if verdict == Verdict::Diverging {
             return end(false, k + 1, solves);
         }
@@ -249,6 +304,42 @@ mod tests {
         let mut test = ConvergenceTest::new(1e-3, 4);
         assert_eq!(test.assess(0, 1e-7), Verdict::Continue);
         assert_eq!(test.assess(1, 2e-7), Verdict::Diverging);
+    }
+
+    /// An increment after the first at or below the rounding level converges at any rate; the level is
+    /// asked for by the first increment after the first that converges neither outright nor by its rate,
+    /// or given from the start. The increments of a failed iteration of the chain of 512 rods (rtol 3e-10,
+    /// the chain benchmark's: they stalled at 9e-4 tolerances at a rate of 0.999 against a Newton tolerance
+    /// of 7.4e-5) converge against its level of 7.25e-3.
+    #[test]
+    fn increments_at_the_rounding_level_converge_whatever_their_rate() {
+        let increments = [6.773, 7.229e-2, 2.380e-3, 9.185e-4, 9.172e-4];
+        let mut test = ConvergenceTest::new(7.4e-5, 7);
+        let verdicts: Vec<Verdict> = increments.iter().enumerate().map(|(k, &norm)| test.assess(k, norm)).collect();
+        assert_eq!(verdicts.last(), Some(&Verdict::Diverging), "stalled without the level: {verdicts:?}");
+
+        let mut test = ConvergenceTest::new(7.4e-5, 7);
+        assert!(!test.needs_rounding_level(0, 6.773), "the first increment is a correction");
+        assert_eq!(test.assess(0, 6.773), Verdict::Continue);
+        assert!(!test.needs_rounding_level(1, 1e-7), "converges by its rate");
+        assert!(test.needs_rounding_level(1, 7.229e-2));
+        test.set_rounding_level(7.25e-3);
+        assert!(!test.needs_rounding_level(1, 7.229e-2), "asked for once");
+        assert_eq!(test.assess(1, 7.229e-2), Verdict::Continue, "above the level: a correction");
+        assert_eq!(test.assess(2, 2.380e-3), Verdict::Converged);
+        assert!(test.at_level);
+        assert!((test.slowest - 2.380e-3 / 7.229e-2).abs() < 1e-12, "the rate from a correction above the level counts");
+
+        // Known from the start (the same factors): the second increment converges at it, its rate measured.
+        let mut test = ConvergenceTest::new(7.4e-5, 7).with_rounding_level(Some(7.25e-3));
+        assert!(!test.needs_rounding_level(1, 7.229e-2));
+        assert_eq!(test.assess(0, 5.0e-3), Verdict::Continue, "never the first increment");
+        assert_eq!(test.assess(1, 4.0e-3), Verdict::Converged);
+        assert_eq!(test.slowest, 0.0, "a rate from an increment at the level says nothing");
+        let mut test = ConvergenceTest::new(7.4e-5, 7).with_rounding_level(Some(7.25e-3));
+        assert_eq!(test.assess(0, 1e-2), Verdict::Continue);
+        assert_eq!(test.assess(1, 2e-2), Verdict::Diverging, "above the level a growing increment diverges");
+        assert!(!test.at_level);
     }
 
     /// Newton's method on the scalar `x² − 2 = 0` with the derivative frozen at the start (a chord

@@ -52,10 +52,10 @@ const FLOOR_DECAY: f64 = 0.5;
 /// 5e-12 to 2e-11 up to 1 ms before its singular position, the chain's 2e-12; with 1e-8 a flexible beam
 /// spun up past its limits (crates/flexmb-cli/tests/commands/physics_watchdog.rs), whose iteration fails because
 /// the motion runs away, passed steps at 1e-8 as rounding.
-const NOISE_CEILING: f64 = 1e-9;
+pub(crate) const NOISE_CEILING: f64 = 1e-9;
 /// Only increments below this fraction of the step's change of the solution can be rounding: the double
 /// four-bar's were at most 1.4e-6 of it, a runaway's at least 2.5e-5 (see the module documentation).
-const CHANGE_RATIO: f64 = 1e-5;
+pub(crate) const CHANGE_RATIO: f64 = 1e-5;
 
 /// The rounding floor of the Newton increments of one integrator (see the module documentation); all
 /// levels are weighted norms in tolerances (the error weights `atol + rtol |y|`), not in a step's share.
