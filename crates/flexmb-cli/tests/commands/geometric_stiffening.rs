@@ -124,13 +124,18 @@ fn southwell_coefficients_of_the_rotating_cantilever() {
 /// (finite segments): `n` joints at `x = (i + ½) L/n` with springs `EI n / L`, the first on the hub
 /// (the root's half-segment turns with it), links of length `L/n` (the last `L/2n`) with their mass
 /// `ρA` per length and its inertia. The joints' springs take the curvature of the segment around
-/// them (the midpoint rule of `∫ M²/EI`): the tip deflection converges as `1/n²`.
+/// them (the midpoint rule of `∫ M²/EI`): the tip deflection converges as `1/n²`. Integrated with each
+/// step its whole tolerance (`tolerance_span = "step"`): at order 2 the error per unit step over the
+/// run's 20 s over-fulfils its promise 35 to 60 times, its steps held by the estimates of the links'
+/// vibration (10 links: 59,417 steps at rtol 1e-4 for a tip error 0.017 of the tolerance, 183,942 at
+/// 1e-5 for 0.028), where each step's whole tolerance at 1e-6 takes 6,988 steps for a deflection within
+/// 5.5e-4 of its peak (against the same chain at 1e-9), far inside what the test resolves.
 fn link_chain(n: usize) -> String {
     let (length, rho_a, ei) = (10.0_f64, 1.2_f64, 1.4e4_f64);
     let l = length / n as f64;
     let mut model = String::from(
         "[model]\nname = \"chain\"\ngravity = [0.0, 0.0, 0.0]\n\n[parameters]\nspin = 6.0\nT = 15.0\n\n\
-         [simulation]\nt_end = 20.0\noutput_step = 0.02\nrtol = 1e-6\natol = 1e-6\nmax_order = 2\n\n\
+         [simulation]\nt_end = 20.0\noutput_step = 0.02\nrtol = 1e-6\natol = 1e-6\nmax_order = 2\ntolerance_span = \"step\"\n\n\
          [[body]]\nname = \"hub\"\nmass = 1.0\ninertia = [1.0, 1.0, 1.0]\n\n\
          [[marker]]\nname = \"hub_ground\"\nbody = \"ground\"\n\n[[marker]]\nname = \"hub_axis\"\nbody = \"hub\"\n\n\
          [[joint]]\nname = \"hub\"\ntype = \"revolute\"\ni = \"hub_ground\"\nj = \"hub_axis\"\n\n",

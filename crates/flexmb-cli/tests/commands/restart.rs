@@ -81,7 +81,7 @@ fn flexible_pendulum_split_with_bdf_and_adams_equals_one_run() {
 /// output directory and the time it stopped at.
 fn interrupt_the_door(out: &Path, state: &Path) -> f64 {
     let mut child = Command::new(env!("CARGO_BIN_EXE_flexmb"))
-        .args(["run", "models/door/door.toml", "--t-end", "400", "--quiet", "--out", path(out), "--save-state", path(state)])
+        .args(["run", "models/door/door.toml", "--t-end", "400", "--tolerance-span", "step", "--quiet", "--out", path(out), "--save-state", path(state)])
         .current_dir(workspace())
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
@@ -108,10 +108,13 @@ fn run_interrupted_by_sigint_resumes_to_the_end_of_one_run() {
     let state = dir.join("state.json");
     let at = interrupt_the_door(&dir.join("first"), &state);
     let first = ResultCsv::read(&dir.join("first").join("door.csv"));
-    // The end a little after the interruption: the steps before it are those of a run to that end.
+    // The end a little after the interruption: the steps before it are those of a run to that end, with
+    // each step its whole tolerance (over the run's span the steps depend on the end time: 400 s for the
+    // interrupted run, a fraction of a second for the others).
     let t_end = format!("{:.3}", at + 0.1);
-    let (second, summary) = run("models/door/door.toml", &dir.join("second"), &["--t-end", &t_end, "--resume", path(&state)]);
-    let (whole, _) = run("models/door/door.toml", &dir.join("whole"), &["--t-end", &t_end]);
+    let per_step = ["--tolerance-span", "step"];
+    let (second, summary) = run("models/door/door.toml", &dir.join("second"), &[&["--t-end", &t_end, "--resume", path(&state)][..], &per_step].concat());
+    let (whole, _) = run("models/door/door.toml", &dir.join("whole"), &[&["--t-end", &t_end][..], &per_step].concat());
     assert_continues("door interrupted", &first, &second, &whole);
     assert_eq!(summary["status"], "completed");
 }

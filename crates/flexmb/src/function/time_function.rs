@@ -38,6 +38,12 @@ impl TimeFunction {
         self.user.as_ref()
     }
 
+    /// Whether the function changes with time: an expression that names `t`, or a motion given as code.
+    /// A constraint written with a constant one (a distance of fixed length) does no work.
+    pub fn depends_on_time(&self) -> bool {
+        self.user.is_some() || self.f.variables().contains(&super::Variable::Time)
+    }
+
     /// The source text.
     pub fn source(&self) -> &str {
         self.f.source()
@@ -70,5 +76,7 @@ mod tests {
     #[test]
     fn constant_has_zero_derivatives() {
         assert_eq!(TimeFunction::parse("1.5").unwrap().eval(2.0), [1.5, 0.0, 0.0]);
+        assert!(!TimeFunction::parse("sqrt(5) + 1").unwrap().depends_on_time());
+        assert!(TimeFunction::parse("sqrt(5) + 0*t").unwrap().depends_on_time());
     }
 }

@@ -69,7 +69,7 @@ pub(crate) fn energy(model: &Model, data: &Data, q: &[f64], v: &[f64]) -> Energy
 /// Power of the non-conservative forces (W) at the state of the last kinematics, measures and
 /// constraint stages, with multipliers `lambda`: the dampers' and actuators' part of the spring-dampers,
 /// applied forces and torques, modal damping `−ȧᵀ D ȧ`, and the constraints that depend on time
-/// (drivers), `λᵀ Φ_t` (the constraint forces are `−Φ_qᵀ λ` and `Φ_q v = −Φ_t`), and the geometric
+/// (drivers, distances of varying length), `λᵀ Φ_t` (the constraint forces are `−Φ_qᵀ λ` and `Φ_q v = −Φ_t`), and the geometric
 /// stiffening of the loads at interface nodes ([`interface_stiffening_power`]). Gravity, spring
 /// stiffness and strain are conservative: their work is in the potential and strain energy. So
 /// `dE/dt = P` along a solution, and `E(t) − E(0) − ∫ P dt` measures how well a run keeps its energy

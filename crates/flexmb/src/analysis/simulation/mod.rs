@@ -102,8 +102,9 @@ pub struct Simulation {
     values: Vec<f64>,
     q: Vec<f64>,
     v: Vec<f64>,
-    /// Whether a joint of the model is a driver or a flexible body has interface geometric stiffness
-    /// (whose power needs the multipliers and the force stage).
+    /// Whether a joint of the model depends on time (a driver, a distance of varying length) or a
+    /// flexible body has interface geometric stiffness (whose power needs the multipliers and the force
+    /// stage).
     power_needs_multipliers: bool,
     /// Whether the model has laws given as code, whose failures stop the run.
     has_user_laws: bool,
@@ -177,7 +178,7 @@ impl Simulation {
             end_reported: false,
             failed: false,
             parameters: model.parameters.iter().map(|p| p.value).collect(),
-            power_needs_multipliers: model.joints.iter().any(|j| j.kind.is_driver())
+            power_needs_multipliers: model.joints.iter().any(|j| j.kind.time_function().is_some_and(|f| f.depends_on_time()))
                 || model.modal.iter().flatten().filter_map(|m| m.geometric_stiffness.as_ref()).any(|g| !g.interface.is_empty()),
             has_user_laws: !model.user_laws().is_empty(),
             restarted_stats: crate::integrate::Stats::default(),
@@ -563,9 +564,10 @@ impl Simulation {
     }
 
     /// The power of the non-conservative forces at the accepted step that ended at `t` (the state in
-    /// `self.q`, `self.v`, whose kinematics and constraints `check_step` evaluated). The drivers' power
-    /// and the interface stiffening's need the multipliers and the force stage, solved for only in a
-    /// model that has them; other constraints do no work.
+    /// `self.q`, `self.v`, whose kinematics and constraints `check_step` evaluated). The power of the
+    /// constraints that depend on time (drivers, distances whose length is a function of time) and the
+    /// interface stiffening's need the multipliers and the force stage, solved for only in a model that
+    /// has them; other constraints do no work.
     fn step_power(&mut self, t: f64) -> Result<f64, SimulationFailure> {
         let model = &*self.model;
         let data = self.integrator.data_mut();
