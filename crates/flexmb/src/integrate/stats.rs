@@ -32,7 +32,8 @@ pub struct Stats {
     pub rounding_floor: f64,
     /// Accepted steps taken while a singular position was predicted ahead (the constraint Jacobian's
     /// condition number rising past 100 toward a zero of its smallest singular value), their Newton and error
-    /// tests allowing the rounding amplified by it (`integrate/singular_position.rs`).
+    /// tests allowing the rounding amplified by it (`integrate/singular_position.rs`); those at which the
+    /// condition number was measured, which is at every step where its rounding could matter.
     #[serde(default)]
     pub singular_position_steps: usize,
     /// The largest condition number of the constraint Jacobian at the end of such a step: the steps there
