@@ -6,7 +6,16 @@
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Arc;
 
-use signal_hook::consts::signal::{SIGINT, SIGTERM};
+use signal_hook::consts::signal::{SIGINT, SIGPIPE, SIGTERM};
+
+/// Makes a closed standard output (`flexmb check M | head`) end the program as it ends other Unix tools,
+/// by SIGPIPE's default action, instead of a panic ("failed printing to stdout: Broken pipe") at the next
+/// line printed: the Rust runtime ignores SIGPIPE, and the handler registered here performs the
+/// default action when it arrives. Writing files raises no SIGPIPE.
+pub fn end_on_closed_pipe() -> std::io::Result<()> {
+    signal_hook::flag::register_conditional_default(SIGPIPE, Arc::new(AtomicBool::new(true)))?;
+    Ok(())
+}
 
 /// A termination signal that stopped a run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

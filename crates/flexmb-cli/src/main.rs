@@ -400,6 +400,9 @@ enum SolverArg {
 }
 
 fn main() -> ExitCode {
+    // Without it, a closed pipe would only be an error of the next line printed (a panic); with no handler
+    // the program still runs, so a failure to register is not one of the program.
+    let _ = flexmb_cli::interrupt::end_on_closed_pipe();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Run { model, parameter, t_end, output_step, rtol, atol, tolerance_span, integrator, spectral_radius, max_step, fixed_step, out, quiet, vtk, vtk_step, plot, max_output_rows, max_vtk_frames, save_state, resume, pause_at } => {

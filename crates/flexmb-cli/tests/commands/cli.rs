@@ -111,6 +111,25 @@ fn check_reports_degrees_of_freedom_and_redundant_constraints() {
 
 }
 
+/// `flexmb check M | head`: a standard output whose reader has gone ends the program by SIGPIPE, as it
+/// ends other Unix tools, not by a panic at the first line printed. The pipe's read end is closed before
+/// the program starts, so its first write meets it closed.
+#[test]
+fn a_closed_standard_output_ends_the_program_by_sigpipe_not_a_panic() {
+    use std::os::unix::process::ExitStatusExt;
+    let (reader, writer) = std::io::pipe().unwrap();
+    drop(reader);
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_flexmb"))
+        .args(["check", "models/slider_crank.toml"])
+        .current_dir(program::workspace())
+        .stdout(writer)
+        .output()
+        .unwrap();
+    let e = text(&o.stderr);
+    assert!(!e.contains("panicked") && !e.contains("Broken pipe"), "{e}");
+    assert_eq!(o.status.signal(), Some(13), "ended by SIGPIPE: {:?}", o.status);
+}
+
 #[test]
 fn bad_input_names_file_line_and_key() {
     let dir = scratch("bad");
