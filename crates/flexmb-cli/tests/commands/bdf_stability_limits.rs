@@ -49,9 +49,21 @@ fn flexible_pendulum_order_follows_stability_and_accuracy() {
         s.error_test_failures,
         &s.order_counts[1..6]
     );
-    assert!(s.steps <= 2300, "{} steps: no more than orders ≤ 2 (2070)", s.steps);
+    // Against orders ≤ 2 at the same tolerance, run here: the step count of orders ≤ 5 moves by a fifth with
+    // the rounding of the reduced body (1,900 steps, tip 4.8e-5 m, with a reduction whose modal matrices
+    // differ by 1e-13 relative from the one that gives 2,323 steps and 4.5e-6 m), so it is bounded
+    // against the low orders' steps, not against a count.
+    let (low_path, low) = tip(&model, 1e-6, BdfConfig { max_order: 2, ..base });
+    let low_error = distance(&low_path, &reference);
+    eprintln!("rtol 1e-6, orders ≤ 2: {} steps, tip error {low_error:.2e} m", low.stats.steps);
+    assert!(
+        s.steps as f64 <= 1.2 * low.stats.steps as f64,
+        "{} steps: about those of orders ≤ 2 ({}) or fewer",
+        s.steps,
+        low.stats.steps
+    );
     assert!(s.error_test_failures <= 150, "{} error-test failures (390 without the limits)", s.error_test_failures);
-    assert!(e < 1.6e-4, "tip {e:e} m from the reference (orders ≤ 2: 7.9e-5 m)");
+    assert!(e < 1.6e-4 && e < 2.0 * low_error, "tip {e:e} m from the reference (orders ≤ 2: {low_error:e} m)");
 
     let (tight, r) = tip(&model, 1e-9, base);
     let (s, e) = (r.stats, distance(&tight, &reference));
