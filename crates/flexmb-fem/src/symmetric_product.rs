@@ -35,6 +35,12 @@ pub(crate) fn symmetric_times(a: &SparseColMat<usize, f64>, x: MatRef<'_, f64>) 
     product
 }
 
+/// `(A + Aᵀ) / 2`: a square matrix that is symmetric but for rounding (a projection `xᵀ A x`, a product of
+/// factors), made exactly so before a symmetric eigen-decomposition or factorization reads one triangle.
+pub(crate) fn symmetrized(a: &Mat<f64>) -> Mat<f64> {
+    Mat::from_fn(a.nrows(), a.ncols(), |i, j| 0.5 * (a[(i, j)] + a[(j, i)]))
+}
+
 /// `xᵀ A x` for a symmetric `A` (the modal matrix of the modes `x`).
 pub(crate) fn symmetric_projection(a: &SparseColMat<usize, f64>, x: MatRef<'_, f64>) -> Mat<f64> {
     x.transpose() * symmetric_times(a, x)

@@ -33,7 +33,7 @@ use crate::modes::{vibration_modes_and_operator, vibration_modes_of, EigenSettin
 use crate::static_correction::{m_orthogonal_to, solve_with_extra_supports, static_correction_modes, static_responses, StaticModes};
 
 use super::ModeSet;
-use crate::symmetric_product::{symmetric_projection, symmetric_times};
+use crate::symmetric_product::{symmetric_projection, symmetric_times, symmetrized};
 
 /// Below this, a direction of the projected basis' scaled Gram matrix is a rigid motion (dropped).
 const RIGID_DIRECTION: f64 = 1e-10;
@@ -252,7 +252,7 @@ pub(super) fn orthonormal_elastic_span(
         }
     }
     let gram = symmetric_projection(&assembled.mass, scaled.as_ref());
-    let gram = Mat::from_fn(m, m, |i, j| 0.5 * (gram[(i, j)] + gram[(j, i)]));
+    let gram = symmetrized(&gram);
     let eigen = gram.self_adjoint_eigen(Side::Lower).map_err(|e| FemError::LinearAlgebra(format!("interface basis Gram matrix: {e:?}")))?;
     let kept: Vec<usize> = (0..m).filter(|&k| eigen.S()[k] > RIGID_DIRECTION).collect();
     let dropped = m - kept.len();
@@ -269,7 +269,7 @@ pub(super) fn orthonormal_elastic_span(
     let w = &scaled * &w_coefficients;
     let reduced = symmetric_projection(&assembled.stiffness, w.as_ref());
     let r = kept.len();
-    let reduced = Mat::from_fn(r, r, |i, j| 0.5 * (reduced[(i, j)] + reduced[(j, i)]));
+    let reduced = symmetrized(&reduced);
     let eigen = reduced.self_adjoint_eigen(Side::Lower).map_err(|e| FemError::LinearAlgebra(format!("interface reduced eigenproblem: {e:?}")))?;
     let values: Vec<f64> = (0..r).map(|k| eigen.S()[k]).collect();
     Ok((values, &w * eigen.U(), independence))

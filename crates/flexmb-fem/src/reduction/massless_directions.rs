@@ -24,7 +24,7 @@ use faer::{Mat, Side};
 
 use crate::assembly::AssembledModel;
 use crate::mesh::FeModel;
-use crate::symmetric_product::symmetric_projection;
+use crate::symmetric_product::{symmetric_projection, symmetrized};
 
 /// Below this share of the body's mass per unit of nodal motion, a direction moves no mass.
 const MASSLESS: f64 = 1e-12;
@@ -42,7 +42,7 @@ pub(super) fn drop_massless_directions(
     names: &[String],
     warnings: &mut Vec<String>,
 ) -> (Mat<f64>, Vec<usize>) {
-    let modal_mass = symmetric(&symmetric_projection(&assembled.mass, basis.as_ref()));
+    let modal_mass = symmetrized(&symmetric_projection(&assembled.mass, basis.as_ref()));
     let m = basis.ncols();
     let all = (0..m).collect();
     if m == 0 {
@@ -73,19 +73,15 @@ pub(super) fn drop_massless_directions(
     let kept: Vec<usize> = (0..m).filter(|j| !pivots.contains(j)).collect();
     let mut coefficients = Mat::from_fn(m, kept.len(), |i, k| if i == kept[k] { 1.0 } else { 0.0 });
     // Stiffness-orthogonal to the massless directions: X − Z (ZᵀKZ)⁻¹ ZᵀK X.
-    let stiffness = symmetric(&symmetric_projection(&assembled.stiffness, basis.as_ref()));
+    let stiffness = symmetrized(&symmetric_projection(&assembled.stiffness, basis.as_ref()));
     let zk = directions.transpose() * &stiffness;
-    let zkz = symmetric(&(&zk * &directions));
+    let zkz = symmetrized(&(&zk * &directions));
     if let Ok(factor) = zkz.llt(Side::Lower) {
         let correction = factor.solve(&zk * &coefficients);
         coefficients -= &directions * &correction;
     }
     *basis = &*basis * &coefficients;
-    (symmetric(&(coefficients.transpose() * &modal_mass * &coefficients)), kept)
-}
-
-fn symmetric(a: &Mat<f64>) -> Mat<f64> {
-    Mat::from_fn(a.nrows(), a.ncols(), |i, j| 0.5 * (a[(i, j)] + a[(j, i)]))
+    (symmetrized(&(coefficients.transpose() * &modal_mass * &coefficients)), kept)
 }
 
 /// Each mode's largest nodal motion `√(|u|² + (L |θ|)²)` (0 for one that moves nothing or is not finite).

@@ -29,7 +29,7 @@ use crate::error::FemError;
 use crate::mesh::FeModel;
 use crate::modes::{check_memory, prepare, prepare_supported, vibration_modes_of, EigenSettings, PreparedModel, VibrationModes};
 use crate::static_correction::{static_correction_modes, StaticModes};
-use crate::symmetric_product::symmetric_projection;
+use crate::symmetric_product::{symmetric_projection, symmetrized};
 use massless_directions::drop_massless_directions;
 
 /// What to reduce to.
@@ -317,7 +317,7 @@ fn reduced_eigenproblem(mass: &Mat<f64>, stiffness: &Mat<f64>) -> Result<(Vec<f6
     faer::linalg::triangular_solve::solve_lower_triangular_in_place(l, a.as_mut(), faer::Par::Seq);
     let mut a = a.transpose().to_owned();
     faer::linalg::triangular_solve::solve_lower_triangular_in_place(l, a.as_mut(), faer::Par::Seq);
-    let a = Mat::from_fn(m, m, |i, j| 0.5 * (a[(i, j)] + a[(j, i)]));
+    let a = symmetrized(&a);
     let eigen = a
         .self_adjoint_eigen(Side::Lower)
         .map_err(|e| FemError::LinearAlgebra(format!("reduced eigenproblem: {e:?}")))?;
