@@ -267,7 +267,7 @@ enum Command {
         #[arg(long, value_enum, value_delimiter = ',')]
         case: Vec<BenchCase>,
         /// Integrators, comma-separated (default: all three for the peer cases and the chains, bdf for
-        /// the rest).
+        /// the rest); adams-partitioning, the Adams method with coordinate partitioning, only when named.
         #[arg(long, value_enum, value_delimiter = ',')]
         integrator: Vec<BenchIntegrator>,
         /// Repetitions per case; the fastest is reported.

@@ -23,9 +23,9 @@ pub const CHAIN_SPAN: f64 = 0.1;
 pub const CHAIN_TOLERANCE: [(BenchIntegrator, f64); 3] =
     [(BenchIntegrator::Bdf, 3e-10), (BenchIntegrator::Adams, 3e-9), (BenchIntegrator::GenAlpha, 1e-8)];
 
-/// The chain's tolerance for `integrator` ([`CHAIN_TOLERANCE`]).
+/// The chain's tolerance for `integrator` ([`CHAIN_TOLERANCE`]; partitioning at the Adams method's).
 pub fn chain_tolerance(integrator: BenchIntegrator) -> f64 {
-    CHAIN_TOLERANCE.iter().find(|(i, _)| *i == integrator).map_or(f64::NAN, |(_, tol)| *tol)
+    CHAIN_TOLERANCE.iter().find(|(i, _)| *i == integrator.tolerances_of()).map_or(f64::NAN, |(_, tol)| *tol)
 }
 
 /// Rod length (m).

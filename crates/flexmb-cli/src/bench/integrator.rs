@@ -1,5 +1,6 @@
 //! The integrators a benchmark runs, by the names `flexmb run --integrator` takes.
 
+use flexmb::integrate::adams::ConstraintHandling;
 use flexmb::integrate::{AdamsConfig, Method};
 use flexmb::Model;
 use flexmb_files::SimulationDefaults;
@@ -17,18 +18,30 @@ pub enum BenchIntegrator {
     Adams,
     /// The generalized-α method with ρ∞ = 0.9.
     GenAlpha,
+    /// The Adams method with generalized coordinate partitioning (the DADS way, a library option that
+    /// `flexmb run` does not offer), at the Adams method's tolerances: how the partition's cost grows.
+    AdamsPartitioning,
 }
 
 impl BenchIntegrator {
     /// Every integrator, the default first.
     pub const ALL: [BenchIntegrator; 3] = [BenchIntegrator::Bdf, BenchIntegrator::Adams, BenchIntegrator::GenAlpha];
 
-    /// The name `flexmb run --integrator` takes.
+    /// The name `flexmb run --integrator` takes (`adams-partitioning`: the benchmark's own).
     pub fn name(self) -> &'static str {
         match self {
             BenchIntegrator::Bdf => "bdf",
             BenchIntegrator::Adams => "adams",
             BenchIntegrator::GenAlpha => "gen-alpha",
+            BenchIntegrator::AdamsPartitioning => "adams-partitioning",
+        }
+    }
+
+    /// The integrator whose tolerances this one runs at: the Adams method's for partitioning.
+    pub fn tolerances_of(self) -> BenchIntegrator {
+        match self {
+            BenchIntegrator::AdamsPartitioning => BenchIntegrator::Adams,
+            other => other,
         }
     }
 
@@ -39,6 +52,9 @@ impl BenchIntegrator {
             BenchIntegrator::Bdf => Method::default(),
             BenchIntegrator::Adams => Method::Adams(AdamsConfig::default()),
             BenchIntegrator::GenAlpha => Method::generalized_alpha(SPECTRAL_RADIUS),
+            BenchIntegrator::AdamsPartitioning => {
+                Method::Adams(AdamsConfig { constraints: ConstraintHandling::Partitioning, ..AdamsConfig::default() })
+            }
         }
     }
 
