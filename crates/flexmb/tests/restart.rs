@@ -192,11 +192,12 @@ fn chain(n: usize) -> Model {
     b.build().unwrap()
 }
 
-/// The iteration matrices of the chain of 8 rods (160 unknowns for the BDF, 96 for generalized-α) are
+/// The iteration matrices of the chain of 8 rods (160 unknowns for the BDF, 96 for generalized-α), and
+/// the dependent coordinates' matrix of the Adams method's partition on the chain of 12 (48 rows), are
 /// refactored on kept pivots, which the checkpoint carries: a run split anywhere takes the uninterrupted
 /// run's steps to the last bit, every state after every step equal.
-fn assert_chain_restart_is_bitwise(name: &str, settings: SimulationSettings) {
-    let model = Arc::new(chain(8));
+fn assert_chain_restart_is_bitwise(name: &str, rods: usize, settings: SimulationSettings, pivots: usize) {
+    let model = Arc::new(chain(rods));
     let (reference, _, stats) = uninterrupted(&model, settings);
     assert!(reference.steps.len() > 50, "{name}: only {} steps", reference.steps.len());
     for t_split in [0.003, 0.137, 0.2] {
@@ -205,9 +206,9 @@ fn assert_chain_restart_is_bitwise(name: &str, settings: SimulationSettings) {
         let kept = match &first.checkpoint().unwrap().integrator {
             IntegratorCheckpoint::Bdf(c) => c.kept_pivots.clone(),
             IntegratorCheckpoint::GeneralizedAlpha(c) => c.kept_pivots.clone(),
-            IntegratorCheckpoint::Adams(_) => None,
+            IntegratorCheckpoint::Adams(c) => c.partition.as_ref().and_then(|p| p.kept_pivots().map(<[usize]>::to_vec)),
         };
-        assert_eq!(kept.map(|p| p.len()), Some(if name == "bdf" { 160 } else { 96 }), "{name}: the checkpoint keeps the pivots");
+        assert_eq!(kept.map(|p| p.len()), Some(pivots), "{name}: the checkpoint keeps the pivots");
         let (trajectory, _, split_stats) = split(&model, settings, t_split);
         assert_eq!(trajectory.steps.len(), reference.steps.len(), "{name}, split at {t_split} s: number of steps");
         let first_difference = trajectory.steps.iter().zip(&reference.steps).position(|(a, b)| a != b);
@@ -218,12 +219,18 @@ fn assert_chain_restart_is_bitwise(name: &str, settings: SimulationSettings) {
 
 #[test]
 fn bdf_restart_of_a_chain_continues_bitwise_on_the_kept_pivots() {
-    assert_chain_restart_is_bitwise("bdf", settings(0.3, 0.05, 1e-8));
+    assert_chain_restart_is_bitwise("bdf", 8, settings(0.3, 0.05, 1e-8), 160);
 }
 
 #[test]
 fn generalized_alpha_restart_of_a_chain_continues_bitwise_on_the_kept_pivots() {
-    assert_chain_restart_is_bitwise("gen-alpha", with_method(settings(0.3, 0.05, 1e-6), Method::generalized_alpha(0.8)));
+    assert_chain_restart_is_bitwise("gen-alpha", 8, with_method(settings(0.3, 0.05, 1e-6), Method::generalized_alpha(0.8)), 96);
+}
+
+#[test]
+fn adams_with_partitioning_restart_of_a_chain_continues_bitwise_on_the_kept_pivots() {
+    let partitioning = AdamsConfig { constraints: ConstraintHandling::Partitioning, ..Default::default() };
+    assert_chain_restart_is_bitwise("adams with partitioning", 12, with_method(settings(0.3, 0.05, 1e-8), Method::Adams(partitioning)), 48);
 }
 
 /// The `simulate` wrapper is the `Simulation` run to its end: the same outputs, the same counters.

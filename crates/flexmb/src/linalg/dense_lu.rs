@@ -11,6 +11,8 @@ use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::lu::partial_pivoting::factor;
 use faer::{Mat, MatMut, MatRef, Par};
 
+use super::lu_refactorization::pivot_ratio;
+
 /// The workspace of [`lu_in_place`] for an `n × n` matrix.
 pub(crate) fn lu_in_place_scratch(n: usize) -> StackReq {
     factor::lu_in_place_scratch::<usize, f64>(n, n, Par::Seq, Default::default())
@@ -21,20 +23,7 @@ pub(crate) fn lu_in_place_scratch(n: usize) -> StackReq {
 /// one is zero or not finite.
 pub(crate) fn lu_in_place(mut a: MatMut<'_, f64>, perm: &mut [usize], perm_inv: &mut [usize], stack: &mut MemStack) -> f64 {
     factor::lu_in_place(a.as_mut(), perm, perm_inv, Par::Seq, stack, Default::default());
-    let (mut smallest, mut largest) = (f64::INFINITY, 0.0_f64);
-    for k in 0..a.nrows() {
-        let pivot = a[(k, k)];
-        if pivot == 0.0 || !pivot.is_finite() {
-            return 0.0;
-        }
-        smallest = smallest.min(pivot.abs());
-        largest = largest.max(pivot.abs());
-    }
-    if a.nrows() == 0 {
-        1.0
-    } else {
-        smallest / largest
-    }
+    pivot_ratio((0..a.nrows()).map(|k| a[(k, k)]))
 }
 
 /// Solves `A x = b` in place (`rhs` holds `b` on entry) with the factors of [`lu_in_place`]; `work` is
@@ -78,6 +67,8 @@ pub(crate) struct DenseLu {
     factor_buffer: MemBuffer,
     /// The permuted right-hand side during a solve.
     work: Vec<f64>,
+    /// The pivot ratio of the last factorization ([`lu_in_place`]'s).
+    pivot_ratio: f64,
 }
 
 impl DenseLu {
@@ -88,6 +79,7 @@ impl DenseLu {
             perm_inv: vec![0; n],
             factor_buffer: MemBuffer::new(lu_in_place_scratch(n)),
             work: vec![0.0; n],
+            pivot_ratio: 0.0,
         }
     }
 
@@ -101,7 +93,13 @@ impl DenseLu {
             }
         }
         let stack = MemStack::new(&mut self.factor_buffer);
-        lu_in_place(self.lu.as_mut(), &mut self.perm, &mut self.perm_inv, stack) > 0.0
+        self.pivot_ratio = lu_in_place(self.lu.as_mut(), &mut self.perm, &mut self.perm_inv, stack);
+        self.pivot_ratio > 0.0
+    }
+
+    /// The smallest over the largest magnitude of the last factorization's pivots.
+    pub(crate) fn pivot_ratio(&self) -> f64 {
+        self.pivot_ratio
     }
 
     /// Solves `A x = b` in place with the factors.

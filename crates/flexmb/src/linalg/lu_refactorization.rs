@@ -38,6 +38,24 @@ pub enum RefactorFailure {
     },
 }
 
+/// The smallest over the largest magnitude of `pivots` (1 if there are none, 0 if one is zero or not
+/// finite): a cheap measure of how near singular a factored matrix is.
+pub fn pivot_ratio(pivots: impl Iterator<Item = f64>) -> f64 {
+    let (mut smallest, mut largest) = (f64::INFINITY, 0.0_f64);
+    for pivot in pivots {
+        if pivot == 0.0 || !pivot.is_finite() {
+            return 0.0;
+        }
+        smallest = smallest.min(pivot.abs());
+        largest = largest.max(pivot.abs());
+    }
+    if largest == 0.0 {
+        1.0
+    } else {
+        smallest / largest
+    }
+}
+
 /// A pivot sequence that cannot be loaded: not a permutation of the matrix's rows, or one whose
 /// pattern leaves a structurally zero pivot.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -199,6 +217,12 @@ impl LuFactors {
     #[cfg(test)]
     pub fn factor_entries(&self) -> usize {
         self.l_rows.len() + self.u_rows.len() + 2 * self.n
+    }
+
+    /// The smallest over the largest magnitude of `U`'s diagonal (1 for an empty matrix); meaningful
+    /// after a successful [`refactor`](Self::refactor).
+    pub fn pivot_ratio(&self) -> f64 {
+        pivot_ratio(self.u_diagonal[..self.n].iter().copied())
     }
 
     /// The most columns of one supernode of `L`.

@@ -5,6 +5,7 @@
 mod colouring;
 mod dense_lu;
 mod finite_difference;
+mod full_pivoting;
 mod givens_qr;
 mod gram_cholesky;
 mod lu_refactorization;
@@ -19,8 +20,8 @@ pub use sparse_lu::SingularMatrix;
 // the engine's invariants, not a user's input.
 pub(crate) use lu_refactorization::InvalidPivots;
 pub(crate) use sparse_lu::SparseLu;
-// The dense LU of the Adams method's partition (its factors kept in a checkpoint).
-pub(crate) use dense_lu::{lu_in_place, lu_in_place_scratch, solve_with_lu};
+// The Adams method's partition: the dependent coordinates by sparse elimination with full pivoting.
+pub(crate) use full_pivoting::full_pivoting_columns;
 // The initial-condition analyses' sparse Jacobians, their rank and their minimum-norm corrections.
 pub(crate) use givens_qr::dependent_rows;
 // The conditioning of the constraint Jacobian in force (the singular-position guard).

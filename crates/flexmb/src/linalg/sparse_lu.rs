@@ -289,6 +289,17 @@ impl SparseLu {
         Ok(())
     }
 
+    /// The smallest over the largest magnitude of the last successful factorization's pivots (of `U`'s
+    /// diagonal), a cheap measure of how near singular the matrix is; `None` for a matrix factored
+    /// afresh by `faer`'s sparse LU, whose numeric factors do not show `U`'s diagonal.
+    pub fn pivot_ratio(&self) -> Option<f64> {
+        match &self.factorization {
+            Factorization::Dense(dense) => Some(dense.pivot_ratio()),
+            Factorization::Fresh(_) => None,
+            Factorization::KeptPivots(kept) => Some(kept.factors.pivot_ratio()),
+        }
+    }
+
     /// Solves `A x = b` in place (`rhs` holds `b` on entry and `x` on return).
     /// Returns an error if the factors give a non-finite solution (a numerically singular matrix).
     ///

@@ -218,7 +218,7 @@ impl Adams {
     pub fn checkpoint(&self) -> AdamsCheckpoint {
         let (drift, partition, evaluations, kkt, data) = match &self.system {
             System::Projection(s) => (s.drift, None, s.evaluations, &s.kkt, &s.data),
-            System::Partitioning(s) => (ProjectionDrift::default(), Some(s.state.clone()), s.evaluations, &s.kkt, &s.data),
+            System::Partitioning(s) => (ProjectionDrift::default(), Some(s.checkpoint()), s.evaluations, &s.kkt, &s.data),
         };
         AdamsCheckpoint {
             stepper: self.stepper.clone(),

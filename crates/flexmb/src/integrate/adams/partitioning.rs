@@ -11,22 +11,27 @@
 //! degrade (smallest over largest below a tenth of its value when chosen) or the Newton iteration
 //! for `u` fails.
 //!
+//! **Sparse throughout**: `Φ̂_q` is kept by rows on the pattern of the joints' bodies (a row's
+//! coordinates are those of the one or two bodies its joint connects), the elimination runs on the
+//! rows with a heap of pivot candidates and chooses the dense elimination's columns to the last bit
+//! ([`full_pivoting_columns`]), and `Φ̂_u` is a [`SparseLu`] with kept pivots on the pattern of the
+//! dependent columns: its symbolic analysis once per partition, a numeric refactorization at every
+//! evaluation (dense up to the kept-pivot matrices' dense limit, as the small mechanisms' were). So
+//! the cost of an evaluation grows with the bodies, not with their cube.
+//!
 //! The constraints hold to Newton tolerance at every evaluation, not only after the steps; the price
-//! is a Newton solve (chord iterations with the last factors of `Φ̂_u`, dense here (`faer`'s LU), plus one
-//! refactorization at the converged point for the velocities) inside every evaluation, a restart of
-//! the multistep history at every repartition, and an error test that sees only the independent
-//! coordinates. See [`super::mechanism`] for the comparison with projection.
+//! is a Newton solve (chord iterations with the last factors of `Φ̂_u`, plus one refactorization at the
+//! converged point for the velocities) inside every evaluation, a restart of the multistep history at
+//! every repartition, and an error test that sees only the independent coordinates. See
+//! [`super::mechanism`] for the comparison with projection.
 
 use std::sync::Arc;
 
-use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::{MatMut, MatRef};
-
 use crate::data::Data;
 use crate::integrate::{check_len, CheckpointError};
-use crate::linalg::{lu_in_place, lu_in_place_scratch, solve_with_lu};
+use crate::linalg::{full_pivoting_columns, SparseLu};
 use crate::math::euler_parameters::g_matrix;
-use crate::math::{Vec3, Vec4};
+use crate::math::{Mat3x4, Vec3, Vec4};
 
 use crate::model::Model;
 use crate::stage::{jacobian_entries, run_kinematic_stages, kinematics, update_angle_references};
@@ -58,35 +63,91 @@ pub struct PartitionReport {
     pub repartitions: usize,
     /// Newton iterations for the dependent coordinates over all evaluations.
     pub newton_iterations: usize,
-    /// Dense factorizations of `Φ̂_u`.
+    /// Factorizations of `Φ̂_u`.
     pub factorizations: usize,
 }
 
-/// A dense square matrix (column-major) with its LU factors, factored in place by `faer`'s LU with
-/// partial pivoting ([`lu_in_place`]); kept in a checkpoint.
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-struct DenseLu {
-    n: usize,
-    a: Vec<f64>,
-    perm: Vec<usize>,
-    perm_inv: Vec<usize>,
+/// The patterns of `B` (over the velocities) and of `Φ̂_q` (over the positions) by rows: a constraint
+/// row holds the coordinates of its joint's bodies, a normalization row the body's Euler parameters.
+struct JacobianPattern {
+    /// `B`'s rows in force: start of each row in `b_cols`, and the velocity columns, ascending.
+    b_ptr: Vec<usize>,
+    b_cols: Vec<usize>,
+    /// The bodies of each row in force, ascending, each once.
+    row_bodies: Vec<Vec<usize>>,
+    /// `Φ̂_q`: start of each row in `cols`, and the position columns, ascending.
+    ptr: Vec<usize>,
+    cols: Vec<usize>,
 }
 
-impl DenseLu {
-    fn new(n: usize) -> Self {
-        Self { n, a: vec![0.0; n * n], perm: vec![0; n], perm_inv: vec![0; n] }
+impl JacobianPattern {
+    fn new(model: &Model, rows: &[usize]) -> Self {
+        let l = &model.layout;
+        let mut joint_of_row = vec![usize::MAX; l.nc];
+        for (j, range) in l.joint_rows.iter().enumerate() {
+            joint_of_row[range.clone()].iter_mut().for_each(|x| *x = j);
+        }
+        let (mut b_ptr, mut b_cols, mut row_bodies, mut ptr, mut cols) = (vec![0], Vec::new(), Vec::new(), vec![0], Vec::new());
+        for &r in rows {
+            let mut bodies: Vec<usize> = match model.joints.get(joint_of_row[r]) {
+                Some(joint) => model.joint_bodies(joint).into_iter().flatten().map(|b| b.0).collect(),
+                None => Vec::new(),
+            };
+            bodies.sort_unstable();
+            bodies.dedup();
+            for &b in &bodies {
+                b_cols.extend(l.v_span(b));
+                cols.extend(l.q_span(b));
+            }
+            b_ptr.push(b_cols.len());
+            ptr.push(cols.len());
+            row_bodies.push(bodies);
+        }
+        for b in 0..model.bodies.len() {
+            cols.extend(l.q_offset[b] + 3..l.q_offset[b] + 7);
+            ptr.push(cols.len());
+        }
+        Self { b_ptr, b_cols, row_bodies, ptr, cols }
     }
 
-    /// Factors `a` in place with the workspace `buffer` ([`lu_in_place_scratch`]); returns the smallest
-    /// over the largest pivot magnitude (0 if singular).
-    fn factor(&mut self, buffer: &mut MemBuffer) -> f64 {
-        let a = MatMut::from_column_major_slice_mut(&mut self.a, self.n, self.n);
-        lu_in_place(a, &mut self.perm, &mut self.perm_inv, MemStack::new(buffer))
+    /// The number of entries of `Φ̂_q`.
+    fn nnz(&self) -> usize {
+        self.cols.len()
     }
+}
 
-    /// Solves `A x = b` in place with the factors; `work` is of the matrix's dimension.
-    fn solve(&self, b: &mut [f64], work: &mut [f64]) {
-        solve_with_lu(MatRef::from_column_major_slice(&self.a, self.n, self.n), &self.perm, b, work);
+/// `Φ̂_u`, the dependent columns of `Φ̂_q`, on the pattern of a partition.
+struct DependentMatrix {
+    /// Its LU factors, and a second matrix on the same pattern for the outputs' evaluations.
+    lu: SparseLu,
+    output_lu: SparseLu,
+    /// The place in `lu.values` of each entry of `Φ̂_q` (`usize::MAX` for an independent column).
+    slot: Vec<usize>,
+    /// Whether each position coordinate is dependent.
+    is_dependent: Vec<bool>,
+}
+
+impl DependentMatrix {
+    /// The matrix of the columns `dependent` (ascending) of `Φ̂_q`: its symbolic analysis.
+    fn new(pattern: &JacobianPattern, nq: usize, dependent: &[usize]) -> Self {
+        let m = pattern.ptr.len() - 1;
+        let mut column = vec![usize::MAX; nq];
+        dependent.iter().enumerate().for_each(|(j, &c)| column[c] = j);
+        let entries = || {
+            (0..m).flat_map(|i| (pattern.ptr[i]..pattern.ptr[i + 1]).map(move |e| (i, e)))
+                .filter(|&(_, e)| column[pattern.cols[e]] != usize::MAX)
+                .map(|(i, e)| (i, column[pattern.cols[e]]))
+        };
+        let lu = SparseLu::with_kept_pivots(m, entries());
+        let output_lu = SparseLu::with_kept_pivots(m, entries());
+        let slot = (0..m)
+            .flat_map(|i| (pattern.ptr[i]..pattern.ptr[i + 1]).map(move |e| (i, e)))
+            .map(|(i, e)| match column[pattern.cols[e]] {
+                usize::MAX => usize::MAX,
+                j => lu.slot(i, j).expect("an entry of the pattern"),
+            })
+            .collect();
+        Self { lu, output_lu, slot, is_dependent: column.iter().map(|&j| j != usize::MAX).collect() }
     }
 }
 
@@ -99,16 +160,17 @@ pub(super) struct PartitionedMechanism {
     nv: usize,
     /// The active constraint rows; `Φ̂` is these then one normalization row per body.
     rows: Vec<usize>,
+    /// The row in force of each constraint row (`usize::MAX` for a redundant one).
+    row_in_force: Vec<usize>,
     m: usize,
-    /// `B` over the active rows, dense, scratch of [`jacobian`](Self::jacobian).
-    b_dense: Vec<f64>,
-    /// Scratch of the partition choice, `m × nq`, and the columns already chosen.
-    elimination: Vec<f64>,
-    chosen: Vec<bool>,
+    pattern: JacobianPattern,
+    /// `B` over the active rows on its pattern, scratch of [`jacobian`](Self::jacobian).
+    b_values: Vec<f64>,
+    /// `2 G(p)` of each body, scratch of [`jacobian`](Self::jacobian).
+    g2: Vec<Mat3x4>,
+    /// `Φ̂_u` of the current partition, with its factors.
+    dependent: DependentMatrix,
     phi: Vec<f64>,
-    /// Workspace of the factorization of `Φ̂_u` and of its solves.
-    lu_buffer: MemBuffer,
-    lu_work: Vec<f64>,
     rtol: f64,
     atol: f64,
     pub evaluations: usize,
@@ -124,13 +186,15 @@ pub struct PartitionCheckpoint {
     /// The independent and the dependent position coordinates.
     pub(super) independent: Vec<usize>,
     dependent: Vec<usize>,
-    /// `Φ̂_q`, `m × nq`, row-major, at the positions of the last [`jacobian`](PartitionedMechanism::jacobian) call.
+    /// `Φ̂_q` on its pattern (by rows: the joints' bodies' coordinates, then each body's Euler
+    /// parameters), at the positions of the last [`jacobian`](PartitionedMechanism::jacobian) call.
     jac: Vec<f64>,
-    /// LU factors of `Φ̂_u` (the dependent columns).
-    lu: DenseLu,
+    /// Whether `Φ̂_u`'s factors are of a recent state (usable for chord iterations); a checkpoint
+    /// holds its values and kept pivots, and the factors are made again from them on restore.
     factored: bool,
-    /// The factors, positions and rates of the last evaluation, kept while an output is computed.
-    saved_lu: DenseLu,
+    dependent_values: Vec<f64>,
+    kept_pivots: Option<Vec<usize>>,
+    /// The positions and rates of the last evaluation, kept while an output is computed.
     saved_q: Vec<f64>,
     saved_qdot: Vec<f64>,
     pivot_ratio_at_partition: f64,
@@ -151,21 +215,58 @@ pub struct PartitionCheckpoint {
     pub(super) needs_repartition: bool,
 }
 
+impl PartitionCheckpoint {
+    /// The kept pivot sequence of `Φ̂_u`'s factors (the position of each row in the pivot order), if
+    /// the matrix is above the dense limit and holds one.
+    pub fn kept_pivots(&self) -> Option<&[usize]> {
+        self.kept_pivots.as_deref()
+    }
+}
+
 impl PartitionedMechanism {
-    /// Continues from `c`, taken of the same model's partitioned mechanism.
+    /// The state between two steps, with the values and kept pivots of `Φ̂_u`'s factors.
+    pub fn checkpoint(&self) -> PartitionCheckpoint {
+        let mut c = self.state.clone();
+        c.dependent_values = self.dependent.lu.values.clone();
+        c.kept_pivots = self.dependent.lu.kept_pivots().map(<[usize]>::to_vec);
+        c
+    }
+
+    /// Continues from `c`, taken of the same model's partitioned mechanism: the partition's `Φ̂_u`
+    /// analysed again and refactored from the values and pivots kept, the same factors to the last bit.
     pub fn restore(&mut self, c: &PartitionCheckpoint) -> Result<(), CheckpointError> {
-        let current = &self.state;
         for (what, expected, found) in [
             ("the coordinates of the partition", self.nq, c.independent.len() + c.dependent.len()),
-            ("the constraint Jacobian", current.jac.len(), c.jac.len()),
-            ("the dependent coordinates' factors", current.lu.a.len(), c.lu.a.len()),
-            ("the saved factors", current.saved_lu.a.len(), c.saved_lu.a.len()),
+            ("the dependent coordinates", self.m, c.dependent.len()),
+            ("the constraint Jacobian", self.pattern.nnz(), c.jac.len()),
             ("the positions", self.nq, c.q.len()),
             ("the velocities", self.nv, c.v.len()),
         ] {
             check_len(what, expected, found)?;
         }
+        let mut seen = vec![false; self.nq];
+        let partition_error = || CheckpointError::Unsupported("the checkpoint's coordinate partition is not one of the model's coordinates".into());
+        for &k in c.independent.iter().chain(&c.dependent) {
+            if k >= self.nq || std::mem::replace(&mut seen[k], true) {
+                return Err(partition_error());
+            }
+        }
+        if !c.dependent.is_sorted() {
+            return Err(partition_error());
+        }
+        let mut dependent = DependentMatrix::new(&self.pattern, self.nq, &c.dependent);
+        check_len("the dependent coordinates' matrix", dependent.lu.values.len(), c.dependent_values.len())?;
+        dependent.lu.values.copy_from_slice(&c.dependent_values);
+        dependent.lu.keep_pivots(c.kept_pivots.as_deref()).map_err(|_| {
+            CheckpointError::Unsupported("the checkpoint's pivots of the dependent coordinates' matrix do not fit its partition".into())
+        })?;
+        if c.factored && dependent.lu.factor().is_err() {
+            return Err(CheckpointError::Unsupported("the checkpoint's dependent coordinates' matrix is singular".into()));
+        }
+        self.dependent = dependent;
         self.state.clone_from(c);
+        self.state.dependent_values.clear();
+        self.state.kept_pivots = None;
         Ok(())
     }
 
@@ -182,33 +283,37 @@ impl PartitionedMechanism {
         let l = &model.layout;
         let (nq, nv) = (l.nq, l.nv);
         let rows: Vec<usize> = (0..l.nc).filter(|r| active[*r]).collect();
+        let mut row_in_force = vec![usize::MAX; l.nc];
+        rows.iter().enumerate().for_each(|(k, &r)| row_in_force[r] = k);
         let m = rows.len() + model.bodies.len();
+        let pattern = JacobianPattern::new(&model, &rows);
+        let nnz = pattern.nnz();
         let mut qdot = vec![0.0; nq];
         position_rates(&model, q, v, &mut qdot);
         let mut s = Self {
             data: Data::new(&model),
             kkt: Kkt::new(&model, active),
-            model,
             nq,
             nv,
-            b_dense: vec![0.0; rows.len() * nv],
+            b_values: vec![0.0; pattern.b_cols.len()],
+            g2: vec![Mat3x4::zeros(); model.bodies.len()],
+            dependent: DependentMatrix::new(&pattern, nq, &[]),
+            pattern,
+            model,
             rows,
+            row_in_force,
             m,
-            elimination: vec![0.0; m * nq],
-            chosen: vec![false; nq],
             phi: vec![0.0; m],
-            lu_buffer: MemBuffer::new(lu_in_place_scratch(m)),
-            lu_work: vec![0.0; m],
             rtol,
             atol,
             evaluations: 0,
             state: PartitionCheckpoint {
                 independent: Vec::with_capacity(nq),
                 dependent: Vec::with_capacity(nq),
-                jac: vec![0.0; m * nq],
-                lu: DenseLu::new(m),
+                jac: vec![0.0; nnz],
                 factored: false,
-                saved_lu: DenseLu::new(m),
+                dependent_values: Vec::new(),
+                kept_pivots: None,
                 saved_q: vec![0.0; nq],
                 saved_qdot: vec![0.0; nq],
                 pivot_ratio_at_partition: 1.0,
@@ -250,49 +355,22 @@ impl PartitionedMechanism {
     }
 
     /// Chooses the partition at the last accepted state (Gaussian elimination with full pivoting on
-    /// `Φ̂_q`) and factors `Φ̂_u` there.
+    /// `Φ̂_q`, [`full_pivoting_columns`]), analyses `Φ̂_u`'s pattern and factors it there.
     pub fn choose_partition(&mut self) -> Result<(), EvaluationFailure> {
-        let (m, nq) = (self.m, self.nq);
+        let nq = self.nq;
         self.state.q.copy_from_slice(&self.state.q_accepted);
         self.state.v.copy_from_slice(&self.state.v_accepted);
         self.state.qdot.copy_from_slice(&self.state.qdot_accepted);
         self.state.t = self.state.t_accepted;
         self.constraint_stage(self.state.t);
         self.jacobian();
-        self.elimination.copy_from_slice(&self.state.jac);
-        let e = &mut self.elimination;
-        self.state.dependent.clear();
-        self.chosen.fill(false);
-        for k in 0..m {
-            let (mut best, mut bi, mut bj) = (0.0_f64, k, usize::MAX);
-            for i in k..m {
-                for j in 0..nq {
-                    if !self.chosen[j] && e[i * nq + j].abs() > best {
-                        (best, bi, bj) = (e[i * nq + j].abs(), i, j);
-                    }
-                }
-            }
-            if bj == usize::MAX {
-                return Err(SINGULAR_PARTITION);
-            }
-            for j in 0..nq {
-                e.swap(k * nq + j, bi * nq + j);
-            }
-            let pivot = e[k * nq + bj];
-            for i in k + 1..m {
-                let f = e[i * nq + bj] / pivot;
-                if f != 0.0 {
-                    for j in 0..nq {
-                        e[i * nq + j] -= f * e[k * nq + j];
-                    }
-                }
-            }
-            self.state.dependent.push(bj);
-            self.chosen[bj] = true;
-        }
-        self.state.dependent.sort_unstable();
+        let pattern = &self.pattern;
+        let mut dependent = full_pivoting_columns(nq, &pattern.ptr, &pattern.cols, &self.state.jac).ok_or(SINGULAR_PARTITION)?;
+        dependent.sort_unstable();
+        self.state.dependent = dependent;
         self.state.independent.clear();
         self.state.independent.extend((0..nq).filter(|c| self.state.dependent.binary_search(c).is_err()));
+        self.dependent = DependentMatrix::new(&self.pattern, nq, &self.state.dependent);
         self.state.pivot_ratio_at_partition = self.factor_dependent()?;
         self.state.report.repartitions += 1;
         self.state.report.independent = self.state.independent.len();
@@ -316,48 +394,58 @@ impl PartitionedMechanism {
     /// `Φ̂_q` at `self.state.q` (after [`constraint_stage`](Self::constraint_stage)): `Φ_R = B_Ṙ`,
     /// `Φ_p = B_ω̄ 2G(p)`, `Φ_a = B_ȧ`, `(pᵀp)_p = 2pᵀ`.
     fn jacobian(&mut self) {
-        let (nq, nv, nr) = (self.nq, self.nv, self.rows.len());
+        let nr = self.rows.len();
         let l = &self.model.layout;
-        self.b_dense.fill(0.0);
-        let (b_dense, rows) = (&mut self.b_dense, &self.rows);
+        self.b_values.fill(0.0);
+        let (b_values, row_in_force, pattern) = (&mut self.b_values, &self.row_in_force, &self.pattern);
         jacobian_entries(&self.model, &self.data, |r, c, x| {
-            if let Ok(k) = rows.binary_search(&r) {
-                b_dense[k * nv + c] += x;
+            let k = row_in_force[r];
+            if k != usize::MAX {
+                let row = pattern.b_ptr[k]..pattern.b_ptr[k + 1];
+                let s = pattern.b_cols[row.clone()].binary_search(&c).expect("an entry of B on its joint's bodies");
+                b_values[row.start + s] += x;
             }
         });
-        self.state.jac.fill(0.0);
+        let jac = &mut self.state.jac;
         for b in 0..self.model.bodies.len() {
-            let (qo, vo, modes) = (l.q_offset[b], l.v_offset[b], l.modes[b]);
+            let qo = l.q_offset[b];
             let p = Vec4::new(self.state.q[qo + 3], self.state.q[qo + 4], self.state.q[qo + 5], self.state.q[qo + 6]);
-            let g2 = 2.0 * g_matrix(&p);
-            for k in 0..nr {
-                let brow = &self.b_dense[k * nv..(k + 1) * nv];
-                let jrow = &mut self.state.jac[k * nq..(k + 1) * nq];
-                jrow[qo..qo + 3].copy_from_slice(&brow[vo..vo + 3]);
-                for c in 0..4 {
-                    jrow[qo + 3 + c] = (0..3).map(|j| brow[vo + 3 + j] * g2[(j, c)]).sum();
-                }
-                jrow[qo + 7..qo + 7 + modes].copy_from_slice(&brow[vo + 6..vo + 6 + modes]);
-            }
+            self.g2[b] = 2.0 * g_matrix(&p);
+            let start = pattern.ptr[nr + b];
             for c in 0..4 {
-                self.state.jac[(nr + b) * nq + qo + 3 + c] = 2.0 * p[c];
+                jac[start + c] = 2.0 * p[c];
+            }
+        }
+        for (k, bodies) in pattern.row_bodies.iter().enumerate() {
+            let (mut jo, mut bo) = (pattern.ptr[k], pattern.b_ptr[k]);
+            for &b in bodies {
+                let (modes, g2) = (l.modes[b], &self.g2[b]);
+                let brow = &self.b_values[bo..bo + 6 + modes];
+                let jrow = &mut jac[jo..jo + 7 + modes];
+                jrow[..3].copy_from_slice(&brow[..3]);
+                for c in 0..4 {
+                    jrow[3 + c] = (0..3).map(|j| brow[3 + j] * g2[(j, c)]).sum();
+                }
+                jrow[7..].copy_from_slice(&brow[6..]);
+                (jo, bo) = (jo + 7 + modes, bo + 6 + modes);
             }
         }
     }
 
     /// Factors `Φ̂_u` (the dependent columns of `jac`); returns its pivot ratio.
     fn factor_dependent(&mut self) -> Result<f64, EvaluationFailure> {
-        let (m, nq) = (self.m, self.nq);
-        for i in 0..m {
-            for (j, &c) in self.state.dependent.iter().enumerate() {
-                self.state.lu.a[j * m + i] = self.state.jac[i * nq + c];
+        let d = &mut self.dependent;
+        d.lu.clear();
+        for (&slot, &x) in d.slot.iter().zip(&self.state.jac) {
+            if slot != usize::MAX {
+                d.lu.values[slot] = x;
             }
         }
         self.state.report.factorizations += 1;
-        let ratio = self.state.lu.factor(&mut self.lu_buffer);
-        self.state.factored = ratio > 0.0;
+        self.state.factored = d.lu.factor().is_ok();
         if self.state.factored {
-            Ok(ratio)
+            // A matrix with kept pivots shows its pivots.
+            Ok(d.lu.pivot_ratio().unwrap_or(1.0))
         } else {
             Err(SINGULAR_PARTITION)
         }
@@ -381,7 +469,12 @@ impl PartitionedMechanism {
             }
             let mut dx = std::mem::take(&mut self.phi);
             dx.iter_mut().for_each(|x| *x = -*x);
-            self.state.lu.solve(&mut dx, &mut self.lu_work);
+            let solved = self.dependent.lu.solve_in_place(&mut dx);
+            if solved.is_err() {
+                self.phi = dx;
+                self.state.needs_repartition = true;
+                return Err(SINGULAR_PARTITION);
+            }
             let mut sum = 0.0;
             let mut at_round_off = true;
             for (j, &c) in self.state.dependent.iter().enumerate() {
@@ -428,17 +521,26 @@ impl PartitionedMechanism {
             self.state.needs_repartition = true;
         }
         // Φ̂_u u̇ = −Φ̂_t − Φ̂_w ẇ.
-        let (nq, nr) = (self.nq, self.rows.len());
+        let nr = self.rows.len();
         for (i, &c) in self.state.independent.iter().enumerate() {
             self.state.qdot[c] = y[nd + i];
         }
+        let (pattern, is_dependent) = (&self.pattern, &self.dependent.is_dependent);
         for i in 0..self.m {
             let phi_t = if i < nr { self.data.equations[self.rows[i]].phi_t } else { 0.0 };
-            let jw: f64 = self.state.independent.iter().map(|&c| self.state.jac[i * nq + c] * self.state.qdot[c]).sum();
+            let jw: f64 = (pattern.ptr[i]..pattern.ptr[i + 1])
+                .filter(|&e| !is_dependent[pattern.cols[e]])
+                .map(|e| self.state.jac[e] * self.state.qdot[pattern.cols[e]])
+                .sum();
             self.phi[i] = -phi_t - jw;
         }
         let mut rates = std::mem::take(&mut self.phi);
-        self.state.lu.solve(&mut rates, &mut self.lu_work);
+        let solved = self.dependent.lu.solve_in_place(&mut rates);
+        if solved.is_err() {
+            self.phi = rates;
+            self.state.needs_repartition = true;
+            return Err(SINGULAR_PARTITION);
+        }
         for (j, &c) in self.state.dependent.iter().enumerate() {
             self.state.qdot[c] = rates[j];
         }
@@ -479,10 +581,14 @@ impl PartitionedMechanism {
     /// Positions and velocities from the interpolated `y` at `t` (between steps, for outputs). Leaves
     /// the state the next step starts from as it was, so that outputs do not change the steps.
     pub fn positions_and_velocities(&mut self, t: f64, y: &[f64], q: &mut [f64], v: &mut [f64]) {
-        self.state.saved_lu.a.copy_from_slice(&self.state.lu.a);
-        self.state.saved_lu.perm.copy_from_slice(&self.state.lu.perm);
-        self.state.saved_lu.perm_inv.copy_from_slice(&self.state.lu.perm_inv);
+        // The outputs' evaluation starts from the same factors (made again from the same values and
+        // pivots) in the second matrix, and leaves the first as it was.
+        let d = &mut self.dependent;
+        d.output_lu.values.copy_from_slice(&d.lu.values);
+        let loaded = d.output_lu.keep_pivots(d.lu.kept_pivots()).is_ok();
         let (factored, needs_repartition) = (self.state.factored, self.state.needs_repartition);
+        self.state.factored = factored && loaded && d.output_lu.factor().is_ok();
+        std::mem::swap(&mut d.lu, &mut d.output_lu);
         self.state.saved_q.copy_from_slice(&self.state.q);
         self.state.saved_qdot.copy_from_slice(&self.state.qdot);
         let t_saved = self.state.t;
@@ -493,7 +599,7 @@ impl PartitionedMechanism {
         let _ = self.complete_state(t, y, false);
         q.copy_from_slice(&self.state.q);
         v.copy_from_slice(&self.state.v);
-        std::mem::swap(&mut self.state.lu, &mut self.state.saved_lu);
+        std::mem::swap(&mut self.dependent.lu, &mut self.dependent.output_lu);
         (self.state.factored, self.state.needs_repartition) = (factored, needs_repartition);
         self.state.q.copy_from_slice(&self.state.saved_q);
         self.state.qdot.copy_from_slice(&self.state.saved_qdot);
