@@ -34,24 +34,6 @@ fn heavy_top() -> Model {
     b.build().unwrap()
 }
 
-/// The peer's chain: `n` rods of 1 kg and 0.5 m on spherical joints, straight along x at rest, falling.
-fn chain(n: usize) -> Model {
-    let l = 0.5;
-    let mut b = ModelBuilder::new("chain").gravity(Vec3::new(0.0, 0.0, -9.81));
-    let mut previous = marker(&mut b, "anchor", BodyRef::Ground, Vec3::zeros());
-    for i in 0..n {
-        let inertia = Mat3::from_diagonal(&Vec3::new(1e-4, l * l / 12.0, l * l / 12.0));
-        let position = Vec3::new((i as f64 + 0.5) * l, 0.0, 0.0);
-        let rod = b
-            .add_body(rigid(&format!("rod{i}"), 1.0, Vec3::zeros(), inertia, position, EulerParameters::identity(), None, None))
-            .unwrap();
-        let start = marker(&mut b, &format!("rod{i}_start"), BodyRef::Body(rod), Vec3::new(-0.5 * l, 0.0, 0.0));
-        joint(&mut b, &format!("s{i}"), JointKind::Spherical, previous, start);
-        previous = marker(&mut b, &format!("rod{i}_end"), BodyRef::Body(rod), Vec3::new(0.5 * l, 0.0, 0.0));
-    }
-    b.build().unwrap()
-}
-
 /// At most 5 % of the BDF's steps end in a Newton failure, and the Jacobian is not evaluated at every step.
 fn assert_newton_converges(name: &str, model: &Model, t_end: f64, tol: f64, jacobians_per_step: f64) {
     let run = run(model, &settings(t_end, 0.01, tol));
@@ -80,7 +62,7 @@ fn heavy_top_newton_failures_are_at_most_five_percent_of_the_steps() {
 /// 5 s before: 403 failures in 1636 steps).
 #[test]
 fn chain_newton_failures_are_at_most_five_percent_of_the_steps() {
-    assert_newton_converges("chain n = 4", &chain(4), 2.0, 1e-6, 0.5);
+    assert_newton_converges("chain n = 4", &peer_chain(4), 2.0, 1e-6, 0.5);
 }
 
 /// The chain of 512 rods at the chain benchmark's tolerance (0.1 s from the horizontal at rtol = atol =
@@ -92,7 +74,7 @@ fn chain_newton_failures_are_at_most_five_percent_of_the_steps() {
 /// kinetic. About 1 s in release.
 #[test]
 fn a_long_chain_at_a_tight_tolerance_converges_at_its_rounding_level() {
-    let model = chain(512);
+    let model = peer_chain(512);
     let run = run(&model, &settings(0.1, 0.1, 3e-10));
     let s = &run.report.stats;
     let (e0, e1) = (run.report.energy_initial, run.report.energy_final);

@@ -21,6 +21,7 @@ use flexmb::integrate::{
     Adams, AdamsConfig, Bdf, BdfConfig, GeneralizedAlpha, GeneralizedAlphaConfig, Integrator, Stats, ToleranceSpan,
     Tolerances,
 };
+use flexmb::integrate::adams::ConstraintHandling;
 use flexmb::joint::JointKind;
 use flexmb::math::Vec3;
 use flexmb::measure::{Measure, MeasureKind};
@@ -307,6 +308,43 @@ fn adams_step_does_not_allocate_after_warm_up() {
         );
     }
     assert!(projection_iterations > 0, "the projection iterated in a window");
+}
+
+/// The Adams method with coordinate partitioning on the chain of 16 rods (`Φ̂_u` of 64 rows, factored
+/// sparse on kept pivots) and the slider-crank (dense): 20 steps, then up to `window` more, each with an
+/// interpolation inside it, do not allocate, but for the steps that re-choose the partition (a new
+/// pattern of `Φ̂_u`, analysed once per partition), which are counted apart.
+#[test]
+fn adams_step_with_partitioning_does_not_allocate_after_warm_up() {
+    let partitioning = AdamsConfig { constraints: ConstraintHandling::Partitioning, ..Default::default() };
+    for model in [peer_chain(16), loaded_slider_crank(false)] {
+        let (state, acc) = consistent_start(&model);
+        let mut adams = Adams::new(Arc::new(model.clone()), &state, &acc, Tolerances::new(1e-7, 1e-7), partitioning).unwrap();
+        let t_end = 3.0;
+        for _ in 0..20 {
+            adams.step(t_end).unwrap();
+        }
+        let (mut q, mut v) = (vec![0.0; model.layout().nq], vec![0.0; model.layout().nv]);
+        let (mut traces, mut steps, mut repartitioning_steps) = (Vec::new(), 0, 0);
+        while steps < 300 && adams.t() < t_end {
+            let repartitions = adams.partition().expect("partitioning").repartitions;
+            let (_, step_traces, ()) = count_allocations(|| {
+                let t0 = adams.t();
+                adams.step(t_end).expect("step");
+                let t_mid = 0.5 * (t0 + adams.t());
+                Integrator::interpolate(&mut adams, t_mid, &mut q, &mut v);
+            });
+            if adams.partition().expect("partitioning").repartitions == repartitions {
+                steps += 1;
+                traces.extend(step_traces);
+            } else {
+                repartitioning_steps += 1;
+            }
+        }
+        eprintln!("{} (adams, partitioning): {steps} steps counted, {repartitioning_steps} apart", model.name());
+        assert!(steps >= 100, "{}: {steps} steps counted", model.name());
+        assert!(traces.is_empty(), "{}: Adams::step allocated {} times; first:\n{}", model.name(), traces.len(), first_traces(&traces));
+    }
 }
 
 /// Steps the generalized-α method 100 times, then counts the allocations of up to `window` more steps and

@@ -87,11 +87,11 @@ impl Elimination {
     }
 }
 
-/// The pivot columns of Gaussian elimination with full pivoting on the `m × ncols` matrix whose row `i`
-/// has the columns `cols[row_ptr[i]..row_ptr[i + 1]]` (ascending) and the values at the same places, in
-/// the order they are chosen; `None` if the rows are dependent (no nonzero entry is left before the
-/// `m`-th pivot).
-pub(crate) fn full_pivoting_columns(ncols: usize, row_ptr: &[usize], cols: &[usize], values: &[f64]) -> Option<Vec<usize>> {
+/// The pivots `(row, column)` of Gaussian elimination with full pivoting on the `m × ncols` matrix whose
+/// row `i` has the columns `cols[row_ptr[i]..row_ptr[i + 1]]` (ascending) and the values at the same
+/// places, in the order they are chosen; `None` if the rows are dependent (no nonzero entry is left
+/// before the `m`-th pivot).
+pub(crate) fn full_pivoting(ncols: usize, row_ptr: &[usize], cols: &[usize], values: &[f64]) -> Option<Vec<(usize, usize)>> {
     let m = row_ptr.len() - 1;
     let rows: Vec<Vec<(usize, f64)>> =
         (0..m).map(|i| (row_ptr[i]..row_ptr[i + 1]).map(|e| (cols[e], values[e])).collect()).collect();
@@ -125,7 +125,7 @@ pub(crate) fn full_pivoting_columns(ncols: usize, row_ptr: &[usize], cols: &[usi
         (e.row_at[k], e.position[bi]) = (bi, k);
         e.eliminated[bi] = true;
         e.chosen[bj] = true;
-        pivot_columns.push(bj);
+        pivot_columns.push((bi, bj));
         let pivot = e.rows[bi].iter().find(|(c, _)| *c == bj).map_or(0.0, |(_, v)| *v);
         pivot_row.clear();
         pivot_row.extend(e.rows[bi].iter().filter(|(c, _)| !e.chosen[*c]));
@@ -260,7 +260,8 @@ mod tests {
             }
             let expected = dense_full_pivoting(dense, m, n);
             dependent_found += usize::from(expected.is_none());
-            assert_eq!(full_pivoting_columns(n, &row_ptr, &cols, &values), expected, "trial {trial}: {m} × {n}");
+            let columns = full_pivoting(n, &row_ptr, &cols, &values).map(|p| p.iter().map(|&(_, c)| c).collect::<Vec<_>>());
+            assert_eq!(columns, expected, "trial {trial}: {m} × {n}");
         }
         assert!(dependent_found > 5, "{dependent_found} rank-deficient matrices");
     }

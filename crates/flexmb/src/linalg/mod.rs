@@ -16,12 +16,13 @@ mod sparse_rows;
 pub use colouring::greedy_colouring;
 pub use finite_difference::{perturbation, RELATIVE_STEP};
 pub use sparse_lu::SingularMatrix;
+pub(crate) use sparse_lu::KEPT_PIVOTS_DENSE_LIMIT;
 // The integrators' workspace: its callers build the pattern from a model's layout, so its checks are
 // the engine's invariants, not a user's input.
 pub(crate) use lu_refactorization::InvalidPivots;
 pub(crate) use sparse_lu::SparseLu;
 // The Adams method's partition: the dependent coordinates by sparse elimination with full pivoting.
-pub(crate) use full_pivoting::full_pivoting_columns;
+pub(crate) use full_pivoting::full_pivoting;
 // The initial-condition analyses' sparse Jacobians, their rank and their minimum-norm corrections.
 pub(crate) use givens_qr::dependent_rows;
 // The conditioning of the constraint Jacobian in force (the singular-position guard).

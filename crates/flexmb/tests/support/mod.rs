@@ -306,3 +306,21 @@ pub fn pendulum_with_stiff_slider(x0: f64) -> Model {
     }).unwrap();
     b.build().unwrap()
 }
+
+/// The peer's chain: `n` rods of 1 kg and 0.5 m on spherical joints, straight along x at rest, falling.
+pub fn peer_chain(n: usize) -> Model {
+    let l = 0.5;
+    let mut b = ModelBuilder::new("chain").gravity(Vec3::new(0.0, 0.0, -9.81));
+    let mut previous = marker(&mut b, "anchor", BodyRef::Ground, Vec3::zeros());
+    for i in 0..n {
+        let inertia = Mat3::from_diagonal(&Vec3::new(1e-4, l * l / 12.0, l * l / 12.0));
+        let position = Vec3::new((i as f64 + 0.5) * l, 0.0, 0.0);
+        let rod = b
+            .add_body(rigid(&format!("rod{i}"), 1.0, Vec3::zeros(), inertia, position, EulerParameters::identity(), None, None))
+            .unwrap();
+        let start = marker(&mut b, &format!("rod{i}_start"), BodyRef::Body(rod), Vec3::new(-0.5 * l, 0.0, 0.0));
+        joint(&mut b, &format!("s{i}"), JointKind::Spherical, previous, start);
+        previous = marker(&mut b, &format!("rod{i}_end"), BodyRef::Body(rod), Vec3::new(0.5 * l, 0.0, 0.0));
+    }
+    b.build().unwrap()
+}

@@ -14,10 +14,14 @@
 //! **Sparse throughout**: `Φ̂_q` is kept by rows on the pattern of the joints' bodies (a row's
 //! coordinates are those of the one or two bodies its joint connects), the elimination runs on the
 //! rows with a heap of pivot candidates and chooses the dense elimination's columns to the last bit
-//! ([`full_pivoting_columns`]), and `Φ̂_u` is a [`SparseLu`] with kept pivots on the pattern of the
-//! dependent columns: its symbolic analysis once per partition, a numeric refactorization at every
-//! evaluation (dense up to the kept-pivot matrices' dense limit, as the small mechanisms' were). So
-//! the cost of an evaluation grows with the bodies, not with their cube.
+//! ([`full_pivoting`]), and `Φ̂_u` is a [`SparseLu`] with kept pivots on the pattern of the dependent
+//! columns: its symbolic analysis once per partition, a numeric refactorization at every evaluation
+//! (dense up to the kept-pivot matrices' dense limit, as the small mechanisms' were). Above that
+//! limit its rows are taken in the order of the elimination's pivots, so that its diagonal is the
+//! pivots' entries: `SparseLu` puts the whole diagonal in the pattern, and in the rows' own order the
+//! diagonal entry of a joint's row falls on a far body's coordinate, which ties the chain's ends
+//! together and fills the factors (the chain of 1,024 rods cost 56 ms per step that way, growing
+//! ×3 per doubling). So the cost of an evaluation grows with the bodies, not with their cube.
 //!
 //! The constraints hold to Newton tolerance at every evaluation, not only after the steps; the price
 //! is a Newton solve (chord iterations with the last factors of `Φ̂_u`, plus one refactorization at the
@@ -29,7 +33,7 @@ use std::sync::Arc;
 
 use crate::data::Data;
 use crate::integrate::{check_len, CheckpointError};
-use crate::linalg::{full_pivoting_columns, SparseLu};
+use crate::linalg::{full_pivoting, SingularMatrix, SparseLu, KEPT_PIVOTS_DENSE_LIMIT};
 use crate::math::euler_parameters::g_matrix;
 use crate::math::{Mat3x4, Vec3, Vec4};
 
@@ -125,18 +129,27 @@ struct DependentMatrix {
     slot: Vec<usize>,
     /// Whether each position coordinate is dependent.
     is_dependent: Vec<bool>,
+    /// The row of `lu` of each row of `Φ̂`, and a right side in `lu`'s rows.
+    lu_row: Vec<usize>,
+    work: Vec<f64>,
 }
 
 impl DependentMatrix {
-    /// The matrix of the columns `dependent` (ascending) of `Φ̂_q`: its symbolic analysis.
-    fn new(pattern: &JacobianPattern, nq: usize, dependent: &[usize]) -> Self {
+    /// The matrix of the columns `dependent` (ascending) of `Φ̂_q`, each pivoted on the row
+    /// `pivot_rows[j]` of `Φ̂` when the partition was chosen: its symbolic analysis.
+    fn new(pattern: &JacobianPattern, nq: usize, dependent: &[usize], pivot_rows: &[usize]) -> Self {
         let m = pattern.ptr.len() - 1;
         let mut column = vec![usize::MAX; nq];
         dependent.iter().enumerate().for_each(|(j, &c)| column[c] = j);
+        let mut lu_row: Vec<usize> = (0..m).collect();
+        if m > KEPT_PIVOTS_DENSE_LIMIT && pivot_rows.len() == m {
+            pivot_rows.iter().enumerate().for_each(|(j, &r)| lu_row[r] = j);
+        }
+        let lu_row = &lu_row;
         let entries = || {
             (0..m).flat_map(|i| (pattern.ptr[i]..pattern.ptr[i + 1]).map(move |e| (i, e)))
                 .filter(|&(_, e)| column[pattern.cols[e]] != usize::MAX)
-                .map(|(i, e)| (i, column[pattern.cols[e]]))
+                .map(|(i, e)| (lu_row[i], column[pattern.cols[e]]))
         };
         let lu = SparseLu::with_kept_pivots(m, entries());
         let output_lu = SparseLu::with_kept_pivots(m, entries());
@@ -144,10 +157,28 @@ impl DependentMatrix {
             .flat_map(|i| (pattern.ptr[i]..pattern.ptr[i + 1]).map(move |e| (i, e)))
             .map(|(i, e)| match column[pattern.cols[e]] {
                 usize::MAX => usize::MAX,
-                j => lu.slot(i, j).expect("an entry of the pattern"),
+                j => lu.slot(lu_row[i], j).expect("an entry of the pattern"),
             })
             .collect();
-        Self { lu, output_lu, slot, is_dependent: column.iter().map(|&j| j != usize::MAX).collect() }
+        let is_dependent = column.iter().map(|&j| j != usize::MAX).collect();
+        Self { lu, output_lu, slot, is_dependent, lu_row: lu_row.clone(), work: vec![0.0; m] }
+    }
+
+    /// The factors of `lu` made again in `output_lu` from its values and kept pivots (the same factors
+    /// to the last bit); whether that succeeded.
+    fn copy_to_output(&mut self) -> bool {
+        self.output_lu.values.copy_from_slice(&self.lu.values);
+        self.output_lu.keep_pivots(self.lu.kept_pivots()).is_ok() && self.output_lu.factor().is_ok()
+    }
+
+    /// Solves `Φ̂_u x = b` in place (`b` over the rows of `Φ̂`, `x` over the dependent coordinates).
+    fn solve(&mut self, rhs: &mut [f64]) -> Result<(), SingularMatrix> {
+        for (&r, &b) in self.lu_row.iter().zip(rhs.iter()) {
+            self.work[r] = b;
+        }
+        self.lu.solve_in_place(&mut self.work)?;
+        rhs.copy_from_slice(&self.work);
+        Ok(())
     }
 }
 
@@ -183,9 +214,11 @@ pub(super) struct PartitionedMechanism {
 /// evaluation (the Newton iteration's start for the next), the last accepted state and the counters.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PartitionCheckpoint {
-    /// The independent and the dependent position coordinates.
+    /// The independent and the dependent position coordinates, and the row of `Φ̂` each dependent
+    /// one was pivoted on.
     pub(super) independent: Vec<usize>,
     dependent: Vec<usize>,
+    pivot_rows: Vec<usize>,
     /// `Φ̂_q` on its pattern (by rows: the joints' bodies' coordinates, then each body's Euler
     /// parameters), at the positions of the last [`jacobian`](PartitionedMechanism::jacobian) call.
     jac: Vec<f64>,
@@ -251,16 +284,22 @@ impl PartitionedMechanism {
                 return Err(partition_error());
             }
         }
-        if !c.dependent.is_sorted() {
+        let mut rows = vec![false; self.m];
+        for &r in &c.pivot_rows {
+            if r >= self.m || std::mem::replace(&mut rows[r], true) {
+                return Err(partition_error());
+            }
+        }
+        if !c.dependent.is_sorted() || c.pivot_rows.len() != self.m {
             return Err(partition_error());
         }
-        let mut dependent = DependentMatrix::new(&self.pattern, self.nq, &c.dependent);
+        let mut dependent = DependentMatrix::new(&self.pattern, self.nq, &c.dependent, &c.pivot_rows);
         check_len("the dependent coordinates' matrix", dependent.lu.values.len(), c.dependent_values.len())?;
         dependent.lu.values.copy_from_slice(&c.dependent_values);
         dependent.lu.keep_pivots(c.kept_pivots.as_deref()).map_err(|_| {
             CheckpointError::Unsupported("the checkpoint's pivots of the dependent coordinates' matrix do not fit its partition".into())
         })?;
-        if c.factored && dependent.lu.factor().is_err() {
+        if c.factored && !(dependent.lu.factor().is_ok() && dependent.copy_to_output()) {
             return Err(CheckpointError::Unsupported("the checkpoint's dependent coordinates' matrix is singular".into()));
         }
         self.dependent = dependent;
@@ -297,7 +336,7 @@ impl PartitionedMechanism {
             nv,
             b_values: vec![0.0; pattern.b_cols.len()],
             g2: vec![Mat3x4::zeros(); model.bodies.len()],
-            dependent: DependentMatrix::new(&pattern, nq, &[]),
+            dependent: DependentMatrix::new(&pattern, nq, &[], &[]),
             pattern,
             model,
             rows,
@@ -310,6 +349,7 @@ impl PartitionedMechanism {
             state: PartitionCheckpoint {
                 independent: Vec::with_capacity(nq),
                 dependent: Vec::with_capacity(nq),
+                pivot_rows: Vec::new(),
                 jac: vec![0.0; nnz],
                 factored: false,
                 dependent_values: Vec::new(),
@@ -365,13 +405,16 @@ impl PartitionedMechanism {
         self.constraint_stage(self.state.t);
         self.jacobian();
         let pattern = &self.pattern;
-        let mut dependent = full_pivoting_columns(nq, &pattern.ptr, &pattern.cols, &self.state.jac).ok_or(SINGULAR_PARTITION)?;
-        dependent.sort_unstable();
-        self.state.dependent = dependent;
+        let mut pivots = full_pivoting(nq, &pattern.ptr, &pattern.cols, &self.state.jac).ok_or(SINGULAR_PARTITION)?;
+        pivots.sort_unstable_by_key(|&(_, c)| c);
+        self.state.dependent = pivots.iter().map(|&(_, c)| c).collect();
+        self.state.pivot_rows = pivots.iter().map(|&(r, _)| r).collect();
         self.state.independent.clear();
         self.state.independent.extend((0..nq).filter(|c| self.state.dependent.binary_search(c).is_err()));
-        self.dependent = DependentMatrix::new(&self.pattern, nq, &self.state.dependent);
+        self.dependent = DependentMatrix::new(&self.pattern, nq, &self.state.dependent, &self.state.pivot_rows);
         self.state.pivot_ratio_at_partition = self.factor_dependent()?;
+        // The outputs' matrix grows its factors' storage now, not inside a step.
+        self.dependent.copy_to_output();
         self.state.report.repartitions += 1;
         self.state.report.independent = self.state.independent.len();
         self.state.needs_repartition = false;
@@ -469,7 +512,7 @@ impl PartitionedMechanism {
             }
             let mut dx = std::mem::take(&mut self.phi);
             dx.iter_mut().for_each(|x| *x = -*x);
-            let solved = self.dependent.lu.solve_in_place(&mut dx);
+            let solved = self.dependent.solve(&mut dx);
             if solved.is_err() {
                 self.phi = dx;
                 self.state.needs_repartition = true;
@@ -535,7 +578,7 @@ impl PartitionedMechanism {
             self.phi[i] = -phi_t - jw;
         }
         let mut rates = std::mem::take(&mut self.phi);
-        let solved = self.dependent.lu.solve_in_place(&mut rates);
+        let solved = self.dependent.solve(&mut rates);
         if solved.is_err() {
             self.phi = rates;
             self.state.needs_repartition = true;
@@ -583,12 +626,9 @@ impl PartitionedMechanism {
     pub fn positions_and_velocities(&mut self, t: f64, y: &[f64], q: &mut [f64], v: &mut [f64]) {
         // The outputs' evaluation starts from the same factors (made again from the same values and
         // pivots) in the second matrix, and leaves the first as it was.
-        let d = &mut self.dependent;
-        d.output_lu.values.copy_from_slice(&d.lu.values);
-        let loaded = d.output_lu.keep_pivots(d.lu.kept_pivots()).is_ok();
         let (factored, needs_repartition) = (self.state.factored, self.state.needs_repartition);
-        self.state.factored = factored && loaded && d.output_lu.factor().is_ok();
-        std::mem::swap(&mut d.lu, &mut d.output_lu);
+        self.state.factored = factored && self.dependent.copy_to_output();
+        std::mem::swap(&mut self.dependent.lu, &mut self.dependent.output_lu);
         self.state.saved_q.copy_from_slice(&self.state.q);
         self.state.saved_qdot.copy_from_slice(&self.state.qdot);
         let t_saved = self.state.t;
