@@ -36,6 +36,7 @@ use std::sync::Arc;
 use crate::integrate::{
     check_len, AdamsCheckpoint, CheckpointError, IntegrationError, Integrator, IntegratorCheckpoint, Stats, Tolerances,
 };
+use crate::integrate::singular_position::SingularPassage;
 use crate::model::Model;
 use crate::stage::{kinematics, update_angle_references};
 
@@ -87,9 +88,47 @@ impl System {
     }
 }
 
+/// The mechanism with the guard of its singular positions, for one call of [`AdamsStepper::step`]: the
+/// attempts' ends are kept off a predicted singular position, and their error estimates within the rounding
+/// amplified there pass, as the BDF's do ([`SingularPassage`]).
+struct Guarded<'a> {
+    system: &'a mut System,
+    singular: &'a mut SingularPassage,
+    t_stop: f64,
+    /// The amplification and share of the tolerance of the last attempt.
+    amplification: f64,
+    share: f64,
+}
+
+impl OdeSystem for Guarded<'_> {
+    fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), EvaluationFailure> {
+        self.system.rhs(t, y, dy)
+    }
+    fn accept(&mut self, t: f64, y: &mut [f64], dy: &mut [f64]) -> Result<(), EvaluationFailure> {
+        self.system.accept(t, y, dy)
+    }
+    fn placed_end(&mut self, t: f64, t_new: f64, share: f64) -> Option<f64> {
+        match self.singular.placed_end(t, t_new, share) {
+            Some(end) if end < self.t_stop => Some(end),
+            _ => {
+                self.singular.asked = None;
+                None
+            }
+        }
+    }
+    fn rounding_amplification(&mut self, t: f64, t_new: f64, share: f64) -> f64 {
+        self.amplification = self.singular.amplification(t, t_new, share);
+        self.share = share;
+        self.amplification
+    }
+}
+
 /// The Adams method on a model; one [`step`](Self::step) is one accepted step.
 pub struct Adams {
     system: System,
+    /// The approach to a singular position: its predicted window, which the step ends avoid.
+    singular: SingularPassage,
+    rtol: f64,
     stepper: AdamsStepper,
     max_steps: usize,
     stats: Stats,
@@ -175,8 +214,11 @@ impl Adams {
         update_angle_references(&model, data);
         let stepper = AdamsStepper::new(control, state.t, &y0, &yp0);
         let n = y0.len();
+        let singular = SingularPassage::new(&model, &state.active, tolerances.rtol);
         let mut adams = Self {
             system,
+            singular,
+            rtol: tolerances.rtol,
             stepper,
             max_steps: tolerances.max_steps,
             stats: Stats::default(),
@@ -275,13 +317,41 @@ impl Adams {
         // Partitioning: a partition found degraded during the last step is replaced now, not right
         // after that step, so that the outputs within it still come from its interpolant.
         self.repartition_if_needed()?;
-        let mut result = self.stepper.step(&mut self.system, t_stop);
+        let mut result = self.guarded_step(t_stop);
         // A step that failed on a degraded partition is retried once with a new one.
         if result.is_err() && self.repartition_if_needed()? {
-            result = self.stepper.step(&mut self.system, t_stop);
+            result = self.guarded_step(t_stop);
         }
         self.update_stats();
         result.map_err(|f| self.describe(f))
+    }
+
+    /// One accepted step of the stepper with the guard of singular positions; after it, the conditioning
+    /// at its end measured and the passages counted.
+    fn guarded_step(&mut self, t_stop: f64) -> Result<(), StepFailure> {
+        let steps = self.stepper.stats.steps;
+        let mut guarded =
+            Guarded { system: &mut self.system, singular: &mut self.singular, t_stop, amplification: 1.0, share: 1.0 };
+        self.stepper.step(&mut guarded, t_stop)?;
+        let (amplification, share) = (guarded.amplification, guarded.share);
+        if self.stepper.stats.steps == steps {
+            return Ok(());
+        }
+        if amplification > 1.0 {
+            self.stats.held_near_singular_position(self.rtol * share);
+        }
+        if let Some(asked) = self.singular.asked.take() {
+            // The step was moved off a singular position: the next one is the size the error control asked for.
+            self.stepper.set_step_size(asked);
+        }
+        let t = self.stepper.t();
+        let model = Arc::clone(self.system.model());
+        if let Some(condition) = self.singular.accepted(&model, self.system.data(), t) {
+            self.stats.singular_position_steps += 1;
+            self.stats.singular_position_condition = self.stats.singular_position_condition.max(condition);
+        }
+        self.stats.singular_positions = self.singular.passages;
+        Ok(())
     }
 
     /// With partitioning, when the partition has degraded: a new one at the last accepted state and a

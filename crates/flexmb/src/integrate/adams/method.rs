@@ -43,6 +43,7 @@
 //! Nothing here allocates after the stepper is made.
 
 use crate::integrate::share_floor::ShareFloor;
+use crate::integrate::singular_position::SingularPassage;
 use crate::integrate::error_norm::error_weight;
 
 /// Highest order of the method (the order of its Adams–Bashforth predictor).
@@ -70,6 +71,21 @@ pub trait OdeSystem {
     /// invariant manifold), then writes `f(t, y)` at the final `y` into `dy`. A failure rejects the step.
     fn accept(&mut self, t: f64, y: &mut [f64], dy: &mut [f64]) -> Result<(), EvaluationFailure> {
         self.rhs(t, y, dy)
+    }
+
+    /// Where an attempt from `t` that would end at `t_new`, held to `share` of the tolerance, ends instead
+    /// (`None`: where it would): a mechanism keeps its step ends off a singular position
+    /// ([`SingularPassage::placed_end`](crate::integrate::singular_position::SingularPassage::placed_end)).
+    fn placed_end(&mut self, _t: f64, _t_new: f64, _share: f64) -> Option<f64> {
+        None
+    }
+
+    /// The factor by which the rounding of the solution at the end `t_new` of the attempt from `t`, held to
+    /// `share` of the tolerance, exceeds that of a well-conditioned one (1: it does not matter), called once
+    /// per attempt after [`placed_end`](Self::placed_end): an error estimate within the rounding so amplified
+    /// passes ([`SingularPassage::estimate_beyond_rounding`](crate::integrate::singular_position::SingularPassage::estimate_beyond_rounding)).
+    fn rounding_amplification(&mut self, _t: f64, _t_new: f64, _share: f64) -> f64 {
+        1.0
     }
 }
 
@@ -361,6 +377,11 @@ impl AdamsStepper {
     pub fn step_size(&self) -> f64 {
         self.h
     }
+    /// Sets the size of the next step: after a step moved off a singular position, the one the error control
+    /// asked for.
+    pub(crate) fn set_step_size(&mut self, h: f64) {
+        self.h = h;
+    }
     /// Tolerances and limits in force.
     pub fn control(&self) -> &StepControl {
         &self.control
@@ -416,12 +437,19 @@ impl AdamsStepper {
         let mut ifail = 0;
         let mut share = 1.0;
         loop {
-            // The weights of this attempt's share of the tolerance (error per unit step).
+            // The weights of this attempt's share of the tolerance (error per unit step), its end kept off a
+            // singular position, and the rounding at that end.
+            let mut amplification = 1.0;
             if !self.fixed {
+                let asked_share = self.share_floor.share(&tolerances, self.h);
+                if let Some(end) = system.placed_end(self.x, self.x + self.h, asked_share) {
+                    self.h = end - self.x;
+                }
                 let new_share = self.share_floor.share(&tolerances, self.h);
                 let rescale = new_share / share;
                 self.wt.iter_mut().for_each(|w| *w *= rescale);
                 share = new_share;
+                amplification = system.rounding_amplification(self.x, self.x + self.h, share);
             }
             self.coefficients();
             // Block 2: φ → φ*, predict, evaluate.
@@ -499,6 +527,18 @@ impl AdamsStepper {
                     } else if k == 2 && erkm1 <= 0.5 * erk {
                         knew = k - 1;
                     }
+                    // Near a singular position an estimate within the amplified rounding says nothing of the
+                    // step: it passes, and the next step keeps its order and does not shrink toward the
+                    // position, where the rounding only grows.
+                    let rounding = SingularPassage::estimate_beyond_rounding(err, share, self.control.rtol, amplification, k);
+                    let err = if rounding < err {
+                        knew = k;
+                        erk = rounding;
+                        erkm1 = f64::INFINITY;
+                        rounding
+                    } else {
+                        err
+                    };
                     // An estimate that does not fall as the step is cut is rounding: it passes at its level.
                     let noise = |floor: &mut ShareFloor| floor.is_noise(h, err / eps * share, self.control.rtol);
                     if !(err <= eps || self.fixed || noise(&mut self.share_floor)) {
