@@ -80,7 +80,13 @@
 //! with that factor, and a step whose Newton iteration does not converge (with fresh finite-difference
 //! parts) is retried with `h/2`. On a change of step size `ã_n` is moved to the new size (see
 //! `predict`); without that, 15 % of the steps of a slider-crank at tolerance 1e-8 were
-//! rejected, with it 0.1 %. The first step is `h_init` or is chosen from the initial velocities and
+//! rejected, with it 0.1 %. Near a singular position an estimate within the rounding that the
+//! conditioning amplifies there ([`SingularPassage::estimate_beyond_rounding`]) passes, and the next step is
+//! as long as this one, or as the last step whose estimate was measured, whichever is longer: it neither
+//! shrinks onto the rounding nor grows on an estimate that no longer measures the truncation error (grown
+//! by 1.64 a step, the steps across the double four-bar's first position reached 6.7e-4 s on estimates of
+//! up to 3,000 shares, and the passage lost 1.9e-6 J; docs/accuracy.md, *Generalized-α's floor at the
+//! passages*). The first step is `h_init` or is chosen from the initial velocities and
 //! accelerations; `h_max` and `max_steps` of [`Tolerances`] hold. [`GeneralizedAlphaConfig::fixed_step`]
 //! switches the error control off.
 //!
@@ -201,6 +207,10 @@ pub struct GeneralizedAlpha {
     newton_at_floor: bool,
     /// The approach to a singular position: its predicted window, which the step ends avoid.
     singular: SingularPassage,
+    /// The last accepted step whose error estimate was measured, not passed as the rounding amplified near
+    /// a singular position: the longest step taken while estimates are passed so (module documentation,
+    /// *Step size*). Not in a checkpoint (0 after a restore: the steps then only stay), as the guard's state.
+    resolved_step: f64,
     /// The factor by which the conditioning at the attempt's end amplifies the rounding (1 away from a
     /// singular position).
     amplification: f64,
@@ -310,6 +320,7 @@ impl GeneralizedAlpha {
             newton_stalled: f64::INFINITY,
             newton_at_floor: false,
             singular: SingularPassage::new(&model, &state.active, tolerances.rtol),
+            resolved_step: 0.0,
             amplification: 1.0,
             matrix: IterationMatrix::new(&model),
             data,
@@ -515,8 +526,12 @@ impl GeneralizedAlpha {
                 Some(end) if end < t_stop && self.fixed_step.is_none() => (t_new, h_step) = (end, end - t),
                 _ => self.singular.asked = None,
             }
-            let share = self.share_floor.share(&self.tolerances, t_new - t);
-            self.amplification = SingularPassage::quadratic_beyond(self.singular.amplification(t, t_new, share));
+            // Whether the rounding there matters is judged against the share the step's length gives, not
+            // the floors under it: a noise floor raised near the position would switch the guard off, and the
+            // Newton iteration, no longer allowed the amplified rounding, then failed at every step size (the
+            // four-bar at 1e-8 over the run, 12 µs after its seventh position, steps collapsing to 1e-13 s).
+            let base_share = self.tolerances.step_share(t_new - t);
+            self.amplification = SingularPassage::quadratic_beyond(self.singular.amplification(t, t_new, base_share));
             let newton_tolerance = self.newton_tolerance(h_step);
             if self.refresh_next
                 || !self.derivatives_current
@@ -591,7 +606,9 @@ impl GeneralizedAlpha {
             }
             // Within the rounding of the constrained solution near a singular position: passes, and says
             // nothing of the next step.
+            let measured = error_norm;
             error_norm = SingularPassage::estimate_beyond_rounding(error_norm, share, self.tolerances.rtol, self.amplification, 2);
+            let within_rounding = error_norm != measured;
             if self.fixed_step.is_none() && error_norm > 1.0 {
                 self.stats.error_test_failures += 1;
                 failure = AttemptFailure::ErrorTest { error_norm };
@@ -624,12 +641,24 @@ impl GeneralizedAlpha {
             self.h = match self.fixed_step {
                 Some(fixed) => fixed,
                 None => {
-                    let factor = if error_norm > 0.0 {
-                        (SAFETY * error_norm.powf(-1.0 / self.tolerances.error_power(h_step, 3))).clamp(MIN_FACTOR, MAX_FACTOR)
+                    let h_next = if within_rounding {
+                        // An estimate within the amplified rounding says nothing of the truncation error: the
+                        // step neither grows nor shrinks on it, and returns to the last step whose estimate
+                        // was measured (see `resolved_step`).
+                        if rejected {
+                            h_step
+                        } else {
+                            h_step.max(self.resolved_step)
+                        }
                     } else {
-                        MAX_FACTOR
+                        self.resolved_step = h_step;
+                        let factor = if error_norm > 0.0 {
+                            (SAFETY * error_norm.powf(-1.0 / self.tolerances.error_power(h_step, 3))).clamp(MIN_FACTOR, MAX_FACTOR)
+                        } else {
+                            MAX_FACTOR
+                        };
+                        h_step * if rejected { factor.min(1.0) } else { factor }
                     };
-                    let h_next = h_step * if rejected { factor.min(1.0) } else { factor };
                     // A step shortened to end on t_stop does not shrink the next one.
                     if h_step < h && !rejected {
                         h_next.max(h)
