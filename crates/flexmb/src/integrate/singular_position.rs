@@ -217,6 +217,8 @@ pub(crate) struct SingularPassage {
     measure_by: f64,
     /// The share of the tolerance the last attempt was held to ([`placed_end`](Self::placed_end)).
     held_share: f64,
+    /// A passage was counted and `κ` has not been measured at or below [`WATCH`] since.
+    just_passed: bool,
 }
 
 impl SingularPassage {
@@ -238,6 +240,7 @@ impl SingularPassage {
             unmeasured_steps: 0,
             measure_by: f64::INFINITY,
             held_share: 1.0,
+            just_passed: false,
         }
     }
 
@@ -281,6 +284,14 @@ impl SingularPassage {
         } else {
             1.0
         }
+    }
+
+    /// Whether the step ends are near a singular position: one is predicted ahead, or one was passed and
+    /// `κ` at the step ends has not yet fallen back to [`WATCH`]. There the state at the last step end
+    /// carries the rounding of the ill-conditioned constraints, which the predictor of every order
+    /// extrapolates (the BDF does not restart at order 1 there).
+    pub fn near(&self) -> bool {
+        self.window.is_some() || self.just_passed
     }
 
     /// Whether the rounding amplified by the condition number `condition` matters to a step held to `share`
@@ -382,6 +393,7 @@ impl SingularPassage {
         let watched = self.window.is_some();
         if self.window.is_some_and(|w| t > w.centre) {
             self.window = None;
+            self.just_passed = true;
             self.passages += 1;
             self.last = Some((t, s));
             return Some(condition);
@@ -391,7 +403,10 @@ impl SingularPassage {
                 let slope = (s_prev - s) / (t - t_prev);
                 self.window = Some(Window { centre: t + s / slope, slope });
             }
-            Some(_) if condition <= WATCH => self.window = None,
+            Some(_) if condition <= WATCH => {
+                self.window = None;
+                self.just_passed = false;
+            }
             _ => {}
         }
         watched.then_some(condition)
