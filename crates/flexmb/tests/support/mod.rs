@@ -275,6 +275,14 @@ pub fn lumped_flexible_pendulum(stiffness: [f64; 3], rates: [f64; 3]) -> (ModelB
 /// starts `x0` from the spring's rest length. Gravity and the swing act across the slider's axis, so the
 /// spring's rest position is exact at every instant and its energy is that of the fast oscillation alone.
 pub fn pendulum_with_stiff_slider(x0: f64) -> Model {
+    pendulum_with_slider(x0, 1e4).build().unwrap()
+}
+
+/// [`pendulum_with_stiff_slider`] with a spring of `stiffness` (N/m; the slider's 10 g vibrates at
+/// `√(stiffness / 0.01)` rad/s), before it is built: the slider's markers are `rail` (on the bob) and
+/// `runner` (on the slider), both at the origins of their bodies, the slider's global z its own
+/// coordinate, `−(0.1 + x0 cos ωt)`.
+pub fn pendulum_with_slider(x0: f64, stiffness: f64) -> ModelBuilder {
     let (l, theta0, s0) = (1.0, 1.0_f64, 0.1);
     let mut b = pendulum(l, 1.0, 1e-3, theta0, 9.81);
     let bob = flexmb::model::BodyId(0);
@@ -298,13 +306,13 @@ pub fn pendulum_with_stiff_slider(x0: f64) -> Model {
         kind: ForceKind::TranslationalSpringDamper {
             marker_i: rail,
             marker_j: runner,
-            stiffness: 1e4,
+            stiffness,
             damping: 0.0,
             free_length: s0,
             actuator: None,
         },
     }).unwrap();
-    b.build().unwrap()
+    b
 }
 
 /// The peer's chain: `n` rods of 1 kg and 0.5 m on spherical joints, straight along x at rest, falling.
