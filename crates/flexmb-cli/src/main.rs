@@ -75,7 +75,7 @@ enum Command {
         /// `run` (the run's length) or `step` (each step the whole tolerance, the classical error per
         /// step). Each step's local error is held to h / span of it (error per unit step), so that the
         /// global error falls in proportion to the tolerance; `run` keeps the global error within about
-        /// 10 tolerances (docs/accuracy.md). Default the model's [simulation] tolerance_span, else `step`
+        /// 10 tolerances (docs/accuracy.md). Default the model's [simulation] tolerance_span, else `run`
         #[arg(long)]
         tolerance_span: Option<String>,
         /// Integrator: bdf (default; stiff, variable order). Overrides the model's [simulation] integrator.

@@ -388,9 +388,10 @@ fn partitioning_against_projection() {
         let partitioning = run(&model, &with_partitioning(settings(t_end, 0.01, tol)));
         let (ep, eg) =
             (largest_distance(&projection, &reference, output), largest_distance(&partitioning, &reference, output));
-        // The partition's history, from a direct run.
+        // The partition's history, from a direct run over the same span as the simulation's (the run's
+        // length: a method started directly takes 1 s).
         let (state, acc) = consistent_start(&model);
-        let tolerances = Tolerances::new(tol, tol);
+        let tolerances = Tolerances { span: ToleranceSpan::Run.over_run(t_end), ..Tolerances::new(tol, tol) };
         let mut direct = Adams::new(Arc::new(model.clone()), &state, &acc, tolerances, partitioning_config).unwrap();
         while direct.t() < t_end {
             direct.step(t_end).unwrap();

@@ -85,7 +85,7 @@ fn a_tolerance_below_double_precision_is_raised_with_a_warning() {
     assert_eq!(summary["status"], "completed");
     let o = flexmb(&["run", "models/pendulum.toml", "--tolerance-span", "0", "--out", out.to_str().unwrap()]);
     assert!(!o.status.success() && text(&o.stderr).contains("--tolerance-span must be a positive number"), "{}", text(&o.stderr));
-    // The run's length and the classical error per step (the default) are spelt out; other words are not.
+    // The run's length (the default) and the classical error per step are spelt out; other words are not.
     let steps = |span: &str| {
         let o = flexmb(&["run", "models/pendulum.toml", "--t-end", "0.5", "--tolerance-span", span, "--quiet", "--out", out.to_str().unwrap()]);
         assert!(o.status.success(), "{span}: {}", text(&o.stderr));
@@ -96,7 +96,7 @@ fn a_tolerance_below_double_precision_is_raised_with_a_warning() {
     let o = flexmb(&["run", "models/pendulum.toml", "--t-end", "0.5", "--quiet", "--out", out.to_str().unwrap()]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("pendulum.json")).unwrap()).unwrap();
-    assert_eq!(summary["statistics"]["steps"].as_u64().unwrap(), steps("step"), "the default is error per step");
+    assert_eq!(summary["statistics"]["steps"].as_u64().unwrap(), steps("run"), "the default is error per unit step over the run");
     assert!(steps("step") < steps("run"), "each step the whole tolerance takes fewer steps");
     let o = flexmb(&["run", "models/pendulum.toml", "--tolerance-span", "steps", "--out", out.to_str().unwrap()]);
     assert!(!o.status.success() && text(&o.stderr).contains("`run`, `step` or a positive number of seconds"), "{}", text(&o.stderr));

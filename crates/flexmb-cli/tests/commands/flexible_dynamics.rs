@@ -283,23 +283,31 @@ fn static_assembly_gives_the_static_deflection_that_fits_the_joints() {
 }
 
 /// The stiffness signature on a flexible model: the shipped flexible pendulum with ten vibration modes
-/// (up to 1.6 kHz) for 1 s at tol 1e-6. Adams' step is held by the highest mode's stability, while
-/// the BDF and the generalized-α method step over the damped high modes; all three agree on the swing.
+/// (up to 1.6 kHz, 2 % damped) for 1 s, with the default error per unit step over the run. Adams' step
+/// is held by the highest mode's stability, not by the tolerance: its steps hardly change when the
+/// tolerance is tightened a hundredfold (measured 3,393 steps at 1e-2, 3,583 at 1e-4, a root-mean-square
+/// step of 3.1e-4 s at both), while the BDF and the generalized-α method, whose steps follow the accuracy
+/// asked, step over the high modes at a loose tolerance (809 and 319 steps at 1e-2) and agree with Adams
+/// on the swing (tip within 1.8e-3 m). At tight tolerances the accuracy asked holds every method's steps
+/// (at 1e-6: BDF 5,787, Adams 4,715, generalized-α 30,111), so the signature is shown at a loose one.
 #[test]
 fn on_a_stiff_flexible_model_adams_needs_many_more_steps() {
     use flexmb::integrate::{AdamsConfig, Method};
     let model = flexmb_cli::bench::pendulums::flexible_pendulum(Some("10N")).unwrap();
     let tip = |frames: &[Vec<f64>]| frames.iter().map(|f| [f[0], f[1]]).collect::<Vec<_>>();
-    let mut results = Vec::new();
-    for method in [Method::Bdf(BdfConfig::for_model(&model)), Method::Adams(AdamsConfig::default()), Method::generalized_alpha(0.9)] {
-        let s = SimulationSettings { method, ..settings(1.0, 0.005, 1e-6) };
+    let run = |method: Method, tolerance: f64| {
+        let s = SimulationSettings { method, ..settings(1.0, 0.005, tolerance) };
         let mut frames = Vec::new();
         let report = simulate(&model, &s, &mut |f| frames.push(f.values.to_vec())).unwrap();
-        results.push((report.method, report.stats.steps, tip(&frames)));
-    }
-    let steps: Vec<usize> = results.iter().map(|r| r.1).collect();
-    let spread = largest_difference(&results[1].2, &results[0].2).max(largest_difference(&results[2].2, &results[0].2));
-    println!("flexible pendulum 10N, 1 s: steps bdf, adams, gen-alpha {steps:?}; tip positions within {spread:.1e} m");
+        (report.stats.steps, tip(&frames))
+    };
+    let methods = [Method::Bdf(BdfConfig::for_model(&model)), Method::Adams(AdamsConfig::default()), Method::generalized_alpha(0.9)];
+    let results: Vec<_> = methods.into_iter().map(|method| run(method, 1e-2)).collect();
+    let steps: Vec<usize> = results.iter().map(|r| r.0).collect();
+    let (adams_tight, _) = run(Method::Adams(AdamsConfig::default()), 1e-4);
+    let spread = largest_difference(&results[1].1, &results[0].1).max(largest_difference(&results[2].1, &results[0].1));
+    println!("flexible pendulum 10N, 1 s at 1e-2: steps bdf, adams, gen-alpha {steps:?}, Adams at 1e-4 {adams_tight}; tip positions within {spread:.1e} m");
+    assert!((adams_tight as f64) < 1.25 * steps[1] as f64, "Adams' steps follow the tolerance: {} at 1e-2, {adams_tight} at 1e-4", steps[1]);
     assert!(steps[1] > 2 * steps[0] && steps[1] > 2 * steps[2], "{steps:?}");
-    assert!(spread < 5e-4, "the methods disagree by {spread} m");
+    assert!(spread < 5e-3, "the methods disagree by {spread} m");
 }

@@ -54,8 +54,8 @@ pub struct SimulationDefaults {
     pub atol: f64,
     /// The span of simulated time whose steps together may make an error of the tolerance
     /// (`tolerance_span`: seconds, `"run"` or `"step"`; [`Tolerances::span`](flexmb::integrate::Tolerances::span),
-    /// error per unit step; `"run"` keeps the promise of docs/accuracy.md). Default each step the whole
-    /// tolerance, [`ToleranceSpan::Step`](flexmb::integrate::ToleranceSpan::Step).
+    /// error per unit step; `"run"` keeps the promise of docs/accuracy.md). Default the run's length,
+    /// [`ToleranceSpan::default`](flexmb::integrate::ToleranceSpan::default).
     pub tolerance_span: flexmb::integrate::ToleranceSpan,
     /// What the assembly may change in flexible bodies (`modal_assembly`). Default held: the modal
     /// coordinates stay at their initial values and only the reference frames move.
@@ -97,7 +97,7 @@ impl Default for SimulationDefaults {
             output_step: 0.01,
             rtol: 1e-6,
             atol: 1e-6,
-            tolerance_span: flexmb::integrate::ToleranceSpan::Step,
+            tolerance_span: flexmb::integrate::ToleranceSpan::default(),
             modal_assembly: flexmb::analysis::ModalAssembly::Held,
             start: flexmb::analysis::Start::Assembly,
             method: flexmb::integrate::Method::default(),

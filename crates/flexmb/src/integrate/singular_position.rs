@@ -360,6 +360,19 @@ impl SingularPassage {
         }
     }
 
+    /// Whether an estimate of `error` tolerances of a method of order `order` is within the rounding amplified
+    /// by the `κ` measured at the last step end (once it exceeds [`WATCH`]), whether or not that rounding
+    /// [`matters`](Self::matters) to the step: a failure of the error test there need not be truncation.
+    pub fn within_measured_rounding(&self, error: f64, order: usize) -> bool {
+        self.last.is_some_and(|(_, s)| 1.0 / s > WATCH && Self::error_within_rounding(error, self.rtol, 1.0 / s, order))
+    }
+
+    /// Whether `error`, an estimate in shares of the tolerance returned by
+    /// [`estimate_beyond_rounding`](Self::estimate_beyond_rounding), is one that passed as rounding.
+    pub fn is_noise(error: f64) -> bool {
+        error == NOISE_ESTIMATE
+    }
+
     /// A step ending at `t` was accepted, with the kinematics of its solution in `data`. Measures `κ` there
     /// and predicts the zero of `σ` of an approaching singular position; returns the `κ` of a step accepted
     /// while one was predicted (`None` otherwise). Once a step has ended past it, it is counted in

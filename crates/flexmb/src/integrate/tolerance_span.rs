@@ -12,16 +12,15 @@ pub enum ToleranceSpan {
     /// the tolerance, so that the global error over the run is a small multiple of it however long the
     /// run (on the peer models 0.02 to 4.4 tolerances from 1e-3 to 1e-8, docs/accuracy.md). A
     /// [`Simulation`](crate::analysis::Simulation) makes it its `t_end` (a resumed one, the resumed run's
-    /// `t_end`); a method started directly, which knows no run, takes 1 s.
+    /// `t_end`); a method started directly, which knows no run, takes 1 s. The default.
+    #[default]
     Run,
     /// A fixed span (s, positive): the global error grows with the number of spans in the run
     /// (`tolerance_span = 1`: the 3-D slider-crank over 5 s 13 to 20 tolerances).
     Seconds(f64),
     /// Each step may make the whole tolerance (the classical error per step, DASSL's and STEP's test):
     /// the global error grows with the number of steps, and that number grows as the tolerance falls
-    /// (the 3-D slider-crank over 5 s 360 to 6,500 tolerances). The default still (docs/accuracy.md
-    /// says what keeps [`Run`](Self::Run) from being it yet).
-    #[default]
+    /// (the 3-D slider-crank over 5 s 360 to 6,500 tolerances).
     Step,
 }
 
@@ -63,10 +62,10 @@ mod tests {
     use super::*;
 
     /// The run's span becomes the run's length; fixed spans and the span of one step stay what they are;
-    /// the default is still each step its whole tolerance.
+    /// the default is the run's span.
     #[test]
     fn the_runs_span_is_its_length() {
-        assert_eq!(ToleranceSpan::default(), ToleranceSpan::Step);
+        assert_eq!(ToleranceSpan::default(), ToleranceSpan::Run);
         assert_eq!(ToleranceSpan::Run.over_run(5.0), ToleranceSpan::Seconds(5.0));
         assert_eq!(ToleranceSpan::Seconds(1.0).over_run(5.0), ToleranceSpan::Seconds(1.0));
         assert_eq!(ToleranceSpan::Step.over_run(5.0).seconds(), f64::INFINITY);

@@ -17,8 +17,8 @@ use super::ToleranceSpan;
 /// component weighted by `atol + rtol |y|`, is at most `h / span` (error per unit step, Shampine 1994
 /// §1.5): the local errors of the steps of one span then add up to at most the tolerance, whatever the
 /// number of steps. The share `h / span` is never below what the arithmetic resolves in one step,
-/// `1e-12 / rtol`. With [`ToleranceSpan::Step`] (the default) the test is the classical one, at most 1
-/// per step.
+/// `1e-12 / rtol`. [`ToleranceSpan::Run`] is the default; with [`ToleranceSpan::Step`] the test is the
+/// classical one, at most 1 per step.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tolerances {
     /// Relative tolerance of the global error of positions and velocities. Default `1e-6`; at least
@@ -30,7 +30,8 @@ pub struct Tolerances {
     /// size `h` may make `h / span` of it (error per unit step), and the global error then falls in
     /// proportion to the tolerance. [`ToleranceSpan::Run`], the run's length, keeps the promise: the 3-D
     /// slider-crank over 5 s 3.6 to 4.4 tolerances from 1e-3 to 1e-8 with the BDF (a fixed 1 s: 13 to
-    /// 20). Default [`ToleranceSpan::Step`], the classical error per step (360 to 6,500 there).
+    /// 20; [`ToleranceSpan::Step`], the classical error per step: 360 to 6,500). Default
+    /// [`ToleranceSpan::default`], the run's span.
     pub span: ToleranceSpan,
     /// Largest step (s). Default unlimited.
     pub h_max: f64,
@@ -42,7 +43,7 @@ pub struct Tolerances {
 
 impl Default for Tolerances {
     fn default() -> Self {
-        Self { rtol: 1e-6, atol: 1e-6, span: ToleranceSpan::Step, h_max: f64::INFINITY, h_init: None, max_steps: 10_000_000 }
+        Self { rtol: 1e-6, atol: 1e-6, span: ToleranceSpan::default(), h_max: f64::INFINITY, h_init: None, max_steps: 10_000_000 }
     }
 }
 
