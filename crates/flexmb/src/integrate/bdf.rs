@@ -27,7 +27,7 @@ use crate::integrate::iteration_matrix::IterationMatrix;
 use crate::integrate::newton::{self, ConvergenceTest, NewtonSystem};
 use crate::integrate::newton_rounding::{RoundingFloor, CHANGE_RATIO, NOISE_CEILING};
 use crate::integrate::rounding_level::rounding_residual;
-use crate::integrate::share_floor::{bdf_newton_floor, bdf_step_floor, ShareFloor};
+use crate::integrate::share_floor::{ShareFloor, BDF_NEWTON_FLOOR, BDF_STEP_FLOOR};
 use crate::integrate::singular_position::SingularPassage;
 use crate::integrate::{
     check_len, AttemptFailure, BdfCheckpoint, BdfConfig, CheckpointError, IntegrationError, Integrator, IntegratorCheckpoint, Stats,
@@ -108,9 +108,6 @@ pub struct Bdf {
     share: f64,
     /// The floor under a step's share of the tolerance.
     share_floor: ShareFloor,
-    /// At order 1 after a restart (three failed attempts of one step), where the steps keep the other
-    /// methods' floor ([`bdf_step_floor`]).
-    restarted: bool,
     /// The level below which the Newton increments are the residual's rounding.
     rounding: RoundingFloor,
     /// The approach to a singular position: its predicted window, which the step ends avoid.
@@ -214,7 +211,6 @@ impl Bdf {
             stability: StabilityLimits::new(),
             share: 1.0,
             share_floor: ShareFloor::default(),
-            restarted: false,
             rounding: RoundingFloor::default(),
             singular,
             amplification: 1.0,
@@ -288,7 +284,6 @@ impl Bdf {
             share_floor: self.share_floor.stored(),
             newton_rounding: self.rounding.stored(),
             newton_rounding_level: self.rounding_level,
-            restarted: self.restarted,
             active: self.active.clone(),
             angle_reference: self.data.angle_reference.clone(),
             stats: self.stats,
@@ -328,7 +323,6 @@ impl Bdf {
         self.stability.last_h = c.last_h;
         self.stability.last_error = c.last_error;
         self.share_floor = ShareFloor::restored(c.share_floor);
-        self.restarted = c.restarted;
         self.rounding = RoundingFloor::restored(c.newton_rounding);
         self.active.copy_from_slice(&c.active);
         self.data.angle_reference.copy_from_slice(&c.angle_reference);
@@ -512,7 +506,7 @@ impl Bdf {
                 }
                 self.stats.error_test_failures += 1;
                 error_test_failures += 1;
-                let power = error_power(&self.tolerances, h, order + 1, self.config.max_order == 1, self.restarted);
+                let power = error_power(&self.tolerances, h, order + 1, self.config.max_order == 1);
                 let factor = MIN_FACTOR.max(safety * error_norm.powf(-1.0 / power));
                 failure = AttemptFailure::ErrorTest { error_norm };
                 self.reduce_step(factor);
@@ -522,7 +516,6 @@ impl Bdf {
                 // extrapolates the last derivative only, whose error falls as h².
                 if error_test_failures >= ORDER_ONE_AFTER && self.order > 1 {
                     self.order = 1;
-                    self.restarted = true;
                     self.n_equal_steps = 0;
                 }
                 continue;
@@ -592,10 +585,10 @@ impl Bdf {
         let error_p = if order < self.config.max_order { estimate(self, order + 2, order + 1).0 } else { f64::INFINITY };
         let (error, within_rounding) = estimate(self, order + 1, order);
         // An estimate of order h^power allows the step factor e^(−1/p), p the power of h in e / share.
-        let (tolerances, h, first_order_method, restarted) = (self.tolerances, self.h, self.config.max_order == 1, self.restarted);
+        let (tolerances, h, first_order_method) = (self.tolerances, self.h, self.config.max_order == 1);
         let factor_of = |e: f64, power: usize| {
             if e.is_finite() {
-                e.max(1e-300).powf(-1.0 / error_power(&tolerances, h, power, first_order_method, restarted))
+                e.max(1e-300).powf(-1.0 / error_power(&tolerances, h, power, first_order_method))
             } else {
                 0.0
             }
@@ -614,7 +607,6 @@ impl Bdf {
         let (best, mut best_factor) =
             factors.iter().enumerate().fold((1, factors[1]), |acc, (i, f)| if *f > acc.1 { (i, *f) } else { acc });
         self.order = order + best - 1;
-        self.restarted &= self.order == 1;
         // Held back by stability at order ≥ 3: order 2 (A-stable) may allow a larger step. The order drops
         // directly, not one at a time: the orders in between are not A-stable either (for 2 % damping their
         // unstable bands start at h ω = 0.47 to 0.81).
@@ -704,7 +696,7 @@ impl Bdf {
     /// with the first-order floor there, the 3-D energy of a free flexible body drifted by 3.6e-5 at rtol
     /// 1e-9 (1e-6 without).
     fn share_at_order(&self, order: usize) -> f64 {
-        let share = self.share_floor.share_above(&self.tolerances, self.h, bdf_step_floor(order, self.restarted));
+        let share = self.share_floor.share_above(&self.tolerances, self.h, BDF_STEP_FLOOR);
         if order == 1 && self.config.max_order == 1 {
             share.max(self.tolerances.first_order_share(self.h))
         } else {
@@ -715,7 +707,7 @@ impl Bdf {
     /// The Newton tolerance of the attempt at the current step's share, the one its iteration is tested
     /// against and the rate monitor predicts for.
     fn newton_tolerance(&self) -> f64 {
-        self.tolerances.newton_tolerance_above(self.share, bdf_newton_floor(self.order, self.restarted))
+        self.tolerances.newton_tolerance_above(self.share, BDF_NEWTON_FLOOR)
     }
 
     fn reduce_step(&mut self, factor: f64) {
@@ -1008,13 +1000,12 @@ fn compute_r(order: usize, factor: f64) -> [[f64; MAX_ORDER + 1]; MAX_ORDER + 1]
 }
 
 /// The power of `h` in the ratio of an estimate of order `h^power` (of the order `power − 1`) to its
-/// share of the tolerance ([`Bdf::share_at_order`]; `first_order_method`: the BDF is held to order 1;
-/// `restarted`: at order 1 after a restart, [`bdf_step_floor`]).
-fn error_power(tolerances: &Tolerances, h: f64, power: usize, first_order_method: bool, restarted: bool) -> f64 {
+/// share of the tolerance ([`Bdf::share_at_order`]; `first_order_method`: the BDF is held to order 1).
+fn error_power(tolerances: &Tolerances, h: f64, power: usize, first_order_method: bool) -> f64 {
     if power == 2 && first_order_method {
         tolerances.first_order_error_power(h)
     } else {
-        tolerances.error_power_above(h, power, bdf_step_floor(power - 1, restarted))
+        tolerances.error_power_above(h, power, BDF_STEP_FLOOR)
     }
 }
 

@@ -104,10 +104,6 @@ pub struct BdfCheckpoint {
     /// converges where the uninterrupted one does.
     #[serde(default)]
     pub newton_rounding_level: Option<f64>,
-    /// The BDF is at order 1 after a restart (three failed attempts of one step), where its steps keep
-    /// the other methods' floor (false in checkpoints written before).
-    #[serde(default)]
-    pub restarted: bool,
     /// The constraint rows in force.
     pub active: Vec<bool>,
     /// Last accepted relative angle of each joint (for continuing angles past ±π).

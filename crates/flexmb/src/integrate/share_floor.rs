@@ -32,8 +32,8 @@
 use crate::integrate::tolerances::{NEWTON_FLOOR, STEP_FLOOR};
 use crate::integrate::Tolerances;
 
-/// The BDF's floor under a step's local error at orders 2 to 5, relative to the solution: a tenth of the
-/// other methods' [`STEP_FLOOR`] ([`bdf_step_floor`]). Its estimate, the corrector's difference from an extrapolation of the history, is
+/// The BDF's floor under a step's local error, relative to the solution: a tenth of the other methods'
+/// [`STEP_FLOOR`]. Its estimate, the corrector's difference from an extrapolation of the history, is
 /// resolved to about ten units of rounding of the solution times the predictor's gain, `2^(k+1)/(k + 1)`
 /// (10.7 at order 5): about 2.4e-14, a quarter of this floor. Measured over the run at rtol 1e-10 with
 /// the Newton floor lowered alike ([`BDF_NEWTON_FLOOR`]): 1e-13 gave the heavy top 1.2 tolerances in
@@ -47,32 +47,6 @@ pub(crate) const BDF_STEP_FLOOR: f64 = STEP_FLOOR / 10.0;
 /// least share; ten units of rounding, which increments of rounding alone reach (they converge at
 /// [`Tolerances::round_off_at`] and at the iteration matrix's own rounding level).
 pub(crate) const BDF_NEWTON_FLOOR: f64 = NEWTON_FLOOR / 10.0;
-
-/// The BDF's floor under the local error of a step, relative to the solution: [`BDF_STEP_FLOOR`], but
-/// the other methods' [`STEP_FLOOR`] at order 1 after a restart (`restarted`: three failed attempts of
-/// one step). After a restart the estimate may fall only as `h`, not `h²` (Andrews' squeezer at rtol
-/// 1e-5, t = 9.49e-3 s: 28.6 and 15.5 shares at steps of 1.36e-8 and 7.3e-9 s), and only the floor lets
-/// such a step pass: with the lower floor there too that run took 281,462 steps to t = 0.0108 s of
-/// 0.03 s. The first steps of a run, also at order 1, keep the lower floor: with the higher one there
-/// the rigid pendulum at rtol 1e-10 chose its first steps by it, failed them at order 2, restarted, and
-/// rejected 312 steps (9.5 tolerances, against 7 and 0.13).
-pub(crate) fn bdf_step_floor(order: usize, restarted: bool) -> f64 {
-    if order <= 1 && restarted {
-        STEP_FLOOR
-    } else {
-        BDF_STEP_FLOOR
-    }
-}
-
-/// The BDF's Newton floor: [`BDF_NEWTON_FLOOR`] where [`bdf_step_floor`] is the lower floor,
-/// [`NEWTON_FLOOR`] where it is the other methods'.
-pub(crate) fn bdf_newton_floor(order: usize, restarted: bool) -> f64 {
-    if order <= 1 && restarted {
-        NEWTON_FLOOR
-    } else {
-        BDF_NEWTON_FLOOR
-    }
-}
 
 /// A step's share of the tolerance is at least this fraction of the last accepted step's.
 const LAST_SHARE_FRACTION: f64 = 0.1;

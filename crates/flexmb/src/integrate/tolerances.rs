@@ -17,7 +17,7 @@ use super::ToleranceSpan;
 /// component weighted by `atol + rtol |y|`, is at most `h / span` (error per unit step, Shampine 1994
 /// §1.5): the local errors of the steps of one span then add up to at most the tolerance, whatever the
 /// number of steps. The share `h / span` is never below what the arithmetic resolves in one step,
-/// `1e-12 / rtol`. With [`ToleranceSpan::Step`] (the default) the test is the classical one, at most 1
+/// `1e-12 / rtol` (the BDF at orders 2 to 5: `1e-13 / rtol`, `share_floor::BDF_STEP_FLOOR`). With [`ToleranceSpan::Step`] (the default) the test is the classical one, at most 1
 /// per step.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tolerances {
