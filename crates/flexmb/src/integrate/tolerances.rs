@@ -17,8 +17,8 @@ use super::ToleranceSpan;
 /// component weighted by `atol + rtol |y|`, is at most `h / span` (error per unit step, Shampine 1994
 /// §1.5): the local errors of the steps of one span then add up to at most the tolerance, whatever the
 /// number of steps. The share `h / span` is never below what the arithmetic resolves in one step,
-/// `1e-12 / rtol`. [`ToleranceSpan::Run`] is the default; with [`ToleranceSpan::Step`] the test is the
-/// classical one, at most 1 per step.
+/// `1e-12 / rtol` (the BDF: `1e-13 / rtol`, `share_floor::BDF_STEP_FLOOR`). [`ToleranceSpan::Run`] is the
+/// default; with [`ToleranceSpan::Step`] the test is the classical one, at most 1 per step.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tolerances {
     /// Relative tolerance of the global error of positions and velocities. Default `1e-6`; at least
@@ -52,10 +52,10 @@ impl Default for Tolerances {
 /// conditioning of the mechanism allows: thousands of units of rounding near singular positions (the
 /// 3-D slider-crank's rod spin, 1.7e-12 rad/s of noise), so that with 100 units (MATLAB's floor of its
 /// `RelTol`) the heavy top and the slider-crank failed at rtol 1e-10, their step sizes driven to 1e-15 s.
-const STEP_FLOOR: f64 = 1e-12;
+pub(crate) const STEP_FLOOR: f64 = 1e-12;
 /// What a Newton increment resolves, relative to the solution: 100 units of rounding (a body at rest on a
 /// fixed joint, whose increments are rounding only, did not converge at 10 units with a share of 1e-6).
-const NEWTON_FLOOR: f64 = 100.0 * f64::EPSILON;
+pub(crate) const NEWTON_FLOOR: f64 = 100.0 * f64::EPSILON;
 /// What a Newton increment of rounding is, relative to the solution: ten units, a tenth of
 /// [`NEWTON_FLOOR`] (the body at rest on a fixed joint: half a unit).
 const ROUND_OFF: f64 = 10.0 * f64::EPSILON;
@@ -99,7 +99,13 @@ impl Tolerances {
     /// one step can resolve, [`STEP_FLOOR`]`/ rtol`. The local error test of every method passes when the
     /// weighted norm of the error estimate is at most this share.
     pub(crate) fn step_share(&self, h: f64) -> f64 {
-        let floor = (STEP_FLOOR / self.rtol).min(1.0);
+        self.step_share_above(h, STEP_FLOOR)
+    }
+
+    /// [`step_share`](Self::step_share) with the floor `floor / rtol` in place of [`STEP_FLOOR`]`/ rtol`
+    /// (`floor` relative to the solution; the BDF's is lower, [`share_floor`](super::share_floor)).
+    pub(crate) fn step_share_above(&self, h: f64, floor: f64) -> f64 {
+        let floor = (floor / self.rtol).min(1.0);
         let span = self.span.seconds();
         if span.is_finite() {
             (h / span).clamp(floor, 1.0)
@@ -138,15 +144,27 @@ impl Tolerances {
 
     /// Whether the share of a step of size `h` is `h / span` (not bounded by 1 or by the rounding floor).
     fn per_unit_step(&self, h: f64) -> bool {
-        let share = h / self.span.seconds();
-        share < 1.0 && share > STEP_FLOOR / self.rtol
+        self.per_unit_step_above(h, STEP_FLOOR)
     }
+
+    /// [`per_unit_step`](Self::per_unit_step) above the floor `floor / rtol`.
+    fn per_unit_step_above(&self, h: f64, floor: f64) -> bool {
+        let share = h / self.span.seconds();
+        share < 1.0 && share > floor / self.rtol
+    }
+
 
     /// The power of `h` in the ratio of a local error estimate of order `h^(k+1)` (`power = k + 1`) to the
     /// step's share of the tolerance: `k` while the share is `h / span`, `k + 1` where it is bounded
     /// (by 1 or by the rounding floor). Step-size selection takes this root of the ratio.
     pub(crate) fn error_power(&self, h: f64, power: usize) -> f64 {
-        if self.per_unit_step(h) {
+        self.error_power_above(h, power, STEP_FLOOR)
+    }
+
+    /// [`error_power`](Self::error_power) with the share's floor `floor / rtol`
+    /// ([`step_share_above`](Self::step_share_above)).
+    pub(crate) fn error_power_above(&self, h: f64, power: usize, floor: f64) -> f64 {
+        if self.per_unit_step_above(h, floor) {
             (power - 1).max(1) as f64
         } else {
             power as f64
@@ -158,7 +176,14 @@ impl Tolerances {
     /// below the local error the step is held to): [`newton_tolerance`](Self::newton_tolerance), but at
     /// least what the increments can resolve at that share, `100 ε / (rtol · share)`.
     pub(crate) fn newton_tolerance_at(&self, share: f64) -> f64 {
-        self.newton_tolerance().max(NEWTON_FLOOR / (self.rtol * share))
+        self.newton_tolerance_above(share, NEWTON_FLOOR)
+    }
+
+    /// [`newton_tolerance_at`](Self::newton_tolerance_at) with `floor` (relative to the solution) in place
+    /// of [`NEWTON_FLOOR`]: a method that holds its steps to a lower floor resolves its increments finer
+    /// in proportion (the BDF, [`share_floor`](super::share_floor)).
+    pub(crate) fn newton_tolerance_above(&self, share: f64, floor: f64) -> f64 {
+        self.newton_tolerance().max(floor / (self.rtol * share))
     }
 
     /// A Newton increment of [`ROUND_OFF`] of the solution in the norm of a step's share of the
