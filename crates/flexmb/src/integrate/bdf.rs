@@ -508,7 +508,7 @@ impl Bdf {
                 error_test_failures += 1;
                 let power = error_power(&self.tolerances, h, order + 1, self.config.max_order == 1);
                 let factor = MIN_FACTOR.max(safety * error_norm.powf(-1.0 / power));
-                failure = AttemptFailure::ErrorTest { error_norm };
+                failure = AttemptFailure::ErrorTest { error_norm, t_new, step: c };
                 self.reduce_step(factor);
                 // From the third failure of one step on, order 1 (as DASSL and IDA): the polynomial of
                 // the history does not describe a fast transient, and its extrapolation then errs by

@@ -40,7 +40,7 @@ pub(crate) enum AttemptFailure {
     None,
     Singular { t_new: f64, step: f64 },
     Newton { t_new: f64, step: f64 },
-    ErrorTest { error_norm: f64 },
+    ErrorTest { error_norm: f64, t_new: f64, step: f64 },
 }
 
 impl AttemptFailure {
@@ -55,8 +55,9 @@ impl AttemptFailure {
             AttemptFailure::Newton { t_new, step } => {
                 format!("the Newton iteration does not converge; {}", worst_equation(t_new, step))
             }
-            AttemptFailure::ErrorTest { error_norm } => {
-                format!("the local error test fails (weighted error {error_norm:.2e})")
+            AttemptFailure::ErrorTest { error_norm, t_new, step } => {
+                // The equations at the predictor say where (a lock or a singular position names the joint).
+                format!("the local error test fails (weighted error {error_norm:.2e}); {}", worst_equation(t_new, step))
             }
         }
     }

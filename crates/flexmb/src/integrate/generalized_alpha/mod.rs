@@ -611,7 +611,7 @@ impl GeneralizedAlpha {
             let within_rounding = error_norm != measured;
             if self.fixed_step.is_none() && error_norm > 1.0 {
                 self.stats.error_test_failures += 1;
-                failure = AttemptFailure::ErrorTest { error_norm };
+                failure = AttemptFailure::ErrorTest { error_norm, t_new, step: h_step };
                 h = h_step * (SAFETY * error_norm.powf(-1.0 / self.tolerances.error_power(h_step, 3))).max(MIN_FACTOR);
                 if self.singular.asked.is_some() {
                     // A step moved across a singular position ends as far past it as it starts before it,
