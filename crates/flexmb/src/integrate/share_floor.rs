@@ -23,30 +23,25 @@
 //!
 //! Under both lies a fixed floor, what one step resolves relative to the solution: `1e-12 / rtol` for the
 //! Adams and generalized-α methods ([`Tolerances::step_share`]), [`BDF_STEP_FLOOR`]` / rtol` for the BDF,
-//! whose Newton increments are then resolved ten times finer too ([`BDF_NEWTON_FLOOR`]). With error per
+//! whose Newton floor stays the other methods' (`Bdf::newton_tolerance` says why). With error per
 //! unit step below rtol 1e-8 a step's share `h / span` is below the floor, and the floor holds each local
 //! error at that fraction of the solution: `N` steps then add up to about `N` times it, whatever the
 //! tolerance (the 1e-12 floor held the BDF's error on the heavy top at 8.2e-10 over 22,700 steps, at
 //! rtol 1e-9 and 1e-10 alike; the rigid pendulum's at 9.3e-11).
 
-use crate::integrate::tolerances::{NEWTON_FLOOR, STEP_FLOOR};
+use crate::integrate::tolerances::STEP_FLOOR;
 use crate::integrate::Tolerances;
 
 /// The BDF's floor under a step's local error, relative to the solution: a tenth of the other methods'
 /// [`STEP_FLOOR`]. Its estimate, the corrector's difference from an extrapolation of the history, is
 /// resolved to about ten units of rounding of the solution times the predictor's gain, `2^(k+1)/(k + 1)`
 /// (10.7 at order 5): about 2.4e-14, a quarter of this floor. Measured over the run at rtol 1e-10 with
-/// the Newton floor lowered alike ([`BDF_NEWTON_FLOOR`]): 1e-13 gave the heavy top 1.2 tolerances in
+/// the Newton floor lowered alike (ten units of rounding): 1e-13 gave the heavy top 1.2 tolerances in
 /// 33,210 steps (the 1e-12 floor: 8.2 in 22,700), the rigid pendulum 0.13 in 3,216 (0.93 in 2,190);
 /// 3e-14 gave 0.67 and 0.05 in 43,400 and 3,900 steps; with the Newton floor left at 100 units, 1e-13
 /// rejected 811 steps of the heavy top (9), 3e-14 5,004 steps of 74,800: the increments' unresolved
 /// part was then the estimate's noise.
 pub(crate) const BDF_STEP_FLOOR: f64 = STEP_FLOOR / 10.0;
-/// The BDF's floor under its Newton tolerance, relative to the solution: [`NEWTON_FLOOR`] lowered as
-/// [`BDF_STEP_FLOOR`] is, so that the increments left unresolved stay the same fraction (2 %) of the
-/// least share; ten units of rounding, which increments of rounding alone reach (they converge at
-/// [`Tolerances::round_off_at`] and at the iteration matrix's own rounding level).
-pub(crate) const BDF_NEWTON_FLOOR: f64 = NEWTON_FLOOR / 10.0;
 
 /// A step's share of the tolerance is at least this fraction of the last accepted step's.
 const LAST_SHARE_FRACTION: f64 = 0.1;
