@@ -323,6 +323,12 @@ impl SingularPassage {
         amplification * (amplification / QUADRATIC_FROM).max(1.0)
     }
 
+    /// Whether the rounding `10 ε κ` amplified by `amplification` exceeds [`PLACE_FRACTION`] of what a step
+    /// held to `share` of the tolerance `rtol` may make (the second criterion of `matters` alone).
+    pub fn rounding_matters(amplification: f64, rtol: f64, share: f64) -> bool {
+        amplification > 1.0 && ROUND_OFF * amplification > PLACE_FRACTION * rtol * share
+    }
+
     /// What the steps resolve near a singular position of condition number `condition`, relative to the
     /// solution: `MARGIN · 10 ε κ`, where the Newton increments are taken as converged.
     pub fn resolution(condition: f64) -> f64 {

@@ -95,6 +95,7 @@ struct Guarded<'a> {
     system: &'a mut System,
     singular: &'a mut SingularPassage,
     t_stop: f64,
+    rtol: f64,
     /// The amplification and share of the tolerance of the last attempt.
     amplification: f64,
     share: f64,
@@ -117,7 +118,14 @@ impl OdeSystem for Guarded<'_> {
         }
     }
     fn rounding_amplification(&mut self, t: f64, t_new: f64, share: f64) -> f64 {
-        self.amplification = self.singular.amplification(t, t_new, share);
+        // Only where the amplified rounding itself matters to what the step is held to: the
+        // criterion of what the steps resolve (`MARGIN` times it against rtol), which the BDF's
+        // guard also applies, let the Adams method pass truncation errors as rounding at the 3-D
+        // slider-crank's ordinary κ = 25 from rtol 1e-9 on (at 1e-12 3,000 steps, 4.9e-5 rad/s off
+        // in the crank's rate, where without the guard 3,236 steps agree with the BDF at 1e-10).
+        let amplification = self.singular.amplification(t, t_new, share);
+        self.amplification =
+            if SingularPassage::rounding_matters(amplification, self.rtol, share) { amplification } else { 1.0 };
         self.share = share;
         self.amplification
     }
@@ -331,7 +339,7 @@ impl Adams {
     fn guarded_step(&mut self, t_stop: f64) -> Result<(), StepFailure> {
         let steps = self.stepper.stats.steps;
         let mut guarded =
-            Guarded { system: &mut self.system, singular: &mut self.singular, t_stop, amplification: 1.0, share: 1.0 };
+            Guarded { system: &mut self.system, singular: &mut self.singular, t_stop, rtol: self.rtol, amplification: 1.0, share: 1.0 };
         self.stepper.step(&mut guarded, t_stop)?;
         let (amplification, share) = (guarded.amplification, guarded.share);
         if self.stepper.stats.steps == steps {
