@@ -326,7 +326,9 @@ fn summary_of(out: &std::path::Path) -> serde_json::Value {
 /// The Adams method over the run's span at rtol 1e-8 through the first two singular positions (t ≈ 0.714 s
 /// and 1.23 s), against the exact motion: B0 stays within 10 tolerances of its path at every output row, each
 /// passage is counted (its steps there, about 10 ms long, are held to more than the rounding they resolve,
-/// so neither passage is warned of; at 1e-9 to 1e-12 over the 10 s each of the ten is). Before the guard the Adams method had none: past the first position its steps fell to
+/// so neither passage is warned of). The guard keeps the step ends off the predicted positions; it does
+/// not pass the Adams method's estimates as rounding (that allowance, the BDF's, passed truncation errors at
+/// ordinary conditioning, docs/accuracy.md). Before the guard the Adams method had none: past the first position its steps fell to
 /// orders 2 and 3 and about 1e-8 s at the second (142,422 steps to t = 1.228 s in 100 s; over 2 s,
 /// 405,321 steps, and B0 then left the path, stopped at (1, 0) on the linkage's other branch). About 1 s in
 /// release.
