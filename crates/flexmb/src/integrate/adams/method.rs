@@ -75,7 +75,7 @@ pub trait OdeSystem {
 
     /// Where an attempt from `t` that would end at `t_new`, held to `share` of the tolerance, ends instead
     /// (`None`: where it would): a mechanism keeps its step ends off a singular position
-    /// ([`SingularPassage::placed_end`](crate::integrate::singular_position::SingularPassage::placed_end)).
+    /// (`SingularPassage::placed_end`).
     fn placed_end(&mut self, _t: f64, _t_new: f64, _share: f64) -> Option<f64> {
         None
     }
@@ -83,7 +83,7 @@ pub trait OdeSystem {
     /// The factor by which the rounding of the solution at the end `t_new` of the attempt from `t`, held to
     /// `share` of the tolerance, exceeds that of a well-conditioned one (1: it does not matter), called once
     /// per attempt after [`placed_end`](Self::placed_end): an error estimate within the rounding so amplified
-    /// passes ([`SingularPassage::estimate_beyond_rounding`](crate::integrate::singular_position::SingularPassage::estimate_beyond_rounding)).
+    /// passes (`SingularPassage::estimate_beyond_rounding`).
     fn rounding_amplification(&mut self, _t: f64, _t_new: f64, _share: f64) -> f64 {
         1.0
     }

@@ -81,7 +81,7 @@
 //! parts) is retried with `h/2`. On a change of step size `ã_n` is moved to the new size (see
 //! `predict`); without that, 15 % of the steps of a slider-crank at tolerance 1e-8 were
 //! rejected, with it 0.1 %. Near a singular position an estimate within the rounding that the
-//! conditioning amplifies there ([`SingularPassage::estimate_beyond_rounding`]) passes, and the next step is
+//! conditioning amplifies there (`SingularPassage::estimate_beyond_rounding`) passes, and the next step is
 //! as long as this one, or as the last step whose estimate was measured, whichever is longer: it neither
 //! shrinks onto the rounding nor grows on an estimate that no longer measures the truncation error (grown
 //! by 1.64 a step, the steps across the double four-bar's first position reached 6.7e-4 s on estimates of
