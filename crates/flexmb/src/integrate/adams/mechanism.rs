@@ -89,8 +89,7 @@ impl System {
 }
 
 /// The mechanism with the guard of its singular positions, for one call of [`AdamsStepper::step`]: the
-/// attempts' ends are kept off a predicted singular position, and their error estimates within the rounding
-/// amplified there pass, as the BDF's do ([`SingularPassage`]).
+/// attempts' ends are kept off a predicted singular position ([`SingularPassage`]).
 struct Guarded<'a> {
     system: &'a mut System,
     singular: &'a mut SingularPassage,
@@ -109,6 +108,18 @@ impl OdeSystem for Guarded<'_> {
         self.system.accept(t, y, dy)
     }
     fn placed_end(&mut self, t: f64, t_new: f64, share: f64) -> Option<f64> {
+        // The amplified rounding at the asked end is recorded (the steps held near a position are
+        // counted) but does not pass estimates as rounding, as the BDF's guard does: with the BDF's
+        // allowance for a predictor of order `k` (`MARGIN · 2^(k+1)/(k+1) · 10 ε κ`, 630 times the
+        // rounding at order 12) the Adams method passed truncation errors at ordinary conditioning: the
+        // 3-D slider-crank (κ = 25) at rtol 1e-12 took 3,000 steps and was 4.9e-5 rad/s off in the
+        // crank's rate, Andrews' squeezer (κ ≈ 191) 491 steps and 3e-6 off, where without it they take
+        // 3,236 and 635 steps and agree with the BDF at 1e-10. The Adams estimate's own rounding (of the
+        // (k+1)-th difference of `f`, times the step) is far smaller than the BDF's, and not derived yet.
+        let amplification = self.singular.amplification(t, t_new, share);
+        self.amplification =
+            if SingularPassage::rounding_matters(amplification, self.rtol, share) { amplification } else { 1.0 };
+        self.share = share;
         match self.singular.placed_end(t, t_new, share) {
             Some(end) if end < self.t_stop => Some(end),
             _ => {
@@ -116,21 +127,6 @@ impl OdeSystem for Guarded<'_> {
                 None
             }
         }
-    }
-    fn rounding_amplification(&mut self, t: f64, t_new: f64, share: f64) -> f64 {
-        // The amplification is recorded (the steps held near a position are counted) but not given to
-        // the stepper: its pass of estimates within the amplified rounding, with the BDF's allowance for
-        // a predictor of order `k` (`MARGIN · 2^(k+1)/(k+1) · 10 ε κ`, 630 times the rounding at order 12),
-        // let the Adams method pass truncation errors at ordinary conditioning: the 3-D slider-crank
-        // (κ = 25) at rtol 1e-12 took 3,000 steps and was 4.9e-5 rad/s off in the crank's rate, Andrews'
-        // squeezer (κ ≈ 191) 491 steps and 3e-6 off, where without it they take 3,236 and 635 steps and
-        // agree with the BDF at 1e-10. The Adams estimate's own rounding (of the (k+1)-th difference of
-        // `f`, times the step) is far smaller than the BDF's, and is not derived yet.
-        let amplification = self.singular.amplification(t, t_new, share);
-        self.amplification =
-            if SingularPassage::rounding_matters(amplification, self.rtol, share) { amplification } else { 1.0 };
-        self.share = share;
-        1.0
     }
 }
 

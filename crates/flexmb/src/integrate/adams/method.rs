@@ -43,7 +43,6 @@
 //! Nothing here allocates after the stepper is made.
 
 use crate::integrate::share_floor::ShareFloor;
-use crate::integrate::singular_position::SingularPassage;
 use crate::integrate::error_norm::error_weight;
 
 /// Highest order of the method (the order of its Adams–Bashforth predictor).
@@ -78,14 +77,6 @@ pub trait OdeSystem {
     /// (`SingularPassage::placed_end`).
     fn placed_end(&mut self, _t: f64, _t_new: f64, _share: f64) -> Option<f64> {
         None
-    }
-
-    /// The factor by which the rounding of the solution at the end `t_new` of the attempt from `t`, held to
-    /// `share` of the tolerance, exceeds that of a well-conditioned one (1: it does not matter), called once
-    /// per attempt after [`placed_end`](Self::placed_end): an error estimate within the rounding so amplified
-    /// passes (`SingularPassage::estimate_beyond_rounding`).
-    fn rounding_amplification(&mut self, _t: f64, _t_new: f64, _share: f64) -> f64 {
-        1.0
     }
 }
 
@@ -438,8 +429,7 @@ impl AdamsStepper {
         let mut share = 1.0;
         loop {
             // The weights of this attempt's share of the tolerance (error per unit step), its end kept off a
-            // singular position, and the rounding at that end.
-            let mut amplification = 1.0;
+            // singular position.
             if !self.fixed {
                 let asked_share = self.share_floor.share(&tolerances, self.h);
                 if let Some(end) = system.placed_end(self.x, self.x + self.h, asked_share) {
@@ -449,7 +439,6 @@ impl AdamsStepper {
                 let rescale = new_share / share;
                 self.wt.iter_mut().for_each(|w| *w *= rescale);
                 share = new_share;
-                amplification = system.rounding_amplification(self.x, self.x + self.h, share);
             }
             self.coefficients();
             // Block 2: φ → φ*, predict, evaluate.
@@ -527,18 +516,6 @@ impl AdamsStepper {
                     } else if k == 2 && erkm1 <= 0.5 * erk {
                         knew = k - 1;
                     }
-                    // Near a singular position an estimate within the amplified rounding says nothing of the
-                    // step: it passes, and the next step keeps its order and does not shrink toward the
-                    // position, where the rounding only grows.
-                    let rounding = SingularPassage::estimate_beyond_rounding(err, share, self.control.rtol, amplification, k);
-                    let err = if rounding < err {
-                        knew = k;
-                        erk = rounding;
-                        erkm1 = f64::INFINITY;
-                        rounding
-                    } else {
-                        err
-                    };
                     // An estimate that does not fall as the step is cut is rounding: it passes at its level.
                     let noise = |floor: &mut ShareFloor| floor.is_noise(h, err / eps * share, self.control.rtol);
                     if !(err <= eps || self.fixed || noise(&mut self.share_floor)) {
