@@ -36,5 +36,6 @@ mod solid_bodies;
 mod step_options;
 mod stress_output;
 mod study_file;
+mod tight_tolerances;
 mod untrusted_input;
 mod vtk_output;

@@ -23,7 +23,7 @@
 //!
 //! Under both lies a fixed floor, what one step resolves relative to the solution: `1e-12 / rtol` for the
 //! Adams and generalized-α methods ([`Tolerances::step_share`]), [`BDF_STEP_FLOOR`]` / rtol` for the BDF,
-//! whose Newton floor stays the other methods' (`Bdf::newton_tolerance` says why). With error per
+//! whose Newton floor is lower too, [`BDF_NEWTON_FLOOR`] (`Bdf::newton_tolerance` says where). With error per
 //! unit step below rtol 1e-8 a step's share `h / span` is below the floor, and the floor holds each local
 //! error at that fraction of the solution: `N` steps then add up to about `N` times it, whatever the
 //! tolerance (the 1e-12 floor held the BDF's error on the heavy top at 8.2e-10 over 22,700 steps, at
@@ -41,7 +41,29 @@ use crate::integrate::Tolerances;
 /// 3e-14 gave 0.67 and 0.05 in 43,400 and 3,900 steps; with the Newton floor left at 100 units, 1e-13
 /// rejected 811 steps of the heavy top (9), 3e-14 5,004 steps of 74,800: the increments' unresolved
 /// part was then the estimate's noise.
+///
+/// Where the floor holds the steps (below rtol 1e-8 over a run of thousands of steps), each local error
+/// is this fraction of the solution and the BDF's truncation errors add up coherently (they dissipate
+/// energy): the 3-D slider-crank over 5 s lost 5.3e-10 J of its 0.77 J at rtol 1e-10 in 26,360 steps,
+/// linearly in time, and the phase error it causes made `E` 7.2e-9 (72 tolerances), the same at 1e-9
+/// and 1e-10. Lower floors were measured again with the Newton floor at 10 to 20 units: within 10
+/// tolerances at 1e-10 needs 5e-15 to 1e-14 and 45,700 to 82,800 steps, and below 1e-13 the estimate
+/// is no longer resolved: at rtol 1e-9, where 1e-14 does not hold the steps, the order fell to 3 and 4
+/// on 38 % of 45,600 steps and `E` rose from 6.2 to 34 tolerances (Newton floor 20 units both); Andrews'
+/// squeezer stopped at 1e-10 (step too small at t = 0.0199 s).
 pub(crate) const BDF_STEP_FLOOR: f64 = STEP_FLOOR / 10.0;
+
+/// What the BDF's Newton increments resolve, relative to the solution, where the conditioning does not
+/// amplify the rounding: 20 units of rounding, a fifth of the other methods' floor
+/// ([`NEWTON_FLOOR`](super::tolerances::NEWTON_FLOOR)). With 100 the corrector's unresolved part, up to
+/// 2.2e-14 of the solution, is as large as a step's local error at [`BDF_STEP_FLOOR`], and it was the
+/// estimate's noise: the 3-D slider-crank at rtol 1e-10 rejected 373 steps of 26,360 (84 of 23,416 with
+/// 20), the heavy top 811 of 34,764 (23 of 32,838), Bricard's mechanism 138 of 6,582 (8 of 4,339), and
+/// the slider-crank's `E` fell from 8.0 to 6.2 tolerances at 1e-9 and from 72 to 61 at 1e-10. At ten
+/// units, the round-off level of an increment, a run driven into a lock (a distance pulled past its reach
+/// at t = 1 s) crept towards it for millions of accepted steps of 1e-11 s, its increments converging in
+/// the rounding there; at 20 it fails at the lock within 3,600 steps, naming the joint.
+pub(crate) const BDF_NEWTON_FLOOR: f64 = 20.0 * f64::EPSILON;
 
 /// A step's share of the tolerance is at least this fraction of the last accepted step's.
 const LAST_SHARE_FRACTION: f64 = 0.1;

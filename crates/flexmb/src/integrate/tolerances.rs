@@ -176,7 +176,14 @@ impl Tolerances {
     /// below the local error the step is held to): [`newton_tolerance`](Self::newton_tolerance), but at
     /// least what the increments can resolve at that share, `100 ε / (rtol · share)`.
     pub(crate) fn newton_tolerance_at(&self, share: f64) -> f64 {
-        self.newton_tolerance().max(NEWTON_FLOOR / (self.rtol * share))
+        self.newton_tolerance_above(share, NEWTON_FLOOR)
+    }
+
+    /// [`newton_tolerance_at`](Self::newton_tolerance_at) with the floor `floor / (rtol · share)` in place
+    /// of [`NEWTON_FLOOR`] (`floor` relative to the solution; the BDF's is lower,
+    /// [`share_floor`](super::share_floor)).
+    pub(crate) fn newton_tolerance_above(&self, share: f64, floor: f64) -> f64 {
+        self.newton_tolerance().max(floor / (self.rtol * share))
     }
 
     /// A Newton increment of [`ROUND_OFF`] of the solution in the norm of a step's share of the
