@@ -107,6 +107,7 @@
 //! as many at 1e-6 to 1e-8 (it is of order 2, the BDF of up to 5); on the shipped flexible pendulum
 //! (rtol 1e-6) it takes 1223 steps to the BDF's 2070.
 
+mod finest_tolerance;
 mod iteration_matrix;
 
 pub(crate) use iteration_matrix::IterationMatrix;
