@@ -41,8 +41,9 @@ impl GeneralizedAlpha {
             format!(
                 "tolerance finer than the generalized-α method keeps over the run: {what}; a second-order method's \
                  steps grow as tol^(-1/2), and below {finest:e} they reach what one step resolves (1e-13 of the \
-                 solution) and its error no longer falls in proportion on every model; for a finer tolerance use the BDF or the Adams method, or give the tolerance \
-                 span explicitly (tolerance_span = \"step\" or seconds) to take the tolerance as given",
+                 solution) and its error no longer falls in proportion on every model; for a finer tolerance use \
+                 the BDF or the Adams method, or give the tolerance span explicitly (tolerance_span = \"step\" or \
+                 seconds) to take the tolerance as given",
                 finest = Self::FINEST_OVER_RUN
             )
         });
