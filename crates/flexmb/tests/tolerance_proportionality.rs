@@ -121,12 +121,19 @@ fn the_generalized_alpha_methods_error_falls_in_proportion_too() {
 
 /// A tolerance below what double precision delivers is raised to `Tolerances::FINEST`, the run says so
 /// in a warning at its start, and it completes; one at the finest is taken as it is, silently. The same
-/// for every method.
+/// for every method (generalized-α with each step the whole tolerance: over the run's span it raises a
+/// tolerance below 1e-7 further, the next test).
 #[test]
 fn a_tolerance_below_double_precision_is_raised_with_a_warning() {
     let model = swinging_pendulum();
     for method in [Method::default(), Method::Adams(AdamsConfig::default()), Method::generalized_alpha(0.9)] {
-        let short = |tol: f64| SimulationSettings { t_end: 0.2, ..settings(method, tol) };
+        let short = |tol: f64| {
+            let mut short = SimulationSettings { t_end: 0.2, ..settings(method, tol) };
+            if matches!(method, Method::GeneralizedAlpha(_)) {
+                short.tolerances.span = ToleranceSpan::Step;
+            }
+            short
+        };
         let raised = support::run(&model, &short(1e-15));
         let warning = raised.report.warnings.iter().find(|w| w.kind == WarningKind::Tolerance).expect("a tolerance warning");
         assert_eq!(warning.t, 0.0);
@@ -138,4 +145,34 @@ fn a_tolerance_below_double_precision_is_raised_with_a_warning() {
         assert_eq!(raised.rows, finest.rows, "{method:?}");
         assert_eq!(raised.report.stats.steps, finest.report.stats.steps, "{method:?}");
     }
+}
+
+/// Over the run's span generalized-α keeps no tolerance finer than `GeneralizedAlpha::FINEST_OVER_RUN`
+/// (1e-7; below it its steps are held to what one step resolves and its error stops falling,
+/// docs/accuracy.md): a finer one is raised to it with a warning at the start, the run is the run at
+/// 1e-7, and its error is within 10 of those tolerances of the Adams method at 1e-12. With the span given
+/// explicitly the tolerance is taken as given. 1 s of swinging, about 1 s in release.
+#[test]
+fn generalized_alpha_raises_a_tolerance_finer_than_it_keeps_over_the_run() {
+    let model = swinging_pendulum();
+    let over_one_second = |method: Method, tol: f64| SimulationSettings { t_end: 1.0, ..settings(method, tol) };
+    let method = Method::generalized_alpha(0.9);
+    let reference = support::run(&model, &over_one_second(Method::Adams(AdamsConfig::default()), 1e-12));
+    let raised = support::run(&model, &over_one_second(method, 1e-10));
+    let warning = raised.report.warnings.iter().find(|w| w.kind == WarningKind::Tolerance).expect("a tolerance warning");
+    assert_eq!(warning.t, 0.0);
+    assert!(warning.message.contains("rtol 1e-10 raised to 1e-7, atol 1e-10 raised to 1e-7"), "{}", warning.message);
+    assert_eq!(flexmb::integrate::GeneralizedAlpha::FINEST_OVER_RUN, 1e-7);
+    let finest = support::run(&model, &over_one_second(method, 1e-7));
+    assert!(finest.report.warnings.is_empty(), "{:?}", finest.report.warnings);
+    assert_eq!(raised.rows, finest.rows, "raised, the run is the run at 1e-7");
+    assert_eq!(raised.report.stats.steps, finest.report.stats.steps);
+    let error = global_error(&finest, &reference);
+    eprintln!("generalized-α at 1e-7 over 1 s: {} steps, global error {error:.2e}", finest.report.stats.steps);
+    assert!(error <= 10.0 * 1e-7, "global error {error:e}");
+    let mut explicit = over_one_second(method, 1e-10);
+    explicit.tolerances.span = ToleranceSpan::Seconds(1.0);
+    let given = support::run(&model, &explicit);
+    assert!(given.report.warnings.iter().all(|w| w.kind != WarningKind::Tolerance), "{:?}", given.report.warnings);
+    assert!(given.report.stats.steps > finest.report.stats.steps, "taken as given: {} steps", given.report.stats.steps);
 }

@@ -102,6 +102,34 @@ fn a_tolerance_below_double_precision_is_raised_with_a_warning() {
     assert!(!o.status.success() && text(&o.stderr).contains("`run`, `step` or a positive number of seconds"), "{}", text(&o.stderr));
 }
 
+/// The generalized-α method over the run's span (the default) raises a tolerance below the finest it keeps,
+/// 1e-7, to it, and says so in the summary it prints and in the JSON's warnings; with the span given
+/// explicitly the tolerance is taken as given, silently.
+#[test]
+fn generalized_alpha_raises_a_tolerance_finer_than_it_keeps_over_the_run_with_a_warning() {
+    let out = scratch("gen-alpha-finest-tolerance");
+    let run = |span: &[&str]| {
+        let mut args = vec!["run", "models/pendulum.toml", "--integrator", "gen-alpha", "--t-end", "0.1", "--rtol", "1e-9", "--atol", "1e-9"];
+        args.extend_from_slice(span);
+        args.extend_from_slice(&["--out", out.to_str().unwrap()]);
+        let o = flexmb(&args);
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("pendulum.json")).unwrap()).unwrap();
+        assert_eq!(summary["status"], "completed");
+        (text(&o.stdout), summary)
+    };
+    let (printed, summary) = run(&[]);
+    assert!(
+        printed.contains("warning at t = 0.0000 s: tolerance finer than the generalized-α method keeps over the run: rtol 1e-9 raised to 1e-7, atol 1e-9 raised to 1e-7"),
+        "{printed}"
+    );
+    assert!(printed.contains("use the BDF or the Adams method"), "{printed}");
+    assert_eq!(summary["warnings"][0]["kind"], "tolerance", "{}", summary["warnings"]);
+    let (printed, summary) = run(&["--tolerance-span", "step"]);
+    assert!(!printed.contains("tolerance finer"), "{printed}");
+    assert_eq!(summary["warnings"].as_array().map_or(0, Vec::len), 0, "{}", summary["warnings"]);
+}
+
 #[test]
 fn check_reports_degrees_of_freedom_and_redundant_constraints() {
     let o = flexmb(&["check", "models/slider_crank.toml"]);

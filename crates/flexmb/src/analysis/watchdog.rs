@@ -77,7 +77,8 @@ pub enum WarningKind {
     /// The energy balance.
     EnergyBalance,
     /// A tolerance finer than the arithmetic allows, raised to the finest attainable
-    /// ([`Tolerances::attainable`](crate::integrate::Tolerances::attainable)).
+    /// ([`Tolerances::attainable`](crate::integrate::Tolerances::attainable)), or than the generalized-α
+    /// method keeps over the run's span ([`GeneralizedAlpha::attainable`](crate::integrate::GeneralizedAlpha::attainable)).
     Tolerance,
 }
 

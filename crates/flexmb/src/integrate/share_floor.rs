@@ -22,8 +22,10 @@
 //! last step's share; the second by the resolution of the equations themselves.
 //!
 //! Under both lies a fixed floor, what one step resolves relative to the solution: `1e-12 / rtol` for the
-//! Adams and generalized-α methods ([`Tolerances::step_share`]), [`BDF_STEP_FLOOR`]` / rtol` for the BDF,
-//! whose Newton floor is lower too, [`BDF_NEWTON_FLOOR`] (`Bdf::newton_tolerance` says where). With error per
+//! Adams method ([`Tolerances::step_share`]), [`BDF_STEP_FLOOR`]` / rtol` for the BDF, whose Newton floor
+//! is lower too, [`BDF_NEWTON_FLOOR`] (`Bdf::newton_tolerance` says where), and for the generalized-α
+//! method, whose many second-order steps add up to the floor times their number
+//! (`generalized_alpha::SHARE_FLOOR`). With error per
 //! unit step below rtol 1e-8 a step's share `h / span` is below the floor, and the floor holds each local
 //! error at that fraction of the solution: `N` steps then add up to about `N` times it, whatever the
 //! tolerance (the 1e-12 floor held the BDF's error on the heavy top at 8.2e-10 over 22,700 steps, at

@@ -17,7 +17,7 @@ use super::ToleranceSpan;
 /// component weighted by `atol + rtol |y|`, is at most `h / span` (error per unit step, Shampine 1994
 /// §1.5): the local errors of the steps of one span then add up to at most the tolerance, whatever the
 /// number of steps. The share `h / span` is never below what the arithmetic resolves in one step,
-/// `1e-12 / rtol` (the BDF: `1e-13 / rtol`, `share_floor::BDF_STEP_FLOOR`). [`ToleranceSpan::Run`] is the
+/// `1e-12 / rtol` (the BDF and the generalized-α method: `1e-13 / rtol`, `share_floor::BDF_STEP_FLOOR`). [`ToleranceSpan::Run`] is the
 /// default; with [`ToleranceSpan::Step`] the test is the classical one, at most 1 per step.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tolerances {
@@ -76,8 +76,21 @@ impl Tolerances {
     /// was raised, what was raised and why, for a person. Every method applies this when it starts; a
     /// [`Simulation`](crate::analysis::Simulation) also reports the message as a warning.
     pub fn attainable(&self) -> (Tolerances, Option<String>) {
+        let (tolerances, raised) = self.raised_to(Self::FINEST);
+        let message = raised.map(|raised| {
+            format!(
+                "tolerance finer than double precision can deliver: {raised}; a run's error is at least the rounding \
+                 of its steps added up (about 1e-12 relative for thousands of steps)"
+            )
+        });
+        (tolerances, message)
+    }
+
+    /// These tolerances with a positive `rtol` or `atol` below `finest` raised to it, and, when one was
+    /// raised, which and to what (`rtol 1e-15 raised to 1e-12, …`).
+    pub(crate) fn raised_to(&self, finest: f64) -> (Tolerances, Option<String>) {
         // Zero and what is not a positive number are left to the methods' own checks.
-        let attainable = |x: f64| if x > 0.0 && x < Self::FINEST { Self::FINEST } else { x };
+        let attainable = |x: f64| if x > 0.0 && x < finest { finest } else { x };
         let (rtol, atol) = (attainable(self.rtol), attainable(self.atol));
         if rtol == self.rtol && atol == self.atol {
             return (*self, None);
@@ -87,12 +100,7 @@ impl Tolerances {
             .filter(|(_, asked, used)| asked != used)
             .map(|(name, asked, used)| format!("{name} {asked:e} raised to {used:e}"))
             .collect();
-        let message = format!(
-            "tolerance finer than double precision can deliver: {}; a run's error is at least the rounding \
-             of its steps added up (about 1e-12 relative for thousands of steps)",
-            raised.join(", ")
-        );
-        (Tolerances { rtol, atol, ..*self }, Some(message))
+        (Tolerances { rtol, atol, ..*self }, Some(raised.join(", ")))
     }
 
     /// The share of the tolerance a step of size `h` may spend: `h / span` (at most 1), but not less than

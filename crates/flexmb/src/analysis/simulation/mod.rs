@@ -738,13 +738,23 @@ fn singular_position_warning(condition: f64, rtol: f64, held: f64, near: usize) 
     })
 }
 
-/// `settings` with tolerances finer than the arithmetic allows raised to the finest attainable, and a
+/// `settings` with tolerances finer than the arithmetic allows raised to the finest attainable (for the
+/// generalized-α method over the run's span, to the finest it keeps, [`GeneralizedAlpha::attainable`]), and a
 /// warning at the start saying so, and the span of the tolerance
 /// [`ToleranceSpan::Run`](crate::integrate::ToleranceSpan::Run) made the run's length, `t_end`.
 fn attainable_tolerances(settings: SimulationSettings, warnings: &mut Vec<SimulationWarning>) -> SimulationSettings {
     let (mut tolerances, raised) = settings.tolerances.attainable();
     if let Some(message) = raised {
         warnings.push(SimulationWarning { t: 0.0, kind: WarningKind::Tolerance, message });
+    }
+    // Generalized-α keeps no tolerance below its finest over the run's span (before the span is made
+    // seconds: an explicit span takes the tolerance as given).
+    if let Method::GeneralizedAlpha(config) = &settings.method {
+        let raised;
+        (tolerances, raised) = GeneralizedAlpha::attainable(&tolerances, config);
+        if let Some(message) = raised {
+            warnings.push(SimulationWarning { t: 0.0, kind: WarningKind::Tolerance, message });
+        }
     }
     tolerances.span = tolerances.span.over_run(settings.t_end);
     SimulationSettings { tolerances, ..settings }

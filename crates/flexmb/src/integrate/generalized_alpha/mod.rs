@@ -107,6 +107,7 @@
 //! as many at 1e-6 to 1e-8 (it is of order 2, the BDF of up to 5); on the shipped flexible pendulum
 //! (rtol 1e-6) it takes 1223 steps to the BDF's 2070.
 
+mod finest_tolerance;
 mod iteration_matrix;
 
 pub(crate) use iteration_matrix::IterationMatrix;
@@ -151,6 +152,15 @@ const SLOW_RATE: f64 = 0.1;
 /// the two iterations stopping at different iterates). Rigid pendulum of models/peer at 3e-6: 24,080 Newton iterations for 11,866 steps (34 error
 /// test failures) against 32,647 for 11,854 (17) with `√rtol`; 0.01 gave 25,654.
 const NEWTON_TOLERANCE: f64 = 0.03;
+/// The floor of a step's share of the tolerance, relative to the solution: `SHARE_FLOOR / rtol`, the BDF's
+/// ([`BDF_STEP_FLOOR`](crate::integrate::share_floor::BDF_STEP_FLOOR), 1e-13), not the Adams method's
+/// 1e-12. Over the run the steps of this second-order method reach the floor from about rtol 1e-7 on, and
+/// the error is then about the floor times the number of steps: with 1e-12, 1e-7 to 1.2e-6 relative at
+/// every rtol from 1e-8 to 1e-10 on six cases (the same steps at each; docs/accuracy.md, *Generalized-α
+/// over the run's span*), 12 tolerances on the double four-bar at 1e-7; with 1e-13 within 5.4 tolerances
+/// at 1e-7 on each, at up to 1.9 times the steps (the slider-crank, 694,281 against 372,786).
+/// [`GeneralizedAlpha::FINEST_OVER_RUN`] follows from it.
+const SHARE_FLOOR: f64 = crate::integrate::share_floor::BDF_STEP_FLOOR;
 const SAFETY: f64 = 0.9;
 const MIN_FACTOR: f64 = 0.2;
 const MAX_FACTOR: f64 = 5.0;
@@ -522,7 +532,7 @@ impl GeneralizedAlpha {
             let reach = t + h * (1.0 + 1e-4) >= t_stop - 4.0 * f64::EPSILON * t_stop.abs();
             let (mut t_new, mut h_step) = if reach { (t_stop, t_stop - t) } else { (t + h, h) };
             // Not at a step end where a singular position leaves the constraints ill-conditioned.
-            match self.singular.placed_end(t, t_new, self.share_floor.share(&self.tolerances, h_step)) {
+            match self.singular.placed_end(t, t_new, self.share_floor.share_above(&self.tolerances, h_step, SHARE_FLOOR)) {
                 Some(end) if end < t_stop && self.fixed_step.is_none() => (t_new, h_step) = (end, end - t),
                 _ => self.singular.asked = None,
             }
@@ -581,7 +591,7 @@ impl GeneralizedAlpha {
                 }
                 // Increments that shrank neither with the iterations nor with the step are the residual's
                 // rounding: the attempt is repeated with them as its floor.
-                let share = self.share_floor.share(&self.tolerances, h_step);
+                let share = self.share_floor.share_above(&self.tolerances, h_step, SHARE_FLOOR);
                 if factored && self.rounding.failed_with_fresh_matrix(self.newton_stalled * share, f64::INFINITY, self.tolerances.rtol) {
                     continue;
                 }
@@ -595,12 +605,12 @@ impl GeneralizedAlpha {
                 continue;
             }
             let mut error_norm = self.error_norm(h_step);
-            let share = self.share_floor.share(&self.tolerances, h_step);
+            let share = self.share_floor.share_above(&self.tolerances, h_step, SHARE_FLOOR);
             if self.fixed_step.is_none() && error_norm > 1.0 && self.share_floor.is_noise(h_step, error_norm * share, self.tolerances.rtol) {
                 // Noise, not error: the floor is now twice it.
                 error_norm = self.error_norm(h_step);
             }
-            if error_norm > 1.0 && self.rounding.covers(error_norm * self.share_floor.share(&self.tolerances, h_step)) {
+            if error_norm > 1.0 && self.rounding.covers(error_norm * self.share_floor.share_above(&self.tolerances, h_step, SHARE_FLOOR)) {
                 // Within the Newton increments' rounding floor: no shorter step resolves it.
                 error_norm = 1.0;
             }
@@ -612,7 +622,7 @@ impl GeneralizedAlpha {
             if self.fixed_step.is_none() && error_norm > 1.0 {
                 self.stats.error_test_failures += 1;
                 failure = AttemptFailure::ErrorTest { error_norm, t_new, step: h_step };
-                h = h_step * (SAFETY * error_norm.powf(-1.0 / self.tolerances.error_power(h_step, 3))).max(MIN_FACTOR);
+                h = h_step * (SAFETY * error_norm.powf(-1.0 / self.tolerances.error_power_above(h_step, 3, SHARE_FLOOR))).max(MIN_FACTOR);
                 if self.singular.asked.is_some() {
                     // A step moved across a singular position ends as far past it as it starts before it,
                     // whatever the step asked for within `[4/3, 2]` times that distance: retried at a factor
@@ -637,7 +647,7 @@ impl GeneralizedAlpha {
                 self.stats.rounding_floor_steps += 1;
                 self.stats.rounding_floor = self.stats.rounding_floor.max(self.rounding.floor * self.tolerances.rtol);
             }
-            self.share_floor.accepted(h_step, self.share_floor.share(&self.tolerances, h_step));
+            self.share_floor.accepted(h_step, self.share_floor.share_above(&self.tolerances, h_step, SHARE_FLOOR));
             self.h = match self.fixed_step {
                 Some(fixed) => fixed,
                 None => {
@@ -653,7 +663,7 @@ impl GeneralizedAlpha {
                     } else {
                         self.resolved_step = h_step;
                         let factor = if error_norm > 0.0 {
-                            (SAFETY * error_norm.powf(-1.0 / self.tolerances.error_power(h_step, 3))).clamp(MIN_FACTOR, MAX_FACTOR)
+                            (SAFETY * error_norm.powf(-1.0 / self.tolerances.error_power_above(h_step, 3, SHARE_FLOOR))).clamp(MIN_FACTOR, MAX_FACTOR)
                         } else {
                             MAX_FACTOR
                         };
@@ -767,7 +777,7 @@ impl GeneralizedAlpha {
     /// the local error is (see `increment_norm`): the one its iteration is tested against and the rate
     /// monitor predicts for.
     fn newton_tolerance(&self, h: f64) -> f64 {
-        let share = self.share_floor.share(&self.tolerances, h);
+        let share = self.share_floor.share_above(&self.tolerances, h, SHARE_FLOOR);
         let tolerance = self.tolerances.newton_tolerance_at(share);
         if share < 1.0 {
             tolerance.max(NEWTON_TOLERANCE)
@@ -781,7 +791,7 @@ impl GeneralizedAlpha {
     /// converged; the state of the converged unknowns is then in `q_new`, `v_new`, `a_new`, `d_step`.
     fn newton(&mut self, t_new: f64, h: f64, reused: bool) -> bool {
         // Measured against the step's share of the tolerance, as the local error is (see `increment_norm`).
-        let share = self.share_floor.share(&self.tolerances, h);
+        let share = self.share_floor.share_above(&self.tolerances, h, SHARE_FLOOR);
         // At a fixed step, reused factors carry the rate measured with them (grown with their age, with its
         // margin): a first increment that rate brings below the tolerance has converged on its own. Not under
         // error control, whose estimate `ã_{n+1} − ã_n` sees what one solve leaves: the peer's rigid pendulum
@@ -840,7 +850,7 @@ impl GeneralizedAlpha {
         for r in 0..nc {
             sum += (cl * self.dx[nv + r] / error_weight(atol, rtol, self.x[nv + r])).powi(2);
         }
-        root_mean_square(sum, self.model.layout.nq + nv + nc) / self.share_floor.share(&self.tolerances, h)
+        root_mean_square(sum, self.model.layout.nq + nv + nc) / self.share_floor.share_above(&self.tolerances, h, SHARE_FLOOR)
     }
 
     /// Weighted RMS norm of the local error estimates of the positions and the velocities (see the
@@ -861,7 +871,7 @@ impl GeneralizedAlpha {
             let v3 = self.v[k] + 0.5 * h * (a0 + a1) - h * h * h / 6.0 * curvature;
             sum += ((self.v_new[k] - v3) / error_weight(atol, rtol, self.v_new[k])).powi(2);
         }
-        root_mean_square(sum, self.model.layout.nq + self.nv) / self.share_floor.share(&self.tolerances, h)
+        root_mean_square(sum, self.model.layout.nq + self.nv) / self.share_floor.share_above(&self.tolerances, h, SHARE_FLOOR)
     }
 
     /// Accepts the converged step to `t_new`.
