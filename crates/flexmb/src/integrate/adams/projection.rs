@@ -197,6 +197,17 @@ impl ProjectedMechanism {
     }
 }
 
+impl ProjectedMechanism {
+    /// A predicted state `y` at `t` onto the constraints (as [`project_output`](Self::project_output)),
+    /// then `dy = f(t, y)` there; the drift statistics are left as they were.
+    pub fn predicted(&mut self, t: f64, y: &mut [f64], dy: &mut [f64]) -> Result<(), EvaluationFailure> {
+        let (q, v) = y.split_at_mut(self.nq);
+        self.project_output(t, q, v)?;
+        run_kinematic_stages(&self.model, &mut self.data, t, q, v);
+        self.derivatives(t, q, v, dy)
+    }
+}
+
 impl OdeSystem for ProjectedMechanism {
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), EvaluationFailure> {
         let (q, v) = y.split_at(self.nq);
