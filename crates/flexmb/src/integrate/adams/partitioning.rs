@@ -16,9 +16,10 @@
 //! **Sparse throughout**: `Φ̂_q` is kept by rows on the pattern of the joints' bodies (a row's
 //! coordinates are those of the one or two bodies its joint connects), the elimination runs on the
 //! rows with heaps of pivot candidates, its work linear in the chain's length (full pivoting's
-//! choice among the joints' equal unit entries made it `O(m²)`), and `Φ̂_u` is a [`SparseLu`] with kept pivots on the pattern of the dependent
-//! columns: its symbolic analysis once per partition, a numeric refactorization at every evaluation
-//! (dense up to the kept-pivot matrices' dense limit, as the small mechanisms' were). Above that
+//! choice among the joints' equal unit entries made it `O(m²)`), and `Φ̂_u` is a [`SparseLu`] with
+//! kept pivots on the pattern of the dependent columns: its symbolic analysis once per partition, a
+//! numeric refactorization at every evaluation (dense up to the kept-pivot matrices' dense limit, as
+//! the small mechanisms' were). Above that
 //! limit its rows are taken in the order of the elimination's pivots, so that its diagonal is the
 //! pivots' entries: `SparseLu` puts the whole diagonal in the pattern, and in the rows' own order the
 //! diagonal entry of a joint's row falls on a far body's coordinate, which ties the chain's ends
