@@ -5,13 +5,13 @@
 mod colouring;
 mod dense_lu;
 mod finite_difference;
-mod full_pivoting;
 mod givens_qr;
 mod gram_cholesky;
 mod lu_refactorization;
 mod normal_equations;
 mod sparse_lu;
 mod sparse_rows;
+mod threshold_pivoting;
 
 pub use colouring::greedy_colouring;
 pub use finite_difference::{perturbation, RELATIVE_STEP};
@@ -21,8 +21,9 @@ pub(crate) use sparse_lu::KEPT_PIVOTS_DENSE_LIMIT;
 // the engine's invariants, not a user's input.
 pub(crate) use lu_refactorization::InvalidPivots;
 pub(crate) use sparse_lu::SparseLu;
-// The Adams method's partition: the dependent coordinates by sparse elimination with full pivoting.
-pub(crate) use full_pivoting::full_pivoting;
+// The Adams method's partition: the dependent coordinates by sparse elimination with threshold full
+// pivoting and Markowitz's choice.
+pub(crate) use threshold_pivoting::{threshold_pivoting, PARTITION_THRESHOLD};
 // The initial-condition analyses' sparse Jacobians, their rank and their minimum-norm corrections.
 pub(crate) use givens_qr::dependent_rows;
 // The conditioning of the constraint Jacobian in force (the singular-position guard).

@@ -4,19 +4,22 @@
 //! their rates from `Φ̂_u u̇ = −Φ̂_w ẇ − Φ̂_t`, the velocities `v = [Ṙ, ω̄ = 2 G ṗ, ȧ]`, the accelerations
 //! `v̇` from the index-1 system, and returns `[ẇ, ẅ]` with `p̈ = ½ Gᵀ(p) ω̄̇ + ½ Gᵀ(ṗ) ω̄`.
 //!
-//! **The partition** comes from Gaussian elimination with full pivoting on `Φ̂_q` (the active
-//! constraint rows and one normalization row per body, against all of `q`, Euler parameters and modal
-//! coordinates included): the pivot columns are dependent, the rest independent. It is re-chosen, and
+//! **The partition** comes from Gaussian elimination on `Φ̂_q` (the active constraint rows and one
+//! normalization row per body, against all of `q`, Euler parameters and modal coordinates included),
+//! with threshold full pivoting (every pivot at least a tenth of the largest entry left) and, among the
+//! entries that pass, the one of least Markowitz cost ([`threshold_pivoting`]): the pivot columns are
+//! dependent, the rest independent. It is re-chosen, and
 //! the integration restarted at order 1 from the last accepted state, when the pivots of `Φ̂_u`
 //! degrade (smallest over largest below a tenth of its value when chosen) or the Newton iteration
 //! for `u` fails.
 //!
 //! **Sparse throughout**: `Φ̂_q` is kept by rows on the pattern of the joints' bodies (a row's
 //! coordinates are those of the one or two bodies its joint connects), the elimination runs on the
-//! rows with a heap of pivot candidates and chooses the dense elimination's columns to the last bit
-//! ([`full_pivoting`]), and `Φ̂_u` is a [`SparseLu`] with kept pivots on the pattern of the dependent
-//! columns: its symbolic analysis once per partition, a numeric refactorization at every evaluation
-//! (dense up to the kept-pivot matrices' dense limit, as the small mechanisms' were). Above that
+//! rows with heaps of pivot candidates, its work linear in the chain's length (full pivoting's
+//! choice among the joints' equal unit entries made it `O(m²)`), and `Φ̂_u` is a [`SparseLu`] with
+//! kept pivots on the pattern of the dependent columns: its symbolic analysis once per partition, a
+//! numeric refactorization at every evaluation (dense up to the kept-pivot matrices' dense limit, as
+//! the small mechanisms' were). Above that
 //! limit its rows are taken in the order of the elimination's pivots, so that its diagonal is the
 //! pivots' entries: `SparseLu` puts the whole diagonal in the pattern, and in the rows' own order the
 //! diagonal entry of a joint's row falls on a far body's coordinate, which ties the chain's ends
@@ -33,7 +36,7 @@ use std::sync::Arc;
 
 use crate::data::Data;
 use crate::integrate::{check_len, CheckpointError};
-use crate::linalg::{full_pivoting, SingularMatrix, SparseLu, KEPT_PIVOTS_DENSE_LIMIT};
+use crate::linalg::{threshold_pivoting, SingularMatrix, SparseLu, KEPT_PIVOTS_DENSE_LIMIT, PARTITION_THRESHOLD};
 use crate::math::euler_parameters::g_matrix;
 use crate::math::{Mat3x4, Vec3, Vec4};
 
@@ -394,8 +397,8 @@ impl PartitionedMechanism {
         }
     }
 
-    /// Chooses the partition at the last accepted state (Gaussian elimination with full pivoting on
-    /// `Φ̂_q`, [`full_pivoting_columns`]), analyses `Φ̂_u`'s pattern and factors it there.
+    /// Chooses the partition at the last accepted state (Gaussian elimination with threshold full
+    /// pivoting on `Φ̂_q`, [`threshold_pivoting`]), analyses `Φ̂_u`'s pattern and factors it there.
     pub fn choose_partition(&mut self) -> Result<(), EvaluationFailure> {
         let nq = self.nq;
         self.state.q.copy_from_slice(&self.state.q_accepted);
@@ -405,7 +408,8 @@ impl PartitionedMechanism {
         self.constraint_stage(self.state.t);
         self.jacobian();
         let pattern = &self.pattern;
-        let mut pivots = full_pivoting(nq, &pattern.ptr, &pattern.cols, &self.state.jac).ok_or(SINGULAR_PARTITION)?;
+        let mut pivots =
+            threshold_pivoting(nq, &pattern.ptr, &pattern.cols, &self.state.jac, PARTITION_THRESHOLD).ok_or(SINGULAR_PARTITION)?;
         pivots.sort_unstable_by_key(|&(_, c)| c);
         self.state.dependent = pivots.iter().map(|&(_, c)| c).collect();
         self.state.pivot_rows = pivots.iter().map(|&(r, _)| r).collect();
