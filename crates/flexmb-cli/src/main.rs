@@ -94,7 +94,7 @@ enum Command {
         /// Generalized-α only (--integrator gen-alpha). Overrides the model's [simulation] fixed_step.
         #[arg(long, value_name = "H")]
         fixed_step: Option<f64>,
-        /// Run a second simulation alongside, started 100 tolerances away, and warn where the two separate
+        /// Run a second simulation alongside, started 30 tolerances away, and warn where the two separate
         /// exponentially (chaotic motion): the warning names the time from which the global error is not held
         /// to the tolerance and the estimated Lyapunov exponent. Doubles the cost. Default the model's
         /// [simulation] divergence_check, else off

@@ -1,4 +1,4 @@
-//! The divergence check (`SimulationSettings::divergence_check`): a second run started 100 tolerances
+//! The divergence check (`SimulationSettings::divergence_check`): a second run started 30 tolerances
 //! away warns where the two separate exponentially, with the exponent, and stays silent where they do
 //! not.
 

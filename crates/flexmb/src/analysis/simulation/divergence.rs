@@ -14,15 +14,17 @@ use crate::analysis::watchdog::{SimulationWarning, WarningKind};
 
 /// The shadow's initial distance from the run, in the tolerance's weighted RMS norm (the weights
 /// `atol + rtol |y|` over positions and velocities): far above the global errors of both runs (about one
-/// tolerance each), so that their difference measures the growth of the perturbation.
-const INITIAL_SEPARATION: f64 = 100.0;
+/// tolerance each, so a few tolerances apart), so that their difference measures the growth of the
+/// perturbation; small enough that it grows a thousandfold and more before it leaves the linear range at
+/// `rtol` ≤ 3e-6 (a hundredfold at 3e-5; coarser tolerances leave it no room to be judged).
+const INITIAL_SEPARATION: f64 = 30.0;
 /// The amplification beyond which the global error is not promised within 10 tolerances.
 const PROMISED_AMPLIFICATION: f64 = 10.0;
 /// The amplification from which the growth is judged exponential or not.
 const JUDGED_AMPLIFICATION: f64 = 100.0;
 /// The separation, relative to the state's scale, from which it no longer grows as a perturbation
 /// (the trajectories are no longer neighbours): the shadow stops there.
-const NONLINEAR_SEPARATION: f64 = 1e-2;
+const NONLINEAR_SEPARATION: f64 = 0.1;
 
 /// The shadow run and the growth of its separation from the run, one entry per output time.
 pub(super) struct DivergenceCheck {
@@ -31,9 +33,14 @@ pub(super) struct DivergenceCheck {
     pending: Vec<f64>,
     /// `rtol`, `atol` of the weighted norm.
     tolerances: (f64, f64),
+    /// The largest `|y|` of each position and velocity of the run so far: the weights are
+    /// `atol + rtol max|y|`, so that a coordinate passing through zero does not weigh its separation by
+    /// `atol` alone there (the separation of an oscillating coordinate would spike at every crossing).
+    scale: Vec<f64>,
     /// The separation at time 0 (weighted RMS norm); 0 until measured.
     initial: f64,
-    /// `(t, ln A)`: the logarithm of the separation over the initial one at each output time compared.
+    /// `(t, ln A)`: the logarithm of the separation over the initial one at each output time compared
+    /// (its envelope: the largest so far).
     growth: Vec<(f64, f64)>,
     /// Where the check ended (the shadow stopped or failed, or the run's end): no more comparisons.
     ended: bool,
@@ -53,25 +60,39 @@ impl OutputSink for PendingFrames<'_> {
 }
 
 impl DivergenceCheck {
-    /// A shadow of the run of `settings` whose state is `(q, v)` at its start: the same model and
-    /// settings, its velocities moved by [`INITIAL_SEPARATION`] tolerances (alternate signs, then
-    /// projected onto the velocity constraints). `None` where the shadow cannot be started.
+    /// A shadow of `run` at its start: the same model and settings, its velocities moved by
+    /// [`INITIAL_SEPARATION`] tolerances (each by its own factor of the golden-ratio sequence, projected
+    /// onto the velocity constraints, then scaled to that distance). `None` where the shadow cannot be started or
+    /// the constraints leave the velocities no freedom (a fully driven mechanism).
     pub(super) fn start(run: &Simulation) -> Option<Self> {
         let settings = SimulationSettings { divergence_check: false, ..run.settings };
         let mut shadow = Simulation::new(std::sync::Arc::clone(&run.model), settings).ok()?;
         let (rtol, atol) = (settings.tolerances.rtol, settings.tolerances.atol);
-        let moved: Vec<f64> = run
-            .velocities()
-            .iter()
-            .enumerate()
-            .map(|(i, &v)| v + INITIAL_SEPARATION * (atol + rtol * v.abs()) * if i % 2 == 0 { 1.0 } else { -1.0 })
-            .collect();
+        let (nq, nv) = (run.model.layout.nq, run.model.layout.nv);
+        let v0 = run.velocities();
+        // Factors in (−1, 1), each different (the golden-ratio sequence), so that no two components cancel
+        // in the projection (as equal signs on `Ṙ` and `ω` would across a pendulum's hinge).
+        let factor = |i: usize| ((i + 1) as f64 * 0.618_033_988_749_895).fract() * 2.0 - 1.0;
+        let moved: Vec<f64> = v0.iter().enumerate().map(|(i, &v)| v + INITIAL_SEPARATION * (atol + rtol * v.abs()) * factor(i)).collect();
         shadow.set_state(None, Some(&moved)).ok()?;
-        let stride = 1 + run.model.layout.nq + run.model.layout.nv;
+        // The projection removed the part across the constraints: the rest scaled back to the distance.
+        let weighted = |a: &[f64]| {
+            let sum: f64 = a.iter().zip(v0).map(|(a, b)| ((a - b) / (atol + rtol * b.abs())).powi(2)).sum();
+            (sum / (nq + nv) as f64).sqrt()
+        };
+        let projected = weighted(shadow.velocities());
+        if projected.is_nan() || projected <= 1e-3 * INITIAL_SEPARATION {
+            return None;
+        }
+        let factor = INITIAL_SEPARATION / projected;
+        let moved: Vec<f64> = shadow.velocities().iter().zip(v0).map(|(a, b)| b + (a - b) * factor).collect();
+        shadow.set_state(None, Some(&moved)).ok()?;
+        let stride = 1 + nq + nv;
         Some(Self {
             shadow: Box::new(shadow),
             pending: Vec::with_capacity(64 * stride),
             tolerances: (rtol, atol),
+            scale: vec![0.0; stride - 1],
             initial: 0.0,
             growth: Vec::with_capacity(settings.grid_outputs() + 2),
             ended: false,
@@ -104,20 +125,29 @@ impl DivergenceCheck {
             return; // an output time of the run that the shadow does not have (none: the grids are the same)
         }
         let (rtol, atol) = self.tolerances;
-        let (sum, largest) = self.pending[1..stride].iter().zip(q.iter().chain(v)).fold((0.0, 0.0_f64), |(s, m), (a, b)| {
-            let d = (a - b) / (atol + rtol * b.abs());
-            (s + d * d, m.max((a - b).abs() / (1.0 + b.abs())))
+        for (scale, y) in self.scale.iter_mut().zip(q.iter().chain(v)) {
+            *scale = scale.max(y.abs());
+        }
+        let pairs = self.pending[1..stride].iter().zip(q.iter().chain(v)).zip(&self.scale);
+        let (sum, largest) = pairs.fold((0.0, 0.0_f64), |(s, m), ((a, b), scale)| {
+            let d = (a - b) / (atol + rtol * scale);
+            (s + d * d, m.max((a - b).abs() / (1.0 + scale)))
         });
         self.pending.drain(..stride);
         let separation = (sum / (stride - 1) as f64).sqrt();
         if self.initial == 0.0 {
             self.initial = separation;
-            if separation < 1.0 {
-                self.ended = true; // the constraints leave the velocities no freedom to perturb
+            if separation < 1e-3 * INITIAL_SEPARATION {
+                self.ended = true; // no separation to follow
                 return;
             }
         }
-        self.growth.push((t, (separation / self.initial).ln()));
+        // In tolerances at each time: an error of one tolerance at the start (in the weights there) grows
+        // to `amplification` tolerances at `t` (in the weights at `t`).
+        let amplification = separation / self.initial;
+        // The envelope of ln A (its largest so far): the separation of oscillating coordinates oscillates.
+        let envelope = self.growth.last().map_or(0.0, |&(_, a)| a);
+        self.growth.push((t, amplification.ln().max(envelope)));
         if largest > NONLINEAR_SEPARATION || t >= self.t_end * (1.0 - 1e-12) {
             self.end(warnings);
         }

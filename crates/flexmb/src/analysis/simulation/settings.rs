@@ -23,7 +23,7 @@ pub struct SimulationSettings {
     pub method: Method,
     /// When the physics watchdog warns and when it stops the run.
     pub physics_limits: PhysicsLimits,
-    /// Runs a second simulation alongside, started a hundred tolerances away, and warns where the two
+    /// Runs a second simulation alongside, started 30 tolerances away, and warns where the two
     /// separate exponentially (chaotic motion): from there the global error is not held to the
     /// tolerance, and the warning names the time and the estimated Lyapunov exponent (docs/accuracy.md,
     /// *Chaotic motion*). It doubles the cost of a run. Not kept in a checkpoint; a
