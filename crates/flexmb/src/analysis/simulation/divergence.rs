@@ -21,7 +21,10 @@ const INITIAL_SEPARATION: f64 = 30.0;
 /// The amplification beyond which the global error is not promised within 10 tolerances.
 const PROMISED_AMPLIFICATION: f64 = 10.0;
 /// The amplification from which the growth is judged exponential or not.
-const JUDGED_AMPLIFICATION: f64 = 100.0;
+const JUDGED_AMPLIFICATION: f64 = 30.0;
+/// The least gain of `ln A` over the second half of the time since `A` passed 10, as a fraction of its
+/// gain over the first half, that counts as exponential growth (1 for an exact exponential).
+const EXPONENTIAL_GAIN: f64 = 0.8;
 /// The separation, relative to the state's scale, from which it no longer grows as a perturbation
 /// (the trajectories are no longer neighbours): the shadow stops there.
 const NONLINEAR_SEPARATION: f64 = 0.1;
@@ -194,9 +197,10 @@ impl ExponentialGrowth {
 
 /// Whether the amplifications `growth` (`(t, ln A)`, in the order of time) grew exponentially: beyond
 /// [`JUDGED_AMPLIFICATION`], and over the second half of the time since they passed
-/// [`PROMISED_AMPLIFICATION`] by at least half as much (in `ln A`) as over the first. Growth linear in
-/// time fails that test wherever it reaches 100 (from 10 at `t₁`, `A = 100` at `10 t₁`: `ln(10/5.5) = 0.6`
-/// in the second half against `ln 5.5 = 1.7` in the first); exponential growth gains the same in both.
+/// [`PROMISED_AMPLIFICATION`] by at least [`EXPONENTIAL_GAIN`] of what they gained (in `ln A`) over the
+/// first. Growth linear in time fails that test wherever it reaches 30 (from 10 at `t₁`, `A = 30` at
+/// `3 t₁`: `ln(3/2) = 0.41` in the second half against `ln 2 = 0.69` in the first, 0.58 of it, and less
+/// further on); exponential growth gains the same in both.
 /// The exponent is the least-squares slope of `ln A` on `t` from the first passage of 10 on.
 pub(crate) fn exponential_growth(growth: &[(f64, f64)]) -> Option<ExponentialGrowth> {
     let promised = PROMISED_AMPLIFICATION.ln();
@@ -206,7 +210,7 @@ pub(crate) fn exponential_growth(growth: &[(f64, f64)]) -> Option<ExponentialGro
         a > JUDGED_AMPLIFICATION.ln() && {
             let middle = 0.5 * (from + t);
             let half = growth[first..=k].iter().find(|&&(s, _)| s >= middle).map_or(a, |&(_, m)| m);
-            a - half >= 0.5 * (half - promised)
+            a - half >= EXPONENTIAL_GAIN * (half - promised)
         }
     });
     if !judged {
