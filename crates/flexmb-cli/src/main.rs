@@ -94,6 +94,12 @@ enum Command {
         /// Generalized-α only (--integrator gen-alpha). Overrides the model's [simulation] fixed_step.
         #[arg(long, value_name = "H")]
         fixed_step: Option<f64>,
+        /// Run a second simulation alongside, started 30 tolerances away, and warn where the two separate
+        /// exponentially (chaotic motion): the warning names the time from which the global error is not held
+        /// to the tolerance and the estimated Lyapunov exponent. Doubles the cost. Default the model's
+        /// [simulation] divergence_check, else off
+        #[arg(long)]
+        divergence_check: bool,
         /// Directory for the result files.
         #[arg(long, default_value = "out")]
         out: PathBuf,
@@ -405,7 +411,7 @@ fn main() -> ExitCode {
     let _ = flexmb_cli::interrupt::end_on_closed_pipe();
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Run { model, parameter, t_end, output_step, rtol, atol, tolerance_span, integrator, spectral_radius, max_step, fixed_step, out, quiet, vtk, vtk_step, plot, max_output_rows, max_vtk_frames, save_state, resume, pause_at } => {
+        Command::Run { model, parameter, t_end, output_step, rtol, atol, tolerance_span, integrator, spectral_radius, max_step, fixed_step, divergence_check, out, quiet, vtk, vtk_step, plot, max_output_rows, max_vtk_frames, save_state, resume, pause_at } => {
             let options = RunOptions {
                 t_end,
                 output_step,
@@ -416,6 +422,7 @@ fn main() -> ExitCode {
                 spectral_radius,
                 max_step,
                 fixed_step,
+                divergence_check,
                 out_dir: out,
                 quiet,
                 vtk_dir: vtk,

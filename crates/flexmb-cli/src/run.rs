@@ -32,6 +32,8 @@ pub struct RunOptions {
     pub max_step: Option<f64>,
     /// The generalized-α method's fixed step (`--fixed-step`, s), overriding the model file's `fixed_step`.
     pub fixed_step: Option<f64>,
+    /// Run the divergence check (`--divergence-check`), whatever the model file's `divergence_check`.
+    pub divergence_check: bool,
     pub out_dir: PathBuf,
     pub quiet: bool,
     /// Directory for a ParaView time series of the run (`--vtk`); none if not given.
@@ -137,6 +139,7 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
     if let Some(span) = &options.tolerance_span {
         d.tolerance_span = tolerance_span(span)?;
     }
+    d.divergence_check |= options.divergence_check;
     let (t_end, output_step) = (d.t_end, d.output_step);
     let max_rows = options.max_output_rows.unwrap_or(d.max_output_rows);
     check_output_rows(t_end, output_step, max_rows, true).map_err(|e| CliError(format!("{}: {e}", path.display())))?;

@@ -176,9 +176,11 @@ fn shipped_models() -> Vec<String> {
     models
 }
 
-/// Every shipped model, with its own end time, tolerances and thresholds, completes without a warning;
-/// the largest deflection is the wiper arm's 5.6 % of its length (warning at 10 %), the largest energy-
-/// balance error 8e-4 of the energy that flowed (the double pendulum's first output step; warning at 5 %).
+/// Every shipped model, with its own end time, tolerances and thresholds, completes without a warning
+/// but the chaotic double pendulum's, whose file turns on the divergence check: one `tolerance` warning,
+/// neighbouring trajectories separating exponentially (docs/accuracy.md, *Chaotic motion: the divergence
+/// check*); the largest deflection is the wiper arm's 5.6 % of its length (warning at 10 %), the largest
+/// energy-balance error 8e-4 of the energy that flowed (the double pendulum's first output step; warning at 5 %).
 #[test]
 fn the_shipped_models_run_without_warnings() {
     let models = shipped_models();
@@ -190,7 +192,13 @@ fn the_shipped_models_run_without_warnings() {
         let stem = Path::new(model).file_stem().unwrap().to_str().unwrap();
         let s = summary(&out.join(format!("{stem}.json")));
         assert_eq!(s["status"], "completed", "{model}");
-        assert!(s["warnings"].as_array().unwrap().is_empty(), "{model}: {}", s["warnings"]);
+        let warnings = s["warnings"].as_array().unwrap();
+        if model.ends_with("double_pendulum.toml") {
+            let chaotic = |w: &serde_json::Value| w["kind"] == "tolerance" && w["message"].as_str().unwrap().contains("separate exponentially");
+            assert!(warnings.len() == 1 && chaotic(&warnings[0]), "{model}: {}", s["warnings"]);
+        } else {
+            assert!(warnings.is_empty(), "{model}: {}", s["warnings"]);
+        }
         let checks = &s["physics_checks"];
         let deflection = checks["elastic_deflection"]["largest_fraction"].as_f64().unwrap_or(0.0);
         let balance = checks["energy_balance"]["largest_fraction"].as_f64().unwrap();

@@ -88,6 +88,10 @@ pub struct SimulationDefaults {
     /// The physics watchdog's thresholds (`elastic_deflection_warning`, `…_limit`,
     /// `energy_balance_warning`, `…_limit`). Default [`flexmb::analysis::PhysicsLimits::default`].
     pub physics_limits: flexmb::analysis::PhysicsLimits,
+    /// A second run alongside that warns where the two separate exponentially (`divergence_check`,
+    /// [`SimulationSettings::divergence_check`](flexmb::analysis::SimulationSettings::divergence_check)).
+    /// Default off.
+    pub divergence_check: bool,
 }
 
 impl Default for SimulationDefaults {
@@ -108,6 +112,7 @@ impl Default for SimulationDefaults {
             max_output_rows: crate::output_limits::DEFAULT_MAX_OUTPUT_ROWS,
             max_vtk_frames: crate::output_limits::DEFAULT_MAX_VTK_FRAMES,
             physics_limits: flexmb::analysis::PhysicsLimits::default(),
+            divergence_check: false,
         }
     }
 }
@@ -176,6 +181,7 @@ impl SimulationDefaults {
             start: self.start,
             method: self.method_for(model),
             physics_limits: self.physics_limits,
+            divergence_check: self.divergence_check,
         }
     }
 }

@@ -74,6 +74,7 @@ pub(crate) struct SimulationSection {
     pub elastic_deflection_limit: Option<Number>,
     pub energy_balance_warning: Option<Number>,
     pub energy_balance_limit: Option<Number>,
+    pub divergence_check: Option<bool>,
 }
 
 /// `[[body]]`: a rigid body.

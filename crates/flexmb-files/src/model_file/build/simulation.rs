@@ -150,6 +150,7 @@ pub(crate) fn simulation_defaults(
         vtk_step: s.vtk_step.as_ref().map(|_| positive(&s.vtk_step, "vtk_step", 0.0, Some(Quantity::Time))).transpose()?,
         max_output_rows: limit(&s.max_output_rows, "max_output_rows", defaults.max_output_rows)?,
         max_vtk_frames: limit(&s.max_vtk_frames, "max_vtk_frames", defaults.max_vtk_frames)?,
+        divergence_check: s.divergence_check.unwrap_or(defaults.divergence_check),
         physics_limits: physics_limits(ctx, s, &|value, name, default| positive(value, name, default, Some(Quantity::Factor)))?,
     })
 }

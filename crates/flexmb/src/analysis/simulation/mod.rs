@@ -7,6 +7,7 @@
 //! to its end.
 
 mod checkpoint;
+mod divergence;
 mod output;
 mod report;
 mod set_state;
@@ -111,6 +112,8 @@ pub struct Simulation {
     /// The counters of the integrators [`set_state`](Self::set_state) replaced (added to the
     /// current integrator's in the report).
     restarted_stats: crate::integrate::Stats,
+    /// The shadow run of [`SimulationSettings::divergence_check`], while it runs.
+    divergence: Option<Box<divergence::DivergenceCheck>>,
 }
 
 impl Simulation {
@@ -121,7 +124,12 @@ impl Simulation {
         let mut report = SimulationReport::default();
         model.clear_user_law_failures();
         match Self::start(Arc::clone(&model), settings, &mut report) {
-            Ok(simulation) => Ok(simulation),
+            Ok(mut simulation) => {
+                if simulation.settings.divergence_check {
+                    simulation.divergence = divergence::DivergenceCheck::start(&simulation).map(Box::new);
+                }
+                Ok(simulation)
+            }
             Err(cause) => Err(SimulationError { cause: user_law_failure(&model).unwrap_or(cause), report: Box::new(report) }),
         }
     }
@@ -182,6 +190,7 @@ impl Simulation {
                 || model.modal.iter().flatten().filter_map(|m| m.geometric_stiffness.as_ref()).any(|g| !g.interface.is_empty()),
             has_user_laws: !model.user_laws().is_empty(),
             restarted_stats: crate::integrate::Stats::default(),
+            divergence: None,
             model,
         }
     }
@@ -618,6 +627,9 @@ impl Simulation {
         sink.write_frame(&OutputFrame { t, values, q, v }).map_err(|message| SimulationFailure::Output { t, message })?;
         self.watchdog
             .check_frame(model, data, (t, q, v), (&e, balance_error), &mut report.warnings, &mut report.physics)?;
+        if let Some(check) = self.divergence.as_mut() {
+            check.compare(t, &self.q, &self.v, &mut self.report.warnings);
+        }
         Ok(())
     }
 }

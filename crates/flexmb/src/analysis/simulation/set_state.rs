@@ -73,6 +73,8 @@ impl Simulation {
         let integrator = start_integrator(&model, &self.settings, &state, &acc)?;
         self.restarted_stats = self.report.stats;
         self.integrator = integrator;
+        // The shadow of the divergence check no longer neighbours the state set.
+        self.divergence = None;
         for (p, value) in self.parameters.clone().into_iter().enumerate() {
             self.write_parameter(p, value);
         }

@@ -23,6 +23,12 @@ pub struct SimulationSettings {
     pub method: Method,
     /// When the physics watchdog warns and when it stops the run.
     pub physics_limits: PhysicsLimits,
+    /// Runs a second simulation alongside, started 30 tolerances away, and warns where the two
+    /// separate exponentially (chaotic motion): from there the global error is not held to the
+    /// tolerance, and the warning names the time and the estimated Lyapunov exponent (docs/accuracy.md,
+    /// *Chaotic motion*). It doubles the cost of a run. Not kept in a checkpoint; a
+    /// [`set_state`](super::Simulation::set_state) ends it. Default off.
+    pub divergence_check: bool,
 }
 
 impl Default for SimulationSettings {
@@ -35,6 +41,7 @@ impl Default for SimulationSettings {
             start: Start::Assembly,
             method: Method::default(),
             physics_limits: PhysicsLimits::default(),
+            divergence_check: false,
         }
     }
 }
