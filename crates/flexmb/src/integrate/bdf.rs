@@ -27,7 +27,7 @@ use crate::integrate::iteration_matrix::IterationMatrix;
 use crate::integrate::newton::{self, ConvergenceTest, NewtonSystem};
 use crate::integrate::newton_rounding::{RoundingFloor, CHANGE_RATIO, NOISE_CEILING};
 use crate::integrate::rounding_level::rounding_residual;
-use crate::integrate::share_floor::{ShareFloor, BDF_NEWTON_FLOOR, BDF_STEP_FLOOR};
+use crate::integrate::share_floor::{ShareFloor, BDF_NEWTON_FLOOR, FINE_STEP_FLOOR};
 use crate::integrate::singular_position::SingularPassage;
 use crate::integrate::{
     check_len, AttemptFailure, BdfCheckpoint, BdfConfig, CheckpointError, IntegrationError, Integrator, IntegratorCheckpoint, Stats,
@@ -716,7 +716,7 @@ impl Bdf {
     /// with the first-order floor there, the 3-D energy of a free flexible body drifted by 3.6e-5 at rtol
     /// 1e-9 (1e-6 without).
     fn share_at_order(&self, order: usize) -> f64 {
-        let share = self.share_floor.share_above(&self.tolerances, self.h, BDF_STEP_FLOOR);
+        let share = self.share_floor.share_above(&self.tolerances, self.h, FINE_STEP_FLOOR);
         if order == 1 && self.config.max_order == 1 {
             share.max(self.tolerances.first_order_share(self.h))
         } else {
@@ -1032,7 +1032,7 @@ fn error_power(tolerances: &Tolerances, h: f64, power: usize, first_order_method
     if power == 2 && first_order_method {
         tolerances.first_order_error_power(h)
     } else {
-        tolerances.error_power_above(h, power, BDF_STEP_FLOOR)
+        tolerances.error_power_above(h, power, FINE_STEP_FLOOR)
     }
 }
 

@@ -22,7 +22,7 @@
 //! last step's share; the second by the resolution of the equations themselves.
 //!
 //! Under both lies a fixed floor, what one step resolves relative to the solution: `1e-12 / rtol` for the
-//! Adams method ([`Tolerances::step_share`]), [`BDF_STEP_FLOOR`]` / rtol` for the BDF, whose Newton floor
+//! Adams method ([`Tolerances::step_share`]), [`FINE_STEP_FLOOR`]` / rtol` for the BDF, whose Newton floor
 //! is lower too, [`BDF_NEWTON_FLOOR`] (`Bdf::newton_tolerance` says where), and for the generalized-α
 //! method, whose many second-order steps add up to the floor times their number
 //! (`generalized_alpha::SHARE_FLOOR`). With error per
@@ -34,8 +34,9 @@
 use crate::integrate::tolerances::STEP_FLOOR;
 use crate::integrate::Tolerances;
 
-/// The BDF's floor under a step's local error, relative to the solution: a tenth of the other methods'
-/// [`STEP_FLOOR`]. Its estimate, the corrector's difference from an extrapolation of the history, is
+/// The floor under a step's local error, relative to the solution, of the BDF and the generalized-α
+/// method (`generalized_alpha::SHARE_FLOOR` says why there): a tenth of the Adams method's
+/// [`STEP_FLOOR`]. For the BDF: Its estimate, the corrector's difference from an extrapolation of the history, is
 /// resolved to about ten units of rounding of the solution times the predictor's gain, `2^(k+1)/(k + 1)`
 /// (10.7 at order 5): about 2.4e-14, a quarter of this floor. Measured over the run at rtol 1e-10 with
 /// the Newton floor lowered alike (ten units of rounding): 1e-13 gave the heavy top 1.2 tolerances in
@@ -53,12 +54,12 @@ use crate::integrate::Tolerances;
 /// is no longer resolved: at rtol 1e-9, where 1e-14 does not hold the steps, the order fell to 3 and 4
 /// on 38 % of 45,600 steps and `E` rose from 6.2 to 34 tolerances (Newton floor 20 units both); Andrews'
 /// squeezer stopped at 1e-10 (step too small at t = 0.0199 s).
-pub(crate) const BDF_STEP_FLOOR: f64 = STEP_FLOOR / 10.0;
+pub(crate) const FINE_STEP_FLOOR: f64 = STEP_FLOOR / 10.0;
 
 /// What the BDF's Newton increments resolve, relative to the solution, where the conditioning does not
 /// amplify the rounding: 20 units of rounding, a fifth of the other methods' floor
 /// ([`NEWTON_FLOOR`](super::tolerances::NEWTON_FLOOR)). With 100 the corrector's unresolved part, up to
-/// 2.2e-14 of the solution, is as large as a step's local error at [`BDF_STEP_FLOOR`], and it was the
+/// 2.2e-14 of the solution, is as large as a step's local error at [`FINE_STEP_FLOOR`], and it was the
 /// estimate's noise: the 3-D slider-crank at rtol 1e-10 rejected 373 steps of 26,360 (84 of 23,416 with
 /// 20), the heavy top 811 of 34,764 (23 of 32,838), Bricard's mechanism 138 of 6,582 (8 of 4,339), and
 /// the slider-crank's `E` fell from 8.0 to 6.2 tolerances at 1e-9 and from 72 to 61 at 1e-10. At ten
@@ -97,7 +98,7 @@ impl ShareFloor {
     }
 
     /// [`share`](Self::share) with the fixed floor `floor / rtol` (`floor` relative to the solution:
-    /// [`BDF_STEP_FLOOR`] for the BDF).
+    /// [`FINE_STEP_FLOOR`] for the BDF).
     pub fn share_above(&self, tolerances: &Tolerances, h: f64, floor: f64) -> f64 {
         tolerances.step_share_above(h, floor).max(LAST_SHARE_FRACTION * self.accepted).max(self.noise)
     }

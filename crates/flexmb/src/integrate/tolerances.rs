@@ -17,7 +17,7 @@ use super::ToleranceSpan;
 /// component weighted by `atol + rtol |y|`, is at most `h / span` (error per unit step, Shampine 1994
 /// §1.5): the local errors of the steps of one span then add up to at most the tolerance, whatever the
 /// number of steps. The share `h / span` is never below what the arithmetic resolves in one step,
-/// `1e-12 / rtol` (the BDF and the generalized-α method: `1e-13 / rtol`, `share_floor::BDF_STEP_FLOOR`). [`ToleranceSpan::Run`] is the
+/// `1e-12 / rtol` (the BDF and the generalized-α method: `1e-13 / rtol`, `share_floor::FINE_STEP_FLOOR`). [`ToleranceSpan::Run`] is the
 /// default; with [`ToleranceSpan::Step`] the test is the classical one, at most 1 per step.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tolerances {

@@ -153,14 +153,14 @@ const SLOW_RATE: f64 = 0.1;
 /// test failures) against 32,647 for 11,854 (17) with `√rtol`; 0.01 gave 25,654.
 const NEWTON_TOLERANCE: f64 = 0.03;
 /// The floor of a step's share of the tolerance, relative to the solution: `SHARE_FLOOR / rtol`, the BDF's
-/// ([`BDF_STEP_FLOOR`](crate::integrate::share_floor::BDF_STEP_FLOOR), 1e-13), not the Adams method's
+/// ([`FINE_STEP_FLOOR`](crate::integrate::share_floor::FINE_STEP_FLOOR), 1e-13), not the Adams method's
 /// 1e-12. Over the run the steps of this second-order method reach the floor from about rtol 1e-7 on, and
 /// the error is then about the floor times the number of steps: with 1e-12, 1e-7 to 1.2e-6 relative at
 /// every rtol from 1e-8 to 1e-10 on six cases (the same steps at each; docs/accuracy.md, *Generalized-α
 /// over the run's span*), 12 tolerances on the double four-bar at 1e-7; with 1e-13 within 5.4 tolerances
 /// at 1e-7 on each, at up to 1.9 times the steps (the slider-crank, 694,281 against 372,786).
 /// [`GeneralizedAlpha::FINEST_OVER_RUN`] follows from it.
-const SHARE_FLOOR: f64 = crate::integrate::share_floor::BDF_STEP_FLOOR;
+const SHARE_FLOOR: f64 = crate::integrate::share_floor::FINE_STEP_FLOOR;
 const SAFETY: f64 = 0.9;
 const MIN_FACTOR: f64 = 0.2;
 const MAX_FACTOR: f64 = 5.0;
