@@ -179,6 +179,17 @@ pub fn summary_json(
             "columns": columns.iter().map(|c| json!({ "name": c.name, "unit": c.unit })).collect::<Vec<_>>(),
         },
     });
+    if let Some(g) = &report.global_error {
+        summary["statistics"]["global_error_estimate"] = json!({
+            "estimate": g.estimate,
+            "tolerances": g.tolerances,
+            "t": g.t,
+            "norm": g.norm.name(),
+            "shadow_rtol": g.shadow_rtol,
+            "t_compared": g.t_compared,
+            "shadow_steps": g.shadow_steps,
+        });
+    }
     if let Some(i) = &report.interrupted {
         summary["interrupted_at"] = json!(i.t);
         summary["reason"] = json!(i.reason);
@@ -218,7 +229,7 @@ pub fn summary_text(report: &SimulationReport) -> String {
          constraint residual at steps                          position {:.2e}, velocity {:.2e}\n  \
          constraint residual at output times (interpolated)    position {:.2e}, velocity {:.2e}\n  \
          energy              initial {:.6e} J, final {:.6e} J, change {:.3e} J\n  \
-         energy balance      work of non-conservative forces {:.3e} J; change − work = {:.2e} J{}{}",
+         energy balance      work of non-conservative forces {:.3e} J; change − work = {:.2e} J{}{}{}",
         report.t_reached,
         s.steps,
         s.rejected_steps(),
@@ -240,8 +251,23 @@ pub fn summary_text(report: &SimulationReport) -> String {
         report.nonconservative_work,
         balance_error(report),
         physics_text(&report.physics),
+        global_error_text(report),
         report.warnings.iter().map(|w| format!("\n  warning at t = {:.4} s: {}", w.t, w.message)).collect::<String>(),
     )
+}
+
+/// The global error estimated by reintegration, one line, if it was.
+fn global_error_text(report: &SimulationReport) -> String {
+    report.global_error.map_or(String::new(), |g| {
+        let norm = match g.norm {
+            flexmb::analysis::GlobalErrorNorm::PositionOutputs => "position outputs",
+            flexmb::analysis::GlobalErrorNorm::State => "positions and velocities",
+        };
+        format!(
+            "\n  global error        estimated {:.2e} ({:.2} tolerances, {norm}) at t = {:.4} s, by a run at rtol {:e} ({} steps)",
+            g.estimate, g.tolerances, g.t, g.shadow_rtol, g.shadow_steps
+        )
+    })
 }
 
 /// The largest deflection and energy-balance error of the physics watchdog, one line each.

@@ -92,6 +92,11 @@ pub struct SimulationDefaults {
     /// [`SimulationSettings::divergence_check`](flexmb::analysis::SimulationSettings::divergence_check)).
     /// Default off.
     pub divergence_check: bool,
+    /// A second run alongside at a tenth of the tolerances that estimates the run's global error
+    /// (`global_error_estimate`,
+    /// [`SimulationSettings::global_error_estimate`](flexmb::analysis::SimulationSettings::global_error_estimate)).
+    /// Default off.
+    pub global_error_estimate: bool,
 }
 
 impl Default for SimulationDefaults {
@@ -113,6 +118,7 @@ impl Default for SimulationDefaults {
             max_vtk_frames: crate::output_limits::DEFAULT_MAX_VTK_FRAMES,
             physics_limits: flexmb::analysis::PhysicsLimits::default(),
             divergence_check: false,
+            global_error_estimate: false,
         }
     }
 }
@@ -182,6 +188,7 @@ impl SimulationDefaults {
             method: self.method_for(model),
             physics_limits: self.physics_limits,
             divergence_check: self.divergence_check,
+            global_error_estimate: self.global_error_estimate,
         }
     }
 }

@@ -75,6 +75,7 @@ pub(crate) struct SimulationSection {
     pub energy_balance_warning: Option<Number>,
     pub energy_balance_limit: Option<Number>,
     pub divergence_check: Option<bool>,
+    pub global_error_estimate: Option<bool>,
 }
 
 /// `[[body]]`: a rigid body.

@@ -9,7 +9,8 @@
 //! Growth that is not exponential (a phase drifting linearly, as in every conservative oscillation whose
 //! period depends on its energy) does not warn.
 
-use super::{OutputFrame, OutputSink, Simulation, SimulationSettings};
+use super::shadow::{ShadowFrame, ShadowRun};
+use super::{Simulation, SimulationSettings};
 use crate::analysis::watchdog::{SimulationWarning, WarningKind};
 
 /// The shadow's initial distance from the run, in the tolerance's weighted RMS norm (the weights
@@ -31,9 +32,7 @@ const NONLINEAR_SEPARATION: f64 = 0.1;
 
 /// The shadow run and the growth of its separation from the run, one entry per output time.
 pub(super) struct DivergenceCheck {
-    shadow: Box<Simulation>,
-    /// The shadow's output frames not yet compared, each `[t, q…, v…]`.
-    pending: Vec<f64>,
+    shadow: ShadowRun,
     /// `rtol`, `atol` of the weighted norm.
     tolerances: (f64, f64),
     /// The largest `|y|` of each position and velocity of the run so far: the weights are
@@ -50,25 +49,13 @@ pub(super) struct DivergenceCheck {
     t_end: f64,
 }
 
-/// Collects the shadow's frames as flat rows `[t, q…, v…]`.
-struct PendingFrames<'a>(&'a mut Vec<f64>);
-
-impl OutputSink for PendingFrames<'_> {
-    fn write_frame(&mut self, frame: &OutputFrame) -> Result<(), String> {
-        self.0.push(frame.t);
-        self.0.extend_from_slice(frame.q);
-        self.0.extend_from_slice(frame.v);
-        Ok(())
-    }
-}
-
 impl DivergenceCheck {
     /// A shadow of `run` at its start: the same model and settings, its velocities moved by
     /// [`INITIAL_SEPARATION`] tolerances (each by its own factor of the golden-ratio sequence, projected
     /// onto the velocity constraints, then scaled to that distance). `None` where the shadow cannot be started or
     /// the constraints leave the velocities no freedom (a fully driven mechanism).
     pub(super) fn start(run: &Simulation) -> Option<Self> {
-        let settings = SimulationSettings { divergence_check: false, ..run.settings };
+        let settings = SimulationSettings { divergence_check: false, global_error_estimate: false, ..run.settings };
         let mut shadow = Simulation::new(std::sync::Arc::clone(&run.model), settings).ok()?;
         let (rtol, atol) = (settings.tolerances.rtol, settings.tolerances.atol);
         let (nq, nv) = (run.model.layout.nq, run.model.layout.nv);
@@ -90,12 +77,10 @@ impl DivergenceCheck {
         let factor = INITIAL_SEPARATION / projected;
         let moved: Vec<f64> = shadow.velocities().iter().zip(v0).map(|(a, b)| b + (a - b) * factor).collect();
         shadow.set_state(None, Some(&moved)).ok()?;
-        let stride = 1 + nq + nv;
         Some(Self {
-            shadow: Box::new(shadow),
-            pending: Vec::with_capacity(64 * stride),
+            shadow: ShadowRun::new(shadow),
             tolerances: (rtol, atol),
-            scale: vec![0.0; stride - 1],
+            scale: vec![0.0; nq + nv],
             initial: 0.0,
             growth: Vec::with_capacity(settings.grid_outputs() + 2),
             ended: false,
@@ -110,34 +95,21 @@ impl DivergenceCheck {
         if self.ended {
             return;
         }
-        let stride = 1 + q.len() + v.len();
-        let same_time = |a: f64| (a - t).abs() <= 1e-12 * (1.0 + t.abs());
-        loop {
-            while !self.pending.is_empty() && self.pending[0] < t && !same_time(self.pending[0]) {
-                self.pending.drain(..stride);
-            }
-            if !self.pending.is_empty() {
-                break;
-            }
-            if self.shadow.is_finished() || self.shadow.step(&mut PendingFrames(&mut self.pending)).is_err() {
-                self.end(warnings);
-                return;
-            }
-        }
-        if !same_time(self.pending[0]) {
-            return; // an output time of the run that the shadow does not have (none: the grids are the same)
+        match self.shadow.frame_at(t) {
+            ShadowFrame::At => {}
+            ShadowFrame::Missing => return, // an output time of the run that the shadow does not have
+            ShadowFrame::Ended => return self.end(warnings),
         }
         let (rtol, atol) = self.tolerances;
         for (scale, y) in self.scale.iter_mut().zip(q.iter().chain(v)) {
             *scale = scale.max(y.abs());
         }
-        let pairs = self.pending[1..stride].iter().zip(q.iter().chain(v)).zip(&self.scale);
+        let pairs = self.shadow.q().iter().chain(self.shadow.v()).zip(q.iter().chain(v)).zip(&self.scale);
         let (sum, largest) = pairs.fold((0.0, 0.0_f64), |(s, m), ((a, b), scale)| {
             let d = (a - b) / (atol + rtol * scale);
             (s + d * d, m.max((a - b).abs() / (1.0 + scale)))
         });
-        self.pending.drain(..stride);
-        let separation = (sum / (stride - 1) as f64).sqrt();
+        let separation = (sum / self.scale.len() as f64).sqrt();
         if self.initial == 0.0 {
             self.initial = separation;
             if separation < 1e-3 * INITIAL_SEPARATION {

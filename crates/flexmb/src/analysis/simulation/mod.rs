@@ -8,15 +8,18 @@
 
 mod checkpoint;
 mod divergence;
+mod global_error;
 mod output;
 mod report;
 mod set_state;
 mod settings;
+mod shadow;
 
 use std::sync::Arc;
 use std::time::Instant;
 
 pub use checkpoint::{SimulationCheckpoint, CHECKPOINT_VERSION};
+pub use global_error::{GlobalErrorEstimate, GlobalErrorNorm};
 pub use output::{OutputFrame, OutputSink, OutputTable};
 pub use report::{Interruption, SimulationError, SimulationFailure, SimulationReport, WorkAtStep};
 pub use set_state::StateProjection;
@@ -114,6 +117,8 @@ pub struct Simulation {
     restarted_stats: crate::integrate::Stats,
     /// The shadow run of [`SimulationSettings::divergence_check`], while it runs.
     divergence: Option<Box<divergence::DivergenceCheck>>,
+    /// The shadow run of [`SimulationSettings::global_error_estimate`], while it runs.
+    global_error: Option<Box<global_error::Reintegration>>,
 }
 
 impl Simulation {
@@ -127,6 +132,16 @@ impl Simulation {
             Ok(mut simulation) => {
                 if simulation.settings.divergence_check {
                     simulation.divergence = divergence::DivergenceCheck::start(&simulation).map(Box::new);
+                }
+                if simulation.settings.global_error_estimate {
+                    match global_error::Reintegration::start(&simulation) {
+                        Ok(estimate) => simulation.global_error = Some(Box::new(estimate)),
+                        Err(reason) => simulation.report.warnings.push(SimulationWarning {
+                            t: 0.0,
+                            kind: WarningKind::Tolerance,
+                            message: format!("the global error is not estimated: {reason}"),
+                        }),
+                    }
                 }
                 Ok(simulation)
             }
@@ -191,6 +206,7 @@ impl Simulation {
             has_user_laws: !model.user_laws().is_empty(),
             restarted_stats: crate::integrate::Stats::default(),
             divergence: None,
+            global_error: None,
             model,
         }
     }
@@ -629,6 +645,9 @@ impl Simulation {
             .check_frame(model, data, (t, q, v), (&e, balance_error), &mut report.warnings, &mut report.physics)?;
         if let Some(check) = self.divergence.as_mut() {
             check.compare(t, &self.q, &self.v, &mut self.report.warnings);
+        }
+        if let Some(estimate) = self.global_error.as_mut() {
+            estimate.compare(t, (&self.values, &self.q, &self.v), &mut self.report);
         }
         Ok(())
     }

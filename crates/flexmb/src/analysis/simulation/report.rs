@@ -63,6 +63,10 @@ pub struct SimulationReport {
     pub physics: PhysicsMeasures,
     /// Set when the run was stopped from outside before its end time.
     pub interrupted: Option<Interruption>,
+    /// The global error estimated by reintegration, over the output times compared so far
+    /// ([`SimulationSettings::global_error_estimate`](super::SimulationSettings::global_error_estimate)).
+    #[serde(default)]
+    pub global_error: Option<super::GlobalErrorEstimate>,
 }
 
 /// The work of the non-conservative forces accumulated over the accepted steps and output times, the

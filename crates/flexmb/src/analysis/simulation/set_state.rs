@@ -75,6 +75,8 @@ impl Simulation {
         self.integrator = integrator;
         // The shadow of the divergence check no longer neighbours the state set.
         self.divergence = None;
+        // The global error estimate's shadow started from the run's start, not from the state set.
+        self.global_error = None;
         for (p, value) in self.parameters.clone().into_iter().enumerate() {
             self.write_parameter(p, value);
         }

@@ -29,6 +29,14 @@ pub struct SimulationSettings {
     /// *Chaotic motion*). It doubles the cost of a run. Not kept in a checkpoint; a
     /// [`set_state`](super::Simulation::set_state) ends it. Default off.
     pub divergence_check: bool,
+    /// Runs a second simulation alongside from the same start at a tenth of the tolerances, and
+    /// estimates the run's global error from their difference at the output times (times 10/9, the
+    /// errors being proportional to the tolerance; Shampine's global error assessment by reintegration):
+    /// [`SimulationReport::global_error`](super::SimulationReport::global_error), and a `tolerance`
+    /// warning where it exceeds 10 tolerances, with the tolerance that would deliver the one asked
+    /// (docs/accuracy.md, *The global error estimate*). It costs the finer run, about 1.6 to 2.5 times
+    /// the run's. Not kept in a checkpoint; a [`set_state`](super::Simulation::set_state) ends it. Default off.
+    pub global_error_estimate: bool,
 }
 
 impl Default for SimulationSettings {
@@ -42,6 +50,7 @@ impl Default for SimulationSettings {
             method: Method::default(),
             physics_limits: PhysicsLimits::default(),
             divergence_check: false,
+            global_error_estimate: false,
         }
     }
 }

@@ -1,0 +1,257 @@
+//! The global error of a run estimated by reintegration (Shampine's global error assessment, as RKSUITE
+//! offers it): a second run of the same model from the same initial state at a tenth of the tolerances
+//! (the shadow), compared with the run at every output time.
+//!
+//! Where the error is proportional to the tolerance, the run's error is `e` and the shadow's `e/10`, so
+//! their difference is `9e/10`: the run's global error is estimated as the difference times `10/9`. Local
+//! error control does not see how the mechanism amplifies the local errors (a four-bar passing its top
+//! position slowly, with little energy to spare, turns a small error of its energy into a shift of every
+//! later passage); the difference of the two runs does, and the run warns (`tolerance`) when the estimate
+//! exceeds the 10 tolerances the error control aims at, with the tolerance that would deliver what was
+//! asked.
+//!
+//! The norm is that of docs/accuracy.md (*The global error and its norm*): over the position outputs
+//! (`marker_position`, `node_position`), each output's largest difference over its largest value
+//! (here the shadow's, the better solution). A model without position outputs is measured in its
+//! positions and velocities, each coordinate's largest difference over `atol + rtol max|y|`.
+
+use serde::{Deserialize, Serialize};
+
+use super::shadow::{ShadowFrame, ShadowRun};
+use super::{Simulation, SimulationReport, SimulationSettings};
+use crate::analysis::watchdog::{SimulationWarning, WarningKind};
+use crate::integrate::{Method, Tolerances};
+use crate::model::OutputKind;
+
+/// The shadow's tolerances are the run's over this: one decade, so that the correction `10/9` is close
+/// to 1 (where the shadow's error is not a tenth of the run's, the estimate is off by less than the
+/// shadow's share) and the shadow costs `10^(1/k)` times the steps at order `k` (×1.6 at order 5).
+const REFINEMENT: f64 = 10.0;
+/// The estimate, in tolerances, beyond which the run warns: the promise of docs/accuracy.md.
+const PROMISED_TOLERANCES: f64 = 10.0;
+
+/// In which norm the global error was estimated.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum GlobalErrorNorm {
+    /// The position outputs: each output's largest difference over its largest value (relative).
+    #[default]
+    PositionOutputs,
+    /// The positions and velocities (the model has no position output): each coordinate's largest
+    /// difference over `atol + rtol max|y|`, times `rtol`.
+    State,
+}
+
+impl GlobalErrorNorm {
+    /// Its name in the summary.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::PositionOutputs => "position_outputs",
+            Self::State => "state",
+        }
+    }
+}
+
+/// The global error estimated by reintegration ([`SimulationSettings::global_error_estimate`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct GlobalErrorEstimate {
+    /// The estimate of the global error `E` (relative, in the norm [`norm`](Self::norm)).
+    pub estimate: f64,
+    /// The estimate in tolerances: `estimate / rtol`.
+    pub tolerances: f64,
+    /// The output time where the estimate's largest difference was (s).
+    pub t: f64,
+    /// The norm of the estimate.
+    pub norm: GlobalErrorNorm,
+    /// The shadow's relative tolerance (the run's over [`REFINEMENT`], or the finest tolerance).
+    pub shadow_rtol: f64,
+    /// The last output time compared (the end time, unless the shadow stopped before it).
+    pub t_compared: f64,
+    /// The shadow's accepted steps (its cost).
+    pub shadow_steps: usize,
+}
+
+/// The shadow at the finer tolerance and the largest differences measured so far.
+pub(super) struct Reintegration {
+    shadow: ShadowRun,
+    rtol: f64,
+    atol: f64,
+    /// `1 / (1 − r)`, `r` the shadow's tolerance over the run's: the difference times it is the run's error
+    /// where the errors are proportional to the tolerance (10/9).
+    correction: f64,
+    norm: GlobalErrorNorm,
+    /// The first column of each position output (three columns each); empty with [`GlobalErrorNorm::State`].
+    groups: Vec<usize>,
+    /// Per group (or coordinate): the largest `|y|` of the shadow so far.
+    scale: Vec<f64>,
+    /// Per group (or coordinate): the largest difference so far and the time of it.
+    largest: Vec<(f64, f64)>,
+    t_end: f64,
+    ended: bool,
+}
+
+impl Reintegration {
+    /// The shadow of `run` at its tolerances over [`REFINEMENT`]: the same model, settings and start.
+    /// `Err` with the reason where no estimate can be made (a fixed step, a tolerance already at the
+    /// finest, a shadow that does not start).
+    pub(super) fn start(run: &Simulation) -> Result<Self, String> {
+        if let Method::GeneralizedAlpha(config) = &run.settings.method {
+            if config.fixed_step.is_some() {
+                return Err("the generalized-α method runs at a fixed step, which no tolerance changes".into());
+            }
+        }
+        let (rtol, atol) = (run.settings.tolerances.rtol, run.settings.tolerances.atol);
+        let tolerances = Tolerances { rtol: rtol / REFINEMENT, atol: atol / REFINEMENT, ..run.settings.tolerances };
+        let settings = SimulationSettings { divergence_check: false, global_error_estimate: false, tolerances, ..run.settings };
+        let shadow = Simulation::new(std::sync::Arc::clone(&run.model), settings)
+            .map_err(|e| format!("the run at the finer tolerance did not start: {}", e.cause))?;
+        // The shadow's tolerance as raised to the finest attainable.
+        let shadow_rtol = shadow.settings.tolerances.rtol;
+        let ratio = shadow_rtol / rtol;
+        if ratio > 0.5 {
+            return Err(format!(
+                "rtol {rtol:e} leaves no finer tolerance to compare with (the finest attainable is {shadow_rtol:e})"
+            ));
+        }
+        let model = &run.model;
+        let mut groups = Vec::new();
+        let mut column = 0;
+        for output in &model.outputs {
+            let n = crate::analysis::columns_of_output(&crate::analysis::ColumnSources::of(model), output).len();
+            if matches!(output.kind, OutputKind::MarkerPosition(_) | OutputKind::NodePosition(..)) && n == 3 {
+                groups.push(column);
+            }
+            column += n;
+        }
+        let (norm, n) = if groups.is_empty() {
+            (GlobalErrorNorm::State, model.layout.nq + model.layout.nv)
+        } else {
+            (GlobalErrorNorm::PositionOutputs, groups.len())
+        };
+        Ok(Self {
+            shadow: ShadowRun::new(shadow),
+            rtol,
+            atol,
+            correction: 1.0 / (1.0 - ratio),
+            norm,
+            groups,
+            scale: vec![0.0; n],
+            largest: vec![(0.0, 0.0); n],
+            t_end: settings.t_end,
+            ended: false,
+        })
+    }
+
+    /// Compares the run's frame at the output time `t` (its output `values`, positions `q` and velocities
+    /// `v`) with the shadow's there, advancing the shadow to it, and keeps the estimate in `report`; at
+    /// the end time (or where the shadow stopped) ends the estimate, with its warning if it exceeds
+    /// [`PROMISED_TOLERANCES`].
+    pub(super) fn compare(&mut self, t: f64, (values, q, v): (&[f64], &[f64], &[f64]), report: &mut SimulationReport) {
+        if self.ended {
+            return;
+        }
+        match self.shadow.frame_at(t) {
+            ShadowFrame::At => {}
+            ShadowFrame::Missing => return,
+            ShadowFrame::Ended => return self.end(report),
+        }
+        let mut update = |k: usize, scale: f64, difference: f64| {
+            self.scale[k] = self.scale[k].max(scale);
+            if difference > self.largest[k].0 {
+                self.largest[k] = (difference, t);
+            }
+        };
+        match self.norm {
+            GlobalErrorNorm::PositionOutputs => {
+                let shadow = self.shadow.values();
+                for (k, &c) in self.groups.iter().enumerate() {
+                    let scale = (c..c + 3).fold(0.0_f64, |m, i| m.max(shadow[i].abs()));
+                    let difference = (c..c + 3).fold(0.0_f64, |m, i| m.max((values[i] - shadow[i]).abs()));
+                    update(k, scale, difference);
+                }
+            }
+            GlobalErrorNorm::State => {
+                let shadow = self.shadow.q().iter().chain(self.shadow.v());
+                for (k, (a, b)) in shadow.zip(q.iter().chain(v)).enumerate() {
+                    update(k, a.abs(), (a - b).abs());
+                }
+            }
+        }
+        report.global_error = Some(self.estimate(t));
+        if t >= self.t_end * (1.0 - 1e-12) {
+            self.end(report);
+        }
+    }
+
+    /// The estimate over the output times compared up to `t_compared`.
+    fn estimate(&self, t_compared: f64) -> GlobalErrorEstimate {
+        let (rtol, atol) = (self.rtol, self.atol);
+        let weight = |scale: f64| match self.norm {
+            GlobalErrorNorm::PositionOutputs if scale > 0.0 => rtol * scale,
+            GlobalErrorNorm::PositionOutputs => rtol,
+            GlobalErrorNorm::State => atol + rtol * scale,
+        };
+        let (tolerances, t) = self
+            .scale
+            .iter()
+            .zip(&self.largest)
+            .map(|(&scale, &(difference, t))| (self.correction * difference / weight(scale), t))
+            .fold((0.0, 0.0), |best, x| if x.0 > best.0 { x } else { best });
+        GlobalErrorEstimate {
+            estimate: tolerances * rtol,
+            tolerances,
+            t,
+            norm: self.norm,
+            shadow_rtol: self.shadow.simulation().settings.tolerances.rtol,
+            t_compared,
+            shadow_steps: self.shadow.simulation().stats().steps,
+        }
+    }
+
+    /// Ends the estimate, with its warning where it exceeds [`PROMISED_TOLERANCES`].
+    fn end(&mut self, report: &mut SimulationReport) {
+        self.ended = true;
+        let Some(estimate) = report.global_error.as_mut() else { return };
+        estimate.shadow_steps = self.shadow.simulation().stats().steps;
+        if estimate.tolerances > PROMISED_TOLERANCES {
+            let message = warning(estimate, self.rtol, self.atol, self.t_end);
+            report.warnings.push(SimulationWarning { t: estimate.t, kind: WarningKind::Tolerance, message });
+        }
+    }
+}
+
+/// The warning of an estimate beyond the promise, with the tolerances that would deliver `rtol`: under
+/// proportionality the error falls with the tolerances, so `rtol / N` and `atol / N` for an estimate of
+/// `N` tolerances.
+fn warning(estimate: &GlobalErrorEstimate, rtol: f64, atol: f64, t_end: f64) -> String {
+    let n = estimate.tolerances;
+    let (asked_rtol, asked_atol) = (rtol / n, atol / n);
+    let norm = match estimate.norm {
+        GlobalErrorNorm::PositionOutputs => "relative, in the position outputs",
+        GlobalErrorNorm::State => "in the positions and velocities, the model having no position output",
+    };
+    let compared = if estimate.t_compared < t_end * (1.0 - 1e-12) {
+        format!(" (compared up to t = {:.3} s, where the run at the finer tolerance stopped)", estimate.t_compared)
+    } else {
+        String::new()
+    };
+    let ask = if asked_rtol < Tolerances::FINEST {
+        format!(
+            "about rtol {asked_rtol:.1e} would be needed for an error of {rtol:e}, finer than the finest tolerance ({:e}): \
+             no tolerance delivers it",
+            Tolerances::FINEST
+        )
+    } else {
+        format!("ask rtol {asked_rtol:.1e} and atol {asked_atol:.1e} for an error of about {rtol:e}")
+    };
+    format!(
+        "global error estimated at {e:.2e} ({n:.1} tolerances, {norm}) at t = {t:.3} s{compared}, beyond the 10 tolerances \
+         the error control aims at: a second run from the same start at rtol {shadow:e} differs by that much (times \
+         {correction:.3}, the errors being proportional to the tolerance); the mechanism amplifies the local errors more \
+         than error per unit step allows for; {ask}",
+        e = estimate.estimate,
+        t = estimate.t,
+        shadow = estimate.shadow_rtol,
+        correction = 1.0 / (1.0 - estimate.shadow_rtol / rtol),
+    )
+}
