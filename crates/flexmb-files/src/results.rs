@@ -264,7 +264,7 @@ fn global_error_text(report: &SimulationReport) -> String {
             flexmb::analysis::GlobalErrorNorm::State => "positions and velocities",
         };
         format!(
-            "\n  global error        estimated {:.2e} ({:.2} tolerances, {norm}) at t = {:.4} s, by a run at rtol {:e} ({} steps)",
+            "\n  global error        estimated {:.2e} ({:.2} tolerances, {norm}) at t = {:.4} s, by a run at rtol {:.2e} ({} steps)",
             g.estimate, g.tolerances, g.t, g.shadow_rtol, g.shadow_steps
         )
     })

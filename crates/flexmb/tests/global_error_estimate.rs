@@ -129,3 +129,19 @@ fn a_revolution_over_a_slow_top_warns_with_the_tolerance_to_ask() {
     eprintln!("asked rtol {asked:e}: E = {finer_error:.3e}");
     assert!(finer_error < 10e-6, "asked {asked:e}: E {finer_error:e}");
 }
+
+/// The swinging pendulum with its steps held at 1 ms by the largest step (`h_max`), BDF at 1e-5: the run
+/// and the run at 1e-6 take the same 5,000 steps, their errors are not in proportion to their
+/// tolerances, and the run says that the estimate is not to be trusted.
+#[test]
+fn steps_held_by_a_largest_step_make_the_estimate_untrusted() {
+    let model = pendulum(1.0, 0.0);
+    let mut settings = settings(5.0, 1e-5, Method::default());
+    settings.tolerances.h_max = 1e-3;
+    let run = support::run(&model, &settings);
+    let estimate = run.report.global_error.expect("an estimate");
+    eprintln!("{estimate:?}, {} steps; {:?}", run.report.stats.steps, run.report.warnings);
+    assert!(estimate.shadow_steps < run.report.stats.steps * 11 / 10, "{estimate:?}");
+    let untrusted = run.report.warnings.iter().filter(|w| w.message.starts_with("global error estimate not to be trusted"));
+    assert_eq!(untrusted.count(), 1, "{:?}", run.report.warnings);
+}

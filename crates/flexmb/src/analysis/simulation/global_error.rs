@@ -231,7 +231,7 @@ impl Reintegration {
         let (steps, shadow_steps) = (report.stats.steps, estimate.shadow_steps);
         if free && estimate.estimate > 0.0 && (shadow_steps as f64) < PROPORTIONAL_STEPS * steps as f64 {
             let message = format!(
-                "global error estimate not to be trusted: the run at the finer tolerance (rtol {shadow:e}) took {shadow_steps} \
+                "global error estimate not to be trusted: the run at the finer tolerance (rtol {shadow:.2e}) took {shadow_steps} \
                  steps against the run's {steps}, so a floor holds the steps of both (over a long run at a fine tolerance, the \
                  finest share of a step; a largest step) and their errors are not in proportion to their tolerances: their \
                  difference, {e:.2e} ({n:.1} tolerances), may be far below the global error",
@@ -270,7 +270,7 @@ fn warning(estimate: &GlobalErrorEstimate, rtol: f64, atol: f64, t_end: f64) -> 
     };
     format!(
         "global error estimated at {e:.2e} ({n:.1} tolerances, {norm}) at t = {t:.3} s{compared}, beyond the 10 tolerances \
-         the error control aims at: a second run from the same start at rtol {shadow:e} differs by that much (times \
+         the error control aims at: a second run from the same start at rtol {shadow:.2e} differs by that much (times \
          {correction:.3}, the errors being proportional to the tolerance); the mechanism amplifies the local errors more \
          than error per unit step allows for; {ask}",
         e = estimate.estimate,
