@@ -71,7 +71,7 @@ pub struct GlobalErrorEstimate {
     pub t: f64,
     /// The norm of the estimate.
     pub norm: GlobalErrorNorm,
-    /// The shadow's relative tolerance (the run's over [`REFINEMENT`], or the finest tolerance).
+    /// The shadow's relative tolerance (a tenth of the run's, or the finest tolerance).
     pub shadow_rtol: f64,
     /// The last output time compared (the end time, unless the shadow stopped before it).
     pub t_compared: f64,
