@@ -350,6 +350,20 @@ fn adams_at_1e_9_over_the_runs_span_passes_the_second_singular_position() {
     adams_to_1_5_s_through_two_positions("singular-passage-adams-1e-9", 1e-9, "10");
 }
 
+/// The Adams method at rtol = atol = 1e-8 with the span of the benchmark's 10 s run (`--tolerance-span 10`)
+/// through the first two singular positions to 1.5 s: B0 within 10 tolerances of the exact path, both
+/// passages counted. Before, near the second position (t* = 1.2281594 s) the accepted steps shrank with the
+/// distance to it, about a thirteenth of it each, so the guard's window of half a step never caught an end;
+/// the ends approached t* geometrically, the accelerations of the projected states there grew without bound
+/// (κ 1.9e7) and the run stopped at t = 1.228159 s, step too small (89,366 steps). The Adams method's window
+/// now keeps the width it had when it first moved an end, and the position is crossed in one step of 4.7 ms
+/// from 2.4 ms before it, its estimate (16 shares, 7e-11 of the solution) passed as the rounding at its ends
+/// (κ 330 to 430): 216 steps, B0 1.2e-10 m off. About 0.3 s in release.
+#[test]
+fn adams_at_1e_8_over_the_runs_span_crosses_the_second_singular_position_in_one_step() {
+    adams_to_1_5_s_through_two_positions("singular-passage-adams-1e-8-span-10", 1e-8, "10");
+}
+
 /// Runs the double four-bar with the Adams method at rtol = atol = `tol` and the tolerance span `span` to
 /// 1.5 s (output every millisecond, in the scratch directory `name`), and asserts that both singular
 /// positions on the way are counted and B0 stays within 10 tolerances of the exact path at every row.

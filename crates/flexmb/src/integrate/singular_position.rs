@@ -219,6 +219,12 @@ pub(crate) struct SingularPassage {
     held_share: f64,
     /// A passage was counted and `κ` has not been measured at or below [`WATCH`] since.
     just_passed: bool,
+    /// Whether the window the step ends are kept out of keeps its width through a passage
+    /// ([`crossing_in_one_step`](Self::crossing_in_one_step)), and that width once set.
+    kept_width: bool,
+    width: Option<f64>,
+    /// The start of the last attempt moved across the predicted position.
+    crossing_from: Option<f64>,
 }
 
 impl SingularPassage {
@@ -241,7 +247,26 @@ impl SingularPassage {
             measure_by: f64::INFINITY,
             held_share: 1.0,
             just_passed: false,
+            kept_width: false,
+            width: None,
+            crossing_from: None,
         }
+    }
+
+    /// The guard with the window around a predicted position kept as wide as it was when it first moved an
+    /// end, half the step asked for then, until the position is passed (the Adams method's): step ends are
+    /// then kept out of it however short the steps the error control asks for grow near the position, and
+    /// it is crossed in one step from outside it, by the distance to the position. Where a crossing step
+    /// fails, the window is halved and the next attempt ends at its new edge before the position.
+    ///
+    /// Without it (the BDF's and generalized-α's guard) the window is half of each attempt's step: on the
+    /// double four-bar over the run's span at rtol 1e-8 the Adams method's accepted steps near the second
+    /// position shrank with the distance to it (about a thirteenth of it each), so no end came within half a
+    /// step of it, the ends approached it geometrically and the accelerations of the projected states there
+    /// grew without bound (κ 1.9e7 at the last ends, 7e-8 s before it): the run stopped, step too small.
+    pub fn crossing_in_one_step(mut self) -> Self {
+        self.kept_width = true;
+        self
     }
 
     /// The end of an attempt from `t` that would end at `t_new`, held to `share` of the tolerance: `None` to
@@ -250,9 +275,11 @@ impl SingularPassage {
     pub fn placed_end(&mut self, t: f64, t_new: f64, share: f64) -> Option<f64> {
         self.asked = None;
         self.held_share = share;
+        let retry = self.crossing_from.take() == Some(t);
         let w = self.window?;
         let (d, h) = (w.centre - t, t_new - t);
-        if d <= 0.0 || t_new <= w.centre - 0.5 * h {
+        let width = self.width.unwrap_or(0.5 * h);
+        if d <= 0.0 || t_new <= w.centre - width {
             return None;
         }
         // Only where the rounding at the end would matter to the tolerance: at ordinary tolerances a dip of
@@ -262,8 +289,18 @@ impl SingularPassage {
             return None;
         }
         self.asked = Some(h);
-        let end = if d > JUMP_REACH * h { w.centre - 0.5 * h } else { w.centre + d.max(0.5 * h) };
-        Some(end)
+        if !self.kept_width {
+            let end = if d > JUMP_REACH * h { w.centre - 0.5 * h } else { w.centre + d.max(0.5 * h) };
+            return Some(end);
+        }
+        // The window keeps its width; a crossing that failed halves it.
+        let width = if retry { 0.5 * width } else { width };
+        self.width = Some(width);
+        if d > 2.0 * JUMP_REACH * width {
+            return Some(w.centre - width);
+        }
+        self.crossing_from = Some(t);
+        Some(w.centre + d.max(width))
     }
 
     /// The factor by which the rounding of the solution at the end `t_new` of a step from `t`, held to
@@ -373,6 +410,19 @@ impl SingularPassage {
         self.last.is_some_and(|(_, s)| 1.0 / s > WATCH && Self::error_within_rounding(error, self.rtol, 1.0 / s, order))
     }
 
+    /// Whether the attempt last placed by [`placed_end`](Self::placed_end) crosses the predicted position.
+    pub fn crossing(&self, t: f64) -> bool {
+        self.crossing_from == Some(t)
+    }
+
+    /// Whether an estimate of `error` tolerances of a method of order `order` on a step across a singular
+    /// position from `t` to `end`, held to `share` of the tolerance, is within the rounding amplified by the
+    /// `κ` at its ends ([`amplification`](Self::amplification)) that the BDF's estimates pass within
+    /// ([`estimate_beyond_rounding`](Self::estimate_beyond_rounding)).
+    pub fn crossing_within_rounding(&self, error: f64, t: f64, end: f64, share: f64, order: usize) -> bool {
+        Self::error_within_rounding(error, self.rtol, self.amplification(t, end, share), order)
+    }
+
     /// Whether `error`, an estimate in shares of the tolerance returned by
     /// [`estimate_beyond_rounding`](Self::estimate_beyond_rounding), is one that passed as rounding.
     pub fn is_noise(error: f64) -> bool {
@@ -412,6 +462,7 @@ impl SingularPassage {
         let watched = self.window.is_some();
         if self.window.is_some_and(|w| t > w.centre) {
             self.window = None;
+            self.width = None;
             self.just_passed = true;
             self.passages += 1;
             self.last = Some((t, s));
@@ -424,6 +475,7 @@ impl SingularPassage {
             }
             Some(_) if condition <= WATCH => {
                 self.window = None;
+                self.width = None;
                 self.just_passed = false;
             }
             _ => {}

@@ -114,6 +114,8 @@ struct Guarded<'a> {
     /// The amplification and share of the tolerance of the last attempt.
     amplification: f64,
     share: f64,
+    /// The start and end of the last attempt if it crosses a predicted singular position.
+    crossing: Option<(f64, f64)>,
 }
 
 impl OdeSystem for Guarded<'_> {
@@ -136,6 +138,12 @@ impl OdeSystem for Guarded<'_> {
             1.0
         }
     }
+    /// A step across a predicted position ([`SingularPassage::crossing_in_one_step`]) is as long as the
+    /// distance to the position asks, not the error control: its estimate passes within the rounding
+    /// amplified by the `κ` at its ends, as the BDF's estimates near a position do.
+    fn crossing_within_rounding(&self, error: f64, k: usize) -> bool {
+        self.crossing.is_some_and(|(t, end)| self.singular.crossing_within_rounding(error, t, end, self.share, k))
+    }
     fn placed_end(&mut self, t: f64, t_new: f64, share: f64) -> Option<f64> {
         // The amplified rounding at the asked end is recorded (the steps held near a position are
         // counted) but does not pass estimates as rounding, as the BDF's guard does: with the BDF's
@@ -150,7 +158,9 @@ impl OdeSystem for Guarded<'_> {
         self.amplification =
             if SingularPassage::rounding_matters(amplification, self.rtol, share) { amplification } else { 1.0 };
         self.share = share;
-        match self.singular.placed_end(t, t_new, share) {
+        let placed = self.singular.placed_end(t, t_new, share);
+        self.crossing = placed.filter(|&end| self.singular.crossing(t) && end < self.t_stop).map(|end| (t, end));
+        match placed {
             Some(end) if end < self.t_stop => Some(end),
             _ => {
                 self.singular.asked = None;
@@ -251,7 +261,7 @@ impl Adams {
         update_angle_references(&model, data);
         let stepper = AdamsStepper::new(control, state.t, &y0, &yp0);
         let n = y0.len();
-        let singular = SingularPassage::new(&model, &state.active, tolerances.rtol);
+        let singular = SingularPassage::new(&model, &state.active, tolerances.rtol).crossing_in_one_step();
         let mut adams = Self {
             system,
             singular,
@@ -368,7 +378,7 @@ impl Adams {
     fn guarded_step(&mut self, t_stop: f64) -> Result<(), StepFailure> {
         let steps = self.stepper.stats.steps;
         let mut guarded =
-            Guarded { system: &mut self.system, singular: &mut self.singular, t_stop, rtol: self.rtol, amplification: 1.0, share: 1.0 };
+            Guarded { system: &mut self.system, singular: &mut self.singular, t_stop, rtol: self.rtol, amplification: 1.0, share: 1.0, crossing: None };
         self.stepper.step(&mut guarded, t_stop)?;
         let (amplification, share) = (guarded.amplification, guarded.share);
         if self.stepper.stats.steps == steps {

@@ -86,6 +86,13 @@ pub trait OdeSystem {
         1.0
     }
 
+    /// Whether an error estimate of `error` tolerances of the current attempt at order `k` is within the
+    /// rounding of its ends, whatever the step (a mechanism's step across a singular position:
+    /// `SingularPassage::crossing_within_rounding`). By default none is.
+    fn crossing_within_rounding(&self, _error: f64, _k: usize) -> bool {
+        false
+    }
+
     /// Where an attempt from `t` that would end at `t_new`, held to `share` of the tolerance, ends instead
     /// (`None`: where it would): a mechanism keeps its step ends off a singular position
     /// (`SingularPassage::placed_end`).
@@ -546,9 +553,10 @@ impl AdamsStepper {
                     // An estimate within the rounding that the conditioning amplifies passes, and does not
                     // shorten the next step (`estimate_rounding`).
                     let amplification = system.rounding_amplification();
-                    let within_rounding = amplification > 1.0
-                        && err > eps
-                        && err <= self.estimate_rounding(absh * (self.g[k] - self.g[kp1]), k, amplification);
+                    let within_rounding = err > eps
+                        && ((amplification > 1.0
+                            && err <= self.estimate_rounding(absh * (self.g[k] - self.g[kp1]), k, amplification))
+                            || system.crossing_within_rounding(err / eps * share, k));
                     if within_rounding {
                         erk = erk.min(p5eps);
                         erkm1 = erkm1.min(p5eps);
