@@ -29,7 +29,9 @@
 //! unit step below rtol 1e-8 a step's share `h / span` is below the floor, and the floor holds each local
 //! error at that fraction of the solution: `N` steps then add up to about `N` times it, whatever the
 //! tolerance (the 1e-12 floor held the BDF's error on the heavy top at 8.2e-10 over 22,700 steps, at
-//! rtol 1e-9 and 1e-10 alike; the rigid pendulum's at 9.3e-11).
+//! rtol 1e-9 and 1e-10 alike; the rigid pendulum's at 9.3e-11). The BDF counts the steps its floor
+//! holds ([`Stats::share_floor_steps`]), and a run whose count times the floor exceeds rtol warns
+//! ([`floor_warning`]).
 
 use crate::integrate::tolerances::STEP_FLOOR;
 use crate::integrate::{Stats, Tolerances};
