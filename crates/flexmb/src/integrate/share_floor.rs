@@ -89,9 +89,9 @@ pub(crate) fn floor_warning(held_before: usize, stats: &Stats, rtol: f64, span: 
         format!(
             "tolerance finer than the BDF keeps over this run: {held} steps up to t = {t:.4} s were each held to what one \
              step resolves, {floor:.0e} of the solution (the floor under a step's share of the tolerance), and their local \
-             errors, which add up over the run (the BDF's dissipate energy), amount to {sum:.1e} of the solution, more than \
-             rtol {allowed:e} (at this rate about {at_end:.0} such steps and {sum_end:.1e} by t = {t_end} s): the error can \
-             reach several tolerances; for a finer tolerance use the Adams method (integrator = \"adams\"), which keeps \
+             errors, each up to that floor, can add up over the run (the BDF's dissipate energy) to {sum:.1e} of the \
+             solution, more than rtol {allowed:e} (at this rate about {at_end:.0} such steps and {sum_end:.1e} by t = \
+             {t_end} s): the error can reach several tolerances; for a finer tolerance use the Adams method (integrator = \"adams\"), which keeps \
              rtol 1e-10 on the benchmarks of docs/accuracy.md; the statistics share_floor_steps and share_floor count \
              these steps and give the floor",
             sum = held as f64 * floor,
