@@ -155,6 +155,8 @@ pub fn summary_json(
             "singular_position_condition": s.singular_position_condition,
             "singular_positions": s.singular_positions,
             "singular_position_tolerance": s.singular_position_tolerance,
+            "share_floor_steps": s.share_floor_steps,
+            "share_floor": s.share_floor,
             "steps_per_order": orders,
             "rms_step_size": s.rms_step(),
             "wall_time_s": report.wall_time,

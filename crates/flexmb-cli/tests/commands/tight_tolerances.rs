@@ -42,3 +42,40 @@ fn the_bdf_at_1e_9_over_the_run_stays_within_ten_tolerances_and_rejects_few_step
     assert!(error <= 10.0 * 1e-9, "global error {error:e} at rtol 1e-9");
     assert!(rejected * 100 < steps, "{rejected} of {steps} steps rejected");
 }
+
+/// The warning of a run whose steps the share's floor holds: each BDF step is then held to 1e-13 of the
+/// solution however short it is, and those local errors add up. On the slider-crank at rtol 1e-10 every
+/// step of 23,400 is held (2.3e-9 of the solution, 61 tolerances measured): the run warns, at the step
+/// that makes their number times the floor exceed rtol, and names the floor, the steps and the Adams
+/// method. At rtol 1e-8 some 20 of 17,900 steps are held (2e-12) and it does not. About 2 s in release.
+#[test]
+fn the_bdf_warns_when_the_steps_held_to_the_share_floor_add_up_to_more_than_rtol() {
+    let model = workspace().join("models/peer/slider_crank_3d.toml");
+    let dir = scratch("share-floor-warning");
+    for (rtol, warns) in [(1e-10, true), (1e-8, false)] {
+        let out = dir.join(format!("bdf_{rtol:e}"));
+        run_at_tolerance(&model, "bdf", &format!("{rtol:e}"), &out, &[]);
+        let summary: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("slider_crank_3d.json")).unwrap()).unwrap();
+        let statistics = &summary["statistics"];
+        let (held, floor) = (statistics["share_floor_steps"].as_u64().unwrap(), statistics["share_floor"].as_f64().unwrap());
+        let steps = statistics["steps"].as_u64().unwrap();
+        let warnings: Vec<&serde_json::Value> = summary["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|w| w["kind"] == "tolerance" && w["message"].as_str().unwrap().contains("held to what one step resolves"))
+            .collect();
+        eprintln!("rtol {rtol:e}: {held} of {steps} steps held to {floor:e}, {} warnings", warnings.len());
+        assert_eq!(held as f64 * floor > rtol, warns, "rtol {rtol:e}: {held} steps held to {floor:e}");
+        assert_eq!(warnings.len(), usize::from(warns), "rtol {rtol:e}: {warnings:?}");
+        if let Some(warning) = warnings.first() {
+            let message = warning["message"].as_str().unwrap();
+            assert!(message.contains("1e-13") && message.contains("adams") && message.contains("share_floor_steps"), "{message}");
+            // Issued at the step that crossed rtol: the steps before it spent at most rtol.
+            let before: u64 = message.split(' ').find_map(|word| word.parse().ok()).unwrap();
+            assert_eq!(before, (rtol / floor).round() as u64 + 1, "{message}");
+            assert!(warning["t"].as_f64().unwrap() < 5.0);
+        }
+    }
+}

@@ -537,6 +537,10 @@ impl Bdf {
             if self.amplification > 1.0 {
                 self.stats.held_near_singular_position(self.tolerances.rtol * self.share);
             }
+            if self.tolerances.floor_holds(h, FINE_STEP_FLOOR) {
+                self.stats.share_floor_steps += 1;
+                self.stats.share_floor = FINE_STEP_FLOOR;
+            }
             if test.at_floor {
                 self.stats.rounding_floor_steps += 1;
                 self.stats.rounding_floor = self.stats.rounding_floor.max(self.rounding.floor * self.tolerances.rtol);

@@ -36,7 +36,7 @@ mod iteration_matrix;
 mod newton;
 mod newton_rounding;
 mod rounding_level;
-mod share_floor;
+pub(crate) mod share_floor;
 pub(crate) mod singular_position;
 mod stats;
 mod tolerance_span;

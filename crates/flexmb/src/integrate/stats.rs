@@ -48,6 +48,15 @@ pub struct Stats {
     /// step, far less with error per unit step); 0 when no step was.
     #[serde(default)]
     pub singular_position_tolerance: f64,
+    /// Accepted steps whose share of the tolerance was the fixed floor, what one step resolves
+    /// ([`share_floor`](Self::share_floor) of the solution), rather than their share of the span: their
+    /// local errors are each about that floor and add up over the run, to about their number times it
+    /// (the BDF; `integrate/share_floor.rs`).
+    #[serde(default)]
+    pub share_floor_steps: usize,
+    /// That floor relative to the solution (1e-13 for the BDF); 0 when no step was held to it.
+    #[serde(default)]
+    pub share_floor: f64,
 }
 
 impl Stats {
@@ -76,6 +85,8 @@ impl Stats {
             singular_position_condition: self.singular_position_condition.max(later.singular_position_condition),
             singular_positions: self.singular_positions + later.singular_positions,
             singular_position_tolerance: finest_nonzero(self.singular_position_tolerance, later.singular_position_tolerance),
+            share_floor_steps: self.share_floor_steps + later.share_floor_steps,
+            share_floor: self.share_floor.max(later.share_floor),
         }
     }
 

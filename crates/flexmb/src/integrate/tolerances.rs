@@ -122,6 +122,15 @@ impl Tolerances {
         }
     }
 
+    /// True when a step of size `h` has the share `floor / rtol` rather than its share of the span,
+    /// `h / span` ([`step_share_above`](Self::step_share_above)): its local error is then held to `floor`
+    /// of the solution whatever its size.
+    pub(crate) fn floor_holds(&self, h: f64, floor: f64) -> bool {
+        let span = self.span.seconds();
+        let floor = floor / self.rtol;
+        span.is_finite() && floor < 1.0 && h / span < floor
+    }
+
     /// The share of the tolerance a first-order step of size `h` may spend: the geometric mean
     /// `√(h / span)` of error per unit step and error per step (at least [`step_share`](Self::step_share)).
     ///

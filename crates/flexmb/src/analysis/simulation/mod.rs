@@ -31,6 +31,7 @@ use super::{assemble, linearize_at, static_equilibrium, velocity_analysis, Accel
 use crate::analysis::EquilibriumSettings;
 use crate::data::Data;
 use crate::integrate::Adams;
+use crate::integrate::share_floor::floor_warning;
 use crate::integrate::{Bdf, Integrator, Method};
 use crate::integrate::GeneralizedAlpha;
 use crate::model::{BodyId, Model};
@@ -530,7 +531,12 @@ impl Simulation {
         }
         let step = self.integrator.step(self.settings.t_end);
         let (rounding_before, singular_before) = (self.report.stats.rounding_floor_steps, self.report.stats.singular_positions);
+        let floor_held_before = self.report.stats.share_floor_steps;
         self.report.stats = self.restarted_stats.followed_by(self.integrator.stats());
+        let (t, tolerances) = (self.integrator.t(), &self.settings.tolerances);
+        if let Some(message) = floor_warning(floor_held_before, &self.report.stats, tolerances.rtol, tolerances.span.seconds(), t, self.settings.t_end) {
+            self.report.warnings.push(SimulationWarning { t, kind: WarningKind::Tolerance, message });
+        }
         if rounding_before == 0 && self.report.stats.rounding_floor_steps > 0 {
             let message = rounding_floor_warning(self.report.stats.rounding_floor, self.settings.tolerances.rtol);
             self.report.warnings.push(SimulationWarning { t: self.integrator.t(), kind: WarningKind::Tolerance, message });
