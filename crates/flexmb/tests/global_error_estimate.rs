@@ -5,7 +5,7 @@
 
 mod support;
 
-use flexmb::analysis::{GlobalErrorNorm, SimulationSettings, WarningKind};
+use flexmb::analysis::{GlobalErrorControl, GlobalErrorNorm, SimulationSettings, WarningKind};
 use flexmb::integrate::{AdamsConfig, Method};
 use flexmb::math::{EulerParameters, Mat3, Vec3};
 use flexmb::model::{BodyRef, Model, ModelBuilder, OutputKind};
@@ -128,6 +128,36 @@ fn a_revolution_over_a_slow_top_warns_with_the_tolerance_to_ask() {
     let finer_error = error_at(&finer);
     eprintln!("asked rtol {asked:e}: E = {finer_error:.3e}");
     assert!(finer_error < 10e-6, "asked {asked:e}: E {finer_error:e}");
+}
+
+/// Global error control on the revolution over a slow top: the run at rtol 1e-6 (the estimate 30
+/// tolerances) is run again at `1e-6 / 30`, whose error against Adams at 1e-12 is within 10 of the
+/// tolerances asked for, and whose estimate, measured against them, agrees with it within a factor 2 and
+/// does not warn. The results are the last run's (one frame per output time), the report names the run
+/// that was run again.
+#[test]
+fn global_error_control_runs_a_revolution_again_until_it_keeps_the_tolerance() {
+    let model = pendulum(0.0, 2.0 * omega0() * 1.000_1);
+    let reference = support::run(&model, &SimulationSettings { method: Method::Adams(AdamsConfig::default()), ..support::settings(5.0, 0.01, 1e-12) });
+    let error_at = |run: &support::Run| global_error(run, |i| [0, 1, 2].map(|k| reference.rows[i][k]));
+    let settings = SimulationSettings {
+        global_error_control: Some(GlobalErrorControl { rtol: 1e-6, atol: 1e-6 }),
+        ..support::settings(5.0, 0.01, 1e-6)
+    };
+    let run = support::run(&model, &settings);
+    let (error, estimate) = (error_at(&run), run.report.global_error.expect("an estimate"));
+    let earlier = &run.report.global_error_control;
+    eprintln!("E = {error:.3e} ({:.2} tolerances), estimated {:.3e} ({:.2}); earlier runs {earlier:?}", error / 1e-6, estimate.estimate, estimate.tolerances);
+    assert_eq!(earlier.len(), 1, "{earlier:?}");
+    assert!(earlier[0].rtol == 1e-6 && earlier[0].tolerances > 10.0, "{earlier:?}");
+    assert_eq!(run.t.len(), 501, "one frame per output time, the last run's");
+    assert!(error < 10e-6, "E {error:e}");
+    assert!((estimate.tolerances - estimate.estimate / 1e-6).abs() < 1e-9 * estimate.tolerances, "measured in the tolerance asked for: {estimate:?}");
+    assert!(estimate.estimate < 2.0 * error && error < 2.0 * estimate.estimate, "E {error:e}, estimate {estimate:?}");
+    assert!(run.report.warnings.is_empty(), "{:?}", run.report.warnings);
+    // A run that keeps its tolerance is not run again.
+    let swing = support::run(&pendulum(1.0, 0.0), &SimulationSettings { global_error_control: Some(GlobalErrorControl { rtol: 1e-5, atol: 1e-5 }), ..support::settings(5.0, 0.01, 1e-5) });
+    assert!(swing.report.global_error_control.is_empty() && swing.report.global_error.is_some(), "{:?}", swing.report.global_error_control);
 }
 
 /// The swinging pendulum with its steps held at 1 ms by the largest step (`h_max`), BDF at 1e-5: the run

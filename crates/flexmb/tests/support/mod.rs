@@ -92,13 +92,19 @@ impl Run {
     }
 }
 
-/// Runs a simulation and collects every output frame; the error keeps the frames received before it.
+/// Runs a simulation and collects every output frame (of the last run, where global error control ran it
+/// again); the error keeps the frames received before it.
 #[allow(clippy::result_large_err)]
 pub fn try_run(model: &Model, settings: &SimulationSettings) -> Result<Run, (SimulationError, Run)> {
     let columns: Vec<String> = output_columns(model).into_iter().map(|c| c.name).collect();
     let mut t = Vec::new();
     let mut rows = Vec::new();
     let result = simulate(model, settings, &mut |f| {
+        // Global error control runs again from t = 0: the last run's frames are the results.
+        if f.t == 0.0 {
+            t.clear();
+            rows.clear();
+        }
         t.push(f.t);
         rows.push(f.values.to_vec());
     });

@@ -55,7 +55,7 @@ impl DivergenceCheck {
     /// onto the velocity constraints, then scaled to that distance). `None` where the shadow cannot be started or
     /// the constraints leave the velocities no freedom (a fully driven mechanism).
     pub(super) fn start(run: &Simulation) -> Option<Self> {
-        let settings = SimulationSettings { divergence_check: false, global_error_estimate: false, ..run.settings };
+        let settings = SimulationSettings { divergence_check: false, global_error_estimate: false, global_error_control: None, ..run.settings };
         let mut shadow = Simulation::new(std::sync::Arc::clone(&run.model), settings).ok()?;
         let (rtol, atol) = (settings.tolerances.rtol, settings.tolerances.atol);
         let (nq, nv) = (run.model.layout.nq, run.model.layout.nv);

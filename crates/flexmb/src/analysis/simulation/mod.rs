@@ -9,6 +9,7 @@
 mod checkpoint;
 mod divergence;
 mod global_error;
+mod global_error_control;
 mod output;
 mod report;
 mod set_state;
@@ -20,6 +21,7 @@ use std::time::Instant;
 
 pub use checkpoint::{SimulationCheckpoint, CHECKPOINT_VERSION};
 pub use global_error::{GlobalErrorEstimate, GlobalErrorNorm};
+pub use global_error_control::{global_error_rerun, ControlledRun, GlobalErrorControl, MAX_RERUNS};
 pub use output::{OutputFrame, OutputSink, OutputTable};
 pub use report::{Interruption, SimulationError, SimulationFailure, SimulationReport, WorkAtStep};
 pub use set_state::StateProjection;
@@ -134,7 +136,7 @@ impl Simulation {
                 if simulation.settings.divergence_check {
                     simulation.divergence = divergence::DivergenceCheck::start(&simulation).map(Box::new);
                 }
-                if simulation.settings.global_error_estimate {
+                if simulation.settings.global_error_estimate || simulation.settings.global_error_control.is_some() {
                     match global_error::Reintegration::start(&simulation) {
                         Ok(estimate) => simulation.global_error = Some(Box::new(estimate)),
                         Err(reason) => simulation.report.warnings.push(SimulationWarning {
@@ -829,17 +831,40 @@ pub fn simulate(
 
 /// [`simulate`], asking `interrupt` after every accepted step (once its output frames are reported)
 /// whether to stop; when it answers with a reason, the run ends there and its report carries
-/// [`SimulationReport::interrupted`]. A [`Simulation`] on a copy of `model`, run to its end.
+/// [`SimulationReport::interrupted`]. A [`Simulation`] on a copy of `model`, run to its end; with
+/// [`SimulationSettings::global_error_control`], again from the start as long as
+/// [`global_error_rerun`] asks (`observer` then sees each run's frames from t = 0, the last run's being
+/// the results; the report is the last run's, with the earlier ones in
+/// [`SimulationReport::global_error_control`]).
 pub fn simulate_interruptible(
     model: &Model,
     settings: &SimulationSettings,
     observer: &mut dyn FnMut(&OutputFrame),
     interrupt: &dyn Fn() -> Option<String>,
 ) -> Result<SimulationReport, SimulationError> {
-    let mut simulation = Simulation::new(Arc::new(model.clone()), *settings)?;
-    match simulation.run(&mut |frame: &OutputFrame| observer(frame), interrupt) {
-        Ok(()) => Ok(simulation.into_report()),
-        Err(cause) => Err(SimulationError { cause, report: Box::new(simulation.into_report()) }),
+    let model = Arc::new(model.clone());
+    let (mut settings, mut earlier) = (*settings, Vec::new());
+    loop {
+        let mut simulation = Simulation::new(Arc::clone(&model), settings).map_err(|mut e| {
+            e.report.global_error_control = std::mem::take(&mut earlier);
+            e
+        })?;
+        let run = simulation.run(&mut |frame: &OutputFrame| observer(frame), interrupt);
+        let mut report = simulation.into_report();
+        let rerun = run.is_ok().then(|| global_error_rerun(&settings, &report, earlier.len())).flatten();
+        match (run, rerun) {
+            (Ok(()), Some((finer, this))) => {
+                settings = finer;
+                earlier.push(this);
+            }
+            (run, _) => {
+                report.global_error_control = earlier;
+                return match run {
+                    Ok(()) => Ok(report),
+                    Err(cause) => Err(SimulationError { cause, report: Box::new(report) }),
+                };
+            }
+        }
     }
 }
 

@@ -67,6 +67,11 @@ pub struct SimulationReport {
     /// ([`SimulationSettings::global_error_estimate`](super::SimulationSettings::global_error_estimate)).
     #[serde(default)]
     pub global_error: Option<super::GlobalErrorEstimate>,
+    /// The runs that global error control ([`SimulationSettings::global_error_control`](super::SimulationSettings::global_error_control))
+    /// ran again before this one, finer, in order (empty where the first run kept the tolerance asked
+    /// for, or without the control). Filled by the caller that ran them ([`simulate`](super::simulate)).
+    #[serde(default)]
+    pub global_error_control: Vec<super::ControlledRun>,
 }
 
 /// The work of the non-conservative forces accumulated over the accepted steps and output times, the

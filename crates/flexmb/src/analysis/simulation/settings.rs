@@ -37,6 +37,15 @@ pub struct SimulationSettings {
     /// (docs/accuracy.md, *The global error estimate*). It costs the finer run, about 1.6 to 2.5 times
     /// the run's. Not kept in a checkpoint; a [`set_state`](super::Simulation::set_state) ends it. Default off.
     pub global_error_estimate: bool,
+    /// Global error control by reintegration: the global error is estimated (as with
+    /// [`global_error_estimate`](Self::global_error_estimate)) against these tolerances, those asked for,
+    /// and a run whose estimate exceeds 10 of them is run again from the start at the tolerances that
+    /// bring it to about one ([`global_error_rerun`](super::global_error_rerun), at most
+    /// [`MAX_RERUNS`](super::MAX_RERUNS) times; docs/accuracy.md, *Global error control*). The runs again
+    /// are the callers': [`simulate`](super::simulate) does them (its observer sees each from t = 0), a
+    /// [`Simulation`](super::Simulation) stepped by hand does not. Costs the estimate and the runs again.
+    /// Default `None` (off).
+    pub global_error_control: Option<super::GlobalErrorControl>,
 }
 
 impl Default for SimulationSettings {
@@ -51,6 +60,7 @@ impl Default for SimulationSettings {
             physics_limits: PhysicsLimits::default(),
             divergence_check: false,
             global_error_estimate: false,
+            global_error_control: None,
         }
     }
 }
