@@ -106,6 +106,12 @@ enum Command {
         /// 1.6 to 2.5 times the run). Default the model's [simulation] global_error_estimate, else off
         #[arg(long)]
         global_error_estimate: bool,
+        /// Global error control: estimate the global error (as --global-error-estimate) and, where it
+        /// exceeds 10 tolerances, run again from the start at the tolerances that bring it to about one
+        /// (at most twice); the results are the last run's. Default the model's [simulation]
+        /// global_error_control, else off
+        #[arg(long)]
+        global_error_control: bool,
         /// Directory for the result files.
         #[arg(long, default_value = "out")]
         out: PathBuf,
@@ -417,7 +423,7 @@ fn main() -> ExitCode {
     let _ = flexmb_cli::interrupt::end_on_closed_pipe();
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Run { model, parameter, t_end, output_step, rtol, atol, tolerance_span, integrator, spectral_radius, max_step, fixed_step, divergence_check, global_error_estimate, out, quiet, vtk, vtk_step, plot, max_output_rows, max_vtk_frames, save_state, resume, pause_at } => {
+        Command::Run { model, parameter, t_end, output_step, rtol, atol, tolerance_span, integrator, spectral_radius, max_step, fixed_step, divergence_check, global_error_estimate, global_error_control, out, quiet, vtk, vtk_step, plot, max_output_rows, max_vtk_frames, save_state, resume, pause_at } => {
             let options = RunOptions {
                 t_end,
                 output_step,
@@ -430,6 +436,7 @@ fn main() -> ExitCode {
                 fixed_step,
                 divergence_check,
                 global_error_estimate,
+                global_error_control,
                 out_dir: out,
                 quiet,
                 vtk_dir: vtk,

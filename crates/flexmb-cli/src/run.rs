@@ -36,6 +36,8 @@ pub struct RunOptions {
     pub divergence_check: bool,
     /// Estimate the global error (`--global-error-estimate`), whatever the model file's `global_error_estimate`.
     pub global_error_estimate: bool,
+    /// Global error control (`--global-error-control`), whatever the model file's `global_error_control`.
+    pub global_error_control: bool,
     pub out_dir: PathBuf,
     pub quiet: bool,
     /// Directory for a ParaView time series of the run (`--vtk`); none if not given.
@@ -143,6 +145,7 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
     }
     d.divergence_check |= options.divergence_check;
     d.global_error_estimate |= options.global_error_estimate;
+    d.global_error_control |= options.global_error_control;
     let (t_end, output_step) = (d.t_end, d.output_step);
     let max_rows = options.max_output_rows.unwrap_or(d.max_output_rows);
     check_output_rows(t_end, output_step, max_rows, true).map_err(|e| CliError(format!("{}: {e}", path.display())))?;

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use flexmb::analysis::{
-    output_columns, OutputColumn, OutputFrame, OutputSink, PhysicsLimits, PhysicsMeasures, Simulation, SimulationError, SimulationFailure, SimulationReport,
+    global_error_rerun, output_columns, OutputColumn, OutputFrame, OutputSink, PhysicsLimits, PhysicsMeasures, Simulation, SimulationError, SimulationFailure, SimulationReport,
     SimulationSettings,
 };
 use flexmb::Model;
@@ -75,6 +75,9 @@ pub struct RunRequest<'a> {
     pub integrator: &'a str,
     /// The physics watchdog's thresholds.
     pub limits: PhysicsLimits,
+    /// The tolerances asked of global error control, if it was on (`rtol` and `atol` are then the run's,
+    /// finer where it ran again).
+    pub global_error_control: Option<flexmb::analysis::GlobalErrorControl>,
 }
 
 impl<'a> RunRequest<'a> {
@@ -90,6 +93,7 @@ impl<'a> RunRequest<'a> {
             atol: settings.tolerances.atol,
             integrator: if report.method.is_empty() { "bdf" } else { report.method },
             limits: settings.physics_limits,
+            global_error_control: settings.global_error_control,
         }
     }
 }
@@ -192,6 +196,15 @@ pub fn summary_json(
             "shadow_steps": g.shadow_steps,
         });
     }
+    if let Some(control) = &request.global_error_control {
+        summary["statistics"]["global_error_control"] = json!({
+            "asked_rtol": control.rtol,
+            "asked_atol": control.atol,
+            "rtol": request.rtol,
+            "atol": request.atol,
+            "earlier_runs": report.global_error_control,
+        });
+    }
     if let Some(i) = &report.interrupted {
         summary["interrupted_at"] = json!(i.t);
         summary["reason"] = json!(i.reason);
@@ -258,9 +271,16 @@ pub fn summary_text(report: &SimulationReport) -> String {
     )
 }
 
-/// The global error estimated by reintegration, one line, if it was.
+/// The global error estimated by reintegration, one line, if it was; a line per run that global error
+/// control ran again before it.
 fn global_error_text(report: &SimulationReport) -> String {
-    report.global_error.map_or(String::new(), |g| {
+    let earlier = report.global_error_control.iter().map(|r| {
+        format!(
+            "\n  global error control  the run at rtol {:.2e} ({} steps) was estimated {:.2e} off ({:.1} tolerances asked for): run again finer",
+            r.rtol, r.steps, r.estimate, r.tolerances
+        )
+    });
+    earlier.collect::<String>() + &report.global_error.map_or(String::new(), |g| {
         let norm = match g.norm {
             flexmb::analysis::GlobalErrorNorm::PositionOutputs => "position outputs",
             flexmb::analysis::GlobalErrorNorm::State => "positions and velocities",
@@ -388,7 +408,20 @@ pub fn record_model_run(
         .transpose()
         .map_err(ResultFileError)?;
     let mut stresses = StressMonitor::new(loaded);
+    let mut last_t = f64::NEG_INFINITY;
+    let mut restart_error = None;
     let observe = &mut |frame: &OutputFrame| {
+        // Global error control ran the model again from the start: the series and the stresses begin anew.
+        if frame.t <= last_t {
+            stresses = StressMonitor::new(loaded);
+            if let Some(p) = outputs.paraview.as_ref().filter(|_| series.is_some()) {
+                match RunSeries::create(&p.dir, &p.name, loaded, p.times, p.max_frames) {
+                    Ok(s) => series = Some(s),
+                    Err(e) => restart_error = Some(e),
+                }
+            }
+        }
+        last_t = frame.t;
         stresses.observe(&loaded.model, frame);
         if let Some(series) = series.as_mut() {
             series.observe(frame);
@@ -396,6 +429,9 @@ pub fn record_model_run(
         observe(frame);
     };
     let run = record_run(&loaded.model, settings, model_file, (&outputs.csv, &outputs.summary), restart, observe, interrupt)?;
+    if let Some(e) = restart_error {
+        return Err(ResultFileError(e));
+    }
     let paraview = series.map(RunSeries::finish).transpose().map_err(ResultFileError)?;
     let hot_spots = stresses.hot_spots();
     if !stresses.is_empty() {
@@ -429,7 +465,7 @@ pub fn record_run(
     observe: &mut dyn FnMut(&OutputFrame),
     interrupt: &dyn Fn() -> Option<String>,
 ) -> Result<RecordedRun, ResultFileError> {
-    let (started, resumed_at) = match restart.resume {
+    let (mut started, resumed_at) = match restart.resume {
         Some(file) => {
             let (simulation, t) = resume_simulation(model, settings, file)?;
             (Ok(simulation), Some((file, t)))
@@ -437,34 +473,51 @@ pub fn record_run(
         None => (Simulation::new(Arc::clone(model), *settings), None),
     };
     let columns = output_columns(model);
-    let mut csv = CsvWriter::create(csv_path, &columns).map_err(|e| ResultFileError(format!("cannot write {}: {e}", csv_path.display())))?;
+    let create_csv = || CsvWriter::create(csv_path, &columns).map_err(|e| ResultFileError(format!("cannot write {}: {e}", csv_path.display())));
+    let mut csv = create_csv()?;
     let mut write_error: Option<std::io::Error> = None;
     let mut simulation = None;
-    let result = started.and_then(|mut s| {
-        let sink = &mut |frame: &OutputFrame| {
-            if write_error.is_none() {
-                write_error = csv.write_row(frame.t, frame.values).err();
+    // Global error control runs again from the start, into new files, a run whose estimate is beyond
+    // the tolerance (not a run resumed or paused: their estimate covers part of the run).
+    let (mut settings, mut earlier) = (*settings, Vec::new());
+    let controlled = restart.resume.is_none() && restart.pause_at.is_none();
+    let result = loop {
+        let result = started.and_then(|mut s| {
+            let sink = &mut |frame: &OutputFrame| {
+                if write_error.is_none() {
+                    write_error = csv.write_row(frame.t, frame.values).err();
+                }
+                observe(frame);
+            };
+            let run = match restart.pause_at {
+                None => s.run(sink, interrupt),
+                Some(t_pause) => run_with_pause(&mut s, t_pause, sink, interrupt),
+            };
+            let report = s.report().clone();
+            simulation = Some(s);
+            match run {
+                Ok(()) => Ok(report),
+                Err(cause) => Err(SimulationError { cause, report: Box::new(report) }),
             }
-            observe(frame);
+        });
+        let rerun = match &result {
+            Ok(report) if controlled && write_error.is_none() => global_error_rerun(&settings, report, earlier.len()),
+            _ => None,
         };
-        let run = match restart.pause_at {
-            None => s.run(sink, interrupt),
-            Some(t_pause) => run_with_pause(&mut s, t_pause, sink, interrupt),
-        };
-        let report = s.report().clone();
-        simulation = Some(s);
-        match run {
-            Ok(()) => Ok(report),
-            Err(cause) => Err(SimulationError { cause, report: Box::new(report) }),
-        }
-    });
+        let Some((finer, this)) = rerun else { break result };
+        (settings, csv) = (finer, create_csv()?);
+        earlier.push(this);
+        started = Simulation::new(Arc::clone(model), settings);
+    };
     if let Some(e) = write_error {
         return Err(ResultFileError(format!("cannot write {}: {e}", csv_path.display())));
     }
-    let (report, error) = match result {
+    let (mut report, error) = match result {
         Ok(r) => (r, None),
         Err(e) => ((*e.report).clone(), Some(e.to_string())),
     };
+    report.global_error_control = earlier;
+    let settings = &settings;
     let request = RunRequest::of(model, settings, model_file, &report);
     let mut summary = summary_json(&request, &report, &columns, csv_path, error.as_deref());
     if let Some((file, t)) = resumed_at {

@@ -97,6 +97,11 @@ pub struct SimulationDefaults {
     /// [`SimulationSettings::global_error_estimate`](flexmb::analysis::SimulationSettings::global_error_estimate)).
     /// Default off.
     pub global_error_estimate: bool,
+    /// Global error control: the global error estimated against `rtol` and `atol`, and a run whose estimate
+    /// exceeds 10 tolerances run again finer (`global_error_control`,
+    /// [`SimulationSettings::global_error_control`](flexmb::analysis::SimulationSettings::global_error_control)).
+    /// Default off.
+    pub global_error_control: bool,
 }
 
 impl Default for SimulationDefaults {
@@ -119,6 +124,7 @@ impl Default for SimulationDefaults {
             physics_limits: flexmb::analysis::PhysicsLimits::default(),
             divergence_check: false,
             global_error_estimate: false,
+            global_error_control: false,
         }
     }
 }
@@ -189,6 +195,9 @@ impl SimulationDefaults {
             physics_limits: self.physics_limits,
             divergence_check: self.divergence_check,
             global_error_estimate: self.global_error_estimate,
+            global_error_control: self
+                .global_error_control
+                .then_some(flexmb::analysis::GlobalErrorControl { rtol: self.rtol, atol: self.atol }),
         }
     }
 }

@@ -76,6 +76,7 @@ pub(crate) struct SimulationSection {
     pub energy_balance_limit: Option<Number>,
     pub divergence_check: Option<bool>,
     pub global_error_estimate: Option<bool>,
+    pub global_error_control: Option<bool>,
 }
 
 /// `[[body]]`: a rigid body.

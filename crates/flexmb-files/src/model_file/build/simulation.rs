@@ -152,6 +152,7 @@ pub(crate) fn simulation_defaults(
         max_vtk_frames: limit(&s.max_vtk_frames, "max_vtk_frames", defaults.max_vtk_frames)?,
         divergence_check: s.divergence_check.unwrap_or(defaults.divergence_check),
         global_error_estimate: s.global_error_estimate.unwrap_or(defaults.global_error_estimate),
+        global_error_control: s.global_error_control.unwrap_or(defaults.global_error_control),
         physics_limits: physics_limits(ctx, s, &|value, name, default| positive(value, name, default, Some(Quantity::Factor)))?,
     })
 }

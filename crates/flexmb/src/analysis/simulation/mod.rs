@@ -436,6 +436,12 @@ impl Simulation {
         &self.report
     }
 
+    /// Records in the report the runs that global error control ran again before this one
+    /// ([`SimulationReport::global_error_control`]), for a caller that runs them as [`simulate`] does.
+    pub fn record_earlier_runs(&mut self, earlier: Vec<ControlledRun>) {
+        self.report.global_error_control = earlier;
+    }
+
     /// The report, ending the simulation.
     pub fn into_report(self) -> SimulationReport {
         self.report
