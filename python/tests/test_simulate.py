@@ -119,3 +119,23 @@ def test_a_failing_run_raises_simulation_error_with_the_program_s_message_and_th
     written = len((tmp_path / "runaway.csv").read_text().splitlines()) - 1
     assert len(results) == written and 0 < written <= 6  # t = 0 … 0.05 at most
     assert results.time[-1] <= 0.05
+
+
+def test_global_error_control_returns_the_run_made_again_at_the_tolerance_it_asks_for(models):
+    # models/four_bar.toml turns global error control on: its run at rtol 1e-6 is estimated about 18
+    # tolerances off, so it is made again at rtol / 18; the results are that run's, the same numbers as
+    # a run asked for at that rtol directly, without the control.
+    text = (models / "four_bar.toml").read_text()
+    assert "global_error_control = true" in text
+    model = flexmb.load(models / "four_bar.toml")
+    controlled = model.simulate()
+    control = controlled.stats["global_error_control"]
+    assert control["asked_rtol"] == 1e-6 and len(control["earlier_runs"]) == 1, control
+    first = control["earlier_runs"][0]
+    assert first["rtol"] == 1e-6 and 15.0 < first["tolerances"] < 25.0, control
+    assert control["rtol"] == pytest.approx(1e-6 / first["tolerances"], rel=1e-12), control
+    assert controlled.stats["global_error_estimate"]["tolerances"] < 10.0, controlled.stats
+    uncontrolled = flexmb.loads(text.replace("global_error_control = true", "global_error_estimate = true"))
+    direct = uncontrolled.simulate(rtol=control["rtol"], atol=control["atol"])
+    assert "global_error_control" not in direct.stats
+    np.testing.assert_array_equal(direct.values, controlled.values)

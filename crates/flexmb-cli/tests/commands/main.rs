@@ -14,6 +14,7 @@ mod fe_model_file;
 mod flexible_dynamics;
 mod flexible_model_file;
 mod geometric_stiffening;
+mod global_error_control;
 mod high_mode_damping;
 mod interrupted_run;
 mod jacobian_age;
