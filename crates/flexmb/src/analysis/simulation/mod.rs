@@ -33,6 +33,7 @@ use super::{assemble, linearize_at, static_equilibrium, velocity_analysis, Accel
 use crate::analysis::EquilibriumSettings;
 use crate::data::Data;
 use crate::integrate::Adams;
+use crate::integrate::passed_rounding::passed_warning;
 use crate::integrate::share_floor::floor_warning;
 use crate::integrate::{Bdf, Integrator, Method};
 use crate::integrate::GeneralizedAlpha;
@@ -544,6 +545,11 @@ impl Simulation {
         let (t, tolerances) = (self.integrator.t(), &self.settings.tolerances);
         if let Some(message) = floor_warning(floor_held_before, &self.report.stats, tolerances.rtol, tolerances.span.seconds(), t, self.settings.t_end) {
             self.report.warnings.push(SimulationWarning { t, kind: WarningKind::Tolerance, message });
+        }
+        if step.is_ok() && t >= self.settings.t_end {
+            if let Some(message) = passed_warning(&self.report.stats, tolerances.rtol, tolerances.span.seconds(), self.settings.t_end) {
+                self.report.warnings.push(SimulationWarning { t, kind: WarningKind::Tolerance, message });
+            }
         }
         if rounding_before == 0 && self.report.stats.rounding_floor_steps > 0 {
             let message = rounding_floor_warning(self.report.stats.rounding_floor, self.settings.tolerances.rtol);
