@@ -546,11 +546,6 @@ impl Simulation {
         if let Some(message) = floor_warning(floor_held_before, &self.report.stats, tolerances.rtol, tolerances.span.seconds(), t, self.settings.t_end) {
             self.report.warnings.push(SimulationWarning { t, kind: WarningKind::Tolerance, message });
         }
-        if step.is_ok() && t >= self.settings.t_end {
-            if let Some(message) = passed_warning(&self.report.stats, tolerances.rtol, tolerances.span.seconds(), self.settings.t_end) {
-                self.report.warnings.push(SimulationWarning { t, kind: WarningKind::Tolerance, message });
-            }
-        }
         if rounding_before == 0 && self.report.stats.rounding_floor_steps > 0 {
             let message = rounding_floor_warning(self.report.stats.rounding_floor, self.settings.tolerances.rtol);
             self.report.warnings.push(SimulationWarning { t: self.integrator.t(), kind: WarningKind::Tolerance, message });
@@ -561,6 +556,13 @@ impl Simulation {
             let (held, near) = (stats.singular_position_tolerance, stats.singular_position_steps);
             if let Some(message) = singular_position_warning(condition, rtol, held, near) {
                 self.report.warnings.push(SimulationWarning { t: self.integrator.t(), kind: WarningKind::Tolerance, message });
+            }
+        }
+        // At the end of the run, after the warnings of its last step.
+        let tolerances = &self.settings.tolerances;
+        if step.is_ok() && t >= self.settings.t_end {
+            if let Some(message) = passed_warning(&self.report.stats, tolerances.rtol, tolerances.span.seconds(), self.settings.t_end) {
+                self.report.warnings.push(SimulationWarning { t, kind: WarningKind::Tolerance, message });
             }
         }
         self.report.t_reached = self.integrator.t();
