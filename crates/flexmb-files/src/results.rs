@@ -161,6 +161,7 @@ pub fn summary_json(
             "singular_position_tolerance": s.singular_position_tolerance,
             "share_floor_steps": s.share_floor_steps,
             "share_floor": s.share_floor,
+            "rounding_passed": s.rounding_passed,
             "steps_per_order": orders,
             "rms_step_size": s.rms_step(),
             "wall_time_s": report.wall_time,

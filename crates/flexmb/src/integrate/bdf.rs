@@ -26,6 +26,7 @@ use crate::integrate::error_norm::{error_weight, weighted_rms_norm};
 use crate::integrate::iteration_matrix::IterationMatrix;
 use crate::integrate::newton::{self, ConvergenceTest, NewtonSystem};
 use crate::integrate::newton_rounding::{RoundingFloor, CHANGE_RATIO, NOISE_CEILING};
+use crate::integrate::passed_rounding;
 use crate::integrate::rounding_level::rounding_residual;
 use crate::integrate::share_floor::{ShareFloor, BDF_NEWTON_FLOOR, FINE_STEP_FLOOR};
 use crate::integrate::singular_position::SingularPassage;
@@ -489,6 +490,8 @@ impl Bdf {
             self.reuse.rate.converged(t_new, test.slowest, test.first_increment);
             let safety = 0.9 * (2 * SAFETY_ITERATIONS + 1) as f64 / (2 * SAFETY_ITERATIONS + iterations) as f64;
             let mut error_norm = self.local_error();
+            // What passes beyond the share if a test below lets the estimate pass as rounding.
+            let beyond_share = passed_rounding::beyond_share(error_norm, self.share, self.tolerances.rtol);
             if error_norm > 1.0 && self.share_floor.is_noise(h, error_norm * self.share, self.tolerances.rtol) {
                 // Noise, not error: the floor is now twice it.
                 self.share = self.step_share();
@@ -532,6 +535,7 @@ impl Bdf {
                 continue;
             }
             self.stability.accepted(h, error_norm);
+            self.stats.rounding_passed += beyond_share;
             self.share_floor.accepted(h, self.share);
             self.rounding.accepted(test.at_floor);
             if self.amplification > 1.0 {

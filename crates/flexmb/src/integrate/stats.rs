@@ -57,6 +57,13 @@ pub struct Stats {
     /// That floor relative to the solution (1e-13 for the BDF); 0 when no step was held to it.
     #[serde(default)]
     pub share_floor: f64,
+    /// What the accepted steps let pass as rounding, relative to the solution, added up over the run: the
+    /// parts of their local error estimates above their share of the tolerance that passed because they
+    /// were at the rounding level (near a singular position, at the Newton increments' rounding floor, or
+    /// noise that no shorter step resolves; the BDF, `integrate/passed_rounding.rs`). A bound on what the
+    /// global error may exceed the tolerance by; 0 when nothing passed.
+    #[serde(default)]
+    pub rounding_passed: f64,
 }
 
 impl Stats {
@@ -87,6 +94,7 @@ impl Stats {
             singular_position_tolerance: finest_nonzero(self.singular_position_tolerance, later.singular_position_tolerance),
             share_floor_steps: self.share_floor_steps + later.share_floor_steps,
             share_floor: self.share_floor.max(later.share_floor),
+            rounding_passed: self.rounding_passed + later.rounding_passed,
         }
     }
 

@@ -33,6 +33,7 @@ use super::{assemble, linearize_at, static_equilibrium, velocity_analysis, Accel
 use crate::analysis::EquilibriumSettings;
 use crate::data::Data;
 use crate::integrate::Adams;
+use crate::integrate::passed_rounding::passed_warning;
 use crate::integrate::share_floor::floor_warning;
 use crate::integrate::{Bdf, Integrator, Method};
 use crate::integrate::GeneralizedAlpha;
@@ -555,6 +556,13 @@ impl Simulation {
             let (held, near) = (stats.singular_position_tolerance, stats.singular_position_steps);
             if let Some(message) = singular_position_warning(condition, rtol, held, near) {
                 self.report.warnings.push(SimulationWarning { t: self.integrator.t(), kind: WarningKind::Tolerance, message });
+            }
+        }
+        // At the end of the run, after the warnings of its last step.
+        let tolerances = &self.settings.tolerances;
+        if step.is_ok() && t >= self.settings.t_end {
+            if let Some(message) = passed_warning(&self.report.stats, tolerances.rtol, tolerances.span.seconds(), self.settings.t_end) {
+                self.report.warnings.push(SimulationWarning { t, kind: WarningKind::Tolerance, message });
             }
         }
         self.report.t_reached = self.integrator.t();
