@@ -15,7 +15,8 @@
 //!    Euler parameters rescaled again. The first iterations reuse the factors of the predicted state's
 //!    evaluation (a chord iteration; the two states differ by about the local error), refactoring at
 //!    the current positions only if the convergence is slow. Converged when the largest `|Φ|` is below
-//!    1 % of `atol` or the last correction below 10⁻³ of the error tolerance.
+//!    1 % of `atol` or the last correction below 10⁻³ of the error tolerance; near a singular position on
+//!    to the rounding ([`super::rounding_projection`]).
 //! 3. **Velocities**: the same metric, `[M Bᵀ; B 0] [δv; z] = [0; −(B v + Φ_t)]`, exact in one solve;
 //!    the matrix is factored at the projected positions, and the same factors then give the
 //!    accelerations at the projected state, which enter the difference table. So the projection costs

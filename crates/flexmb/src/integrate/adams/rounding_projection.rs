@@ -13,9 +13,15 @@
 //!
 //! Near a singular position ([`SingularPassage::near`]: one is predicted ahead, or one was passed and `κ`
 //! has not yet fallen back to the watch) the projection therefore goes on to [`ROUNDING_RESIDUAL`], as long
-//! as each iteration still lowers the residual; where it stops falling (the rounding of `Φ` and of the
+//! as each iteration still halves the residual; where it stops falling (the rounding of `Φ` and of the
 //! corrections, amplified by `κ`) the state is taken as projected once the ordinary test is met. Away
-//! from singular positions nothing changes.
+//! from singular positions nothing changes. Measured on the double four-bar over the run (B0 against the
+//! exact path, `docs/accuracy/double_four_bar_exact.py`): 1e-3 to 1e-10 within 10 tolerances (5.2, 3.6,
+//! 4.4, 4.7, 2.8, 5.5, 9.0, 6.8; 277 to 1,124 steps), 1e-12 bit-identical. Applied only from a larger `κ`
+//! (30 to 300) or only where the guard's amplified rounding does not matter to the step, one tolerance or
+//! another missed the 10 (docs/accuracy.md, *The position projection on to the rounding near a
+//! position*). The 3-D slider-crank's dip to κ ≈ 25 counts as near: over the run its error rose from
+//! 0.13 to 1.15 tolerances at 1e-6, within the promise.
 
 use crate::integrate::singular_position::SingularPassage;
 
