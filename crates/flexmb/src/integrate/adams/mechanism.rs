@@ -44,6 +44,7 @@ use crate::stage::position_rates;
 use super::method::{AdamsStepper, AttemptFailure, EvaluationFailure, OdeSystem, StepControl, StepFailure};
 use super::partitioning::{PartitionReport, PartitionedMechanism};
 use super::projection::{ProjectedMechanism, ProjectionDrift};
+use super::rounding_projection::near_singular_position;
 use super::{AdamsConfig, ConstraintHandling};
 
 /// The mechanism as an ODE, either way.
@@ -123,6 +124,9 @@ impl OdeSystem for Guarded<'_> {
         self.system.rhs(t, y, dy)
     }
     fn accept(&mut self, t: f64, y: &mut [f64], dy: &mut [f64]) -> Result<(), EvaluationFailure> {
+        if let System::Projection(s) = &mut *self.system {
+            s.near_singular_position = near_singular_position(self.singular);
+        }
         self.system.accept(t, y, dy)
     }
     fn predicted(&mut self, t: f64, y: &mut [f64], dy: &mut [f64]) -> Result<(), EvaluationFailure> {

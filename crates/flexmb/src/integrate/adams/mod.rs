@@ -31,6 +31,7 @@ mod partitioning;
 mod projection;
 #[cfg(test)]
 mod projection_tests;
+mod rounding_projection;
 
 pub use mechanism::Adams;
 pub use method::{

@@ -15,7 +15,8 @@
 //!    Euler parameters rescaled again. The first iterations reuse the factors of the predicted state's
 //!    evaluation (a chord iteration; the two states differ by about the local error), refactoring at
 //!    the current positions only if the convergence is slow. Converged when the largest `|Φ|` is below
-//!    1 % of `atol` or the last correction below 10⁻³ of the error tolerance.
+//!    1 % of `atol` or the last correction below 10⁻³ of the error tolerance; near a singular position on
+//!    to the rounding ([`super::rounding_projection`]).
 //! 3. **Velocities**: the same metric, `[M Bᵀ; B 0] [δv; z] = [0; −(B v + Φ_t)]`, exact in one solve;
 //!    the matrix is factored at the projected positions, and the same factors then give the
 //!    accelerations at the projected state, which enter the difference table. So the projection costs
@@ -43,6 +44,7 @@ use crate::integrate::error_norm::{error_weight, position_sum_of_squares, root_m
 use crate::math::{Vec3, Vec4};
 use crate::stage::{euler_parameter_rates, normalize_euler_parameters, position_rates};
 use super::method::{EvaluationFailure, OdeSystem};
+use super::rounding_projection::ROUNDING_RESIDUAL;
 
 /// Position Newton iterations of one projection, at most.
 const PROJECTION_ITERATIONS: usize = 6;
@@ -50,6 +52,8 @@ const PROJECTION_ITERATIONS: usize = 6;
 const CORRECTION_TOLERANCE: f64 = 1e-3;
 /// Or when the largest position residual is below this fraction of `atol`.
 const RESIDUAL_TOLERANCE: f64 = 1e-2;
+/// Iterations beyond [`PROJECTION_ITERATIONS`] on the way to [`ROUNDING_RESIDUAL`] near a singular position.
+const ROUNDING_ITERATIONS: usize = 4;
 
 const NO_CONVERGENCE: EvaluationFailure =
     EvaluationFailure("the projection onto the position constraints does not converge");
@@ -103,6 +107,9 @@ pub(super) struct ProjectedMechanism {
     atol: f64,
     pub evaluations: usize,
     pub drift: ProjectionDrift,
+    /// The step ends are near a singular position: the positions are projected on to the rounding
+    /// ([`super::rounding_projection`]); set by the guard before each step's acceptance.
+    pub near_singular_position: bool,
 }
 
 impl ProjectedMechanism {
@@ -119,6 +126,7 @@ impl ProjectedMechanism {
             atol,
             evaluations: 0,
             drift: ProjectionDrift::default(),
+            near_singular_position: false,
         }
     }
 
@@ -132,20 +140,30 @@ impl ProjectedMechanism {
     }
 
     /// Newton on `Φ(q, t) = 0` by minimum-norm (mass metric) corrections; `v` only feeds the kinematics.
+    /// Near a singular position ([`near_singular_position`](Self::near_singular_position)) on to
+    /// [`ROUNDING_RESIDUAL`] while the residual still falls ([`super::rounding_projection`]).
     fn project_positions(&mut self, t: f64, q: &mut [f64], v: &[f64]) -> Result<(), EvaluationFailure> {
         let model = &*self.model;
+        let to_rounding = self.near_singular_position;
+        let iterations = if to_rounding { PROJECTION_ITERATIONS + ROUNDING_ITERATIONS } else { PROJECTION_ITERATIONS };
         let mut previous = f64::INFINITY;
         let mut fresh = false;
-        for it in 0..PROJECTION_ITERATIONS {
+        // The ordinary test is met: the residual within 1 % of `atol` or the last correction small.
+        let mut converged = false;
+        for it in 0..=iterations {
+            if it == iterations && !to_rounding {
+                break;
+            }
             run_kinematic_stages(model, &mut self.data, t, q, v);
             let residual = position_residual(&self.data, &self.kkt.active);
             if it == 0 {
                 self.drift.max_position_residual = self.drift.max_position_residual.max(residual);
             }
-            if residual <= RESIDUAL_TOLERANCE * self.atol {
+            converged |= residual <= RESIDUAL_TOLERANCE * self.atol;
+            if converged && (!to_rounding || residual <= ROUNDING_RESIDUAL || residual > 0.5 * previous || it == iterations) {
                 return Ok(());
             }
-            if !residual.is_finite() || (fresh && residual > 0.5 * previous) {
+            if it == iterations || !residual.is_finite() || (fresh && residual > 0.5 * previous) {
                 return Err(NO_CONVERGENCE);
             }
             // The predictor's factors serve while the iteration contracts fast; else refactor here.
@@ -159,7 +177,10 @@ impl ProjectedMechanism {
             self.drift.newton_iterations += 1;
             let size = apply_correction(model, q, &self.kkt.rhs[..self.nv], self.rtol, self.atol);
             if size <= CORRECTION_TOLERANCE {
-                return Ok(());
+                if !to_rounding {
+                    return Ok(());
+                }
+                converged = true;
             }
         }
         Err(NO_CONVERGENCE)
