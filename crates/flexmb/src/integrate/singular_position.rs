@@ -387,8 +387,20 @@ impl SingularPassage {
     /// extrapolates `order + 1` earlier ones, each resolved to that rounding, which it amplifies by up to
     /// `2^(order+1) − 1`, and divides by `order + 1`.
     fn error_within_rounding(error: f64, rtol: f64, amplification: f64, order: usize) -> bool {
+        amplification > 1.0 && error <= Self::estimate_rounding(amplification, rtol, order)
+    }
+
+    /// The rounding of an error estimate of a method of order `order` near a singular position, in
+    /// tolerances at rtol `rtol`: `MARGIN · gain · 10 ε κ / rtol` with `κ` the amplification and `gain =
+    /// 2^(k+1)/(k + 1)` the predictor's ([`error_within_rounding`](Self::error_within_rounding)); 0 where
+    /// the rounding is not amplified (`amplification` at most 1). The BDF also keeps the Newton
+    /// increments' rounding level up to it (`Bdf::bounded_level`).
+    pub fn estimate_rounding(amplification: f64, rtol: f64, order: usize) -> f64 {
+        if amplification <= 1.0 {
+            return 0.0;
+        }
         let gain = (1u64 << (order + 1).min(12)) as f64 / (order + 1) as f64;
-        amplification > 1.0 && error * rtol <= MARGIN * gain * ROUND_OFF * amplification
+        MARGIN * gain * ROUND_OFF * amplification / rtol
     }
 
     /// An error estimate of `error` shares of the tolerance (each `share` tolerances) of a method of order
