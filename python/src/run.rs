@@ -3,7 +3,7 @@
 
 use std::sync::Arc;
 
-use flexmb::analysis::{global_error_rerun, OutputTable, Simulation as Engine, SimulationFailure, SimulationSettings};
+use flexmb::analysis::{run_under_global_error_control, OutputTable, Simulation as Engine, SimulationFailure, SimulationSettings};
 use pyo3::prelude::*;
 
 use crate::errors::SimulationError;
@@ -11,34 +11,27 @@ use crate::interrupt::SignalWatch;
 use crate::model::Model;
 use crate::results::Results;
 
-/// Runs `model` with `settings` to its end time; with global error control, again from the start while
-/// [`global_error_rerun`] asks (the results are the last run's, its report naming the earlier ones).
+/// Runs `model` with `settings` to its end time; with global error control, again from the start while it
+/// asks ([`run_under_global_error_control`]; the results are the last run's, its report naming the earlier ones).
 pub fn simulate(py: Python<'_>, model: &Model, settings: &SimulationSettings) -> PyResult<Results> {
-    let (mut settings, mut earlier) = (*settings, Vec::new());
-    loop {
+    let (outcome, _, earlier) = run_under_global_error_control(settings, |settings| {
         let engine = Arc::clone(&model.loaded.model);
-        let mut simulation = py.detach(|| Engine::new(engine, settings)).map_err(|e| crate::callable_law::start_error(py, &model.file, e))?;
+        let mut simulation = match py.detach(|| Engine::new(engine, *settings)) {
+            Ok(simulation) => simulation,
+            Err(e) => return (Err(e), None),
+        };
         let mut table = OutputTable::new(&model.loaded.model);
         let (run, raised) = py.detach(|| {
             let watch = SignalWatch::new();
             let run = simulation.run(&mut table, &|| watch.interrupted());
             (run, watch.into_raised())
         });
-        let rerun = match (&run, &raised) {
-            (Ok(()), None) => global_error_rerun(&settings, simulation.report(), earlier.len()),
-            _ => None,
-        };
-        match rerun {
-            Some((finer, this)) => {
-                settings = finer;
-                earlier.push(this);
-            }
-            None => {
-                simulation.record_earlier_runs(earlier);
-                return finish(py, &model.file, &simulation, &table, run, raised);
-            }
-        }
-    }
+        let completed = (run.is_ok() && raised.is_none()).then(|| simulation.report().clone());
+        (Ok((simulation, table, run, raised)), completed)
+    });
+    let (mut simulation, table, run, raised) = outcome.map_err(|e| crate::callable_law::start_error(py, &model.file, e))?;
+    simulation.record_earlier_runs(earlier);
+    finish(py, &model.file, &simulation, &table, run, raised)
 }
 
 /// The results of a run (or of the steps a `Simulation` took) that returned `run` and was stopped by the

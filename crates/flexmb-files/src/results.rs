@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use flexmb::analysis::{
-    global_error_rerun, output_columns, OutputColumn, OutputFrame, OutputSink, PhysicsLimits, PhysicsMeasures, Simulation, SimulationError, SimulationFailure, SimulationReport,
+    output_columns, run_under_global_error_control, OutputColumn, OutputFrame, OutputSink, PhysicsLimits, PhysicsMeasures, Simulation, SimulationError, SimulationFailure, SimulationReport,
     SimulationSettings,
 };
 use flexmb::Model;
@@ -466,7 +466,7 @@ pub fn record_run(
     observe: &mut dyn FnMut(&OutputFrame),
     interrupt: &dyn Fn() -> Option<String>,
 ) -> Result<RecordedRun, ResultFileError> {
-    let (mut started, resumed_at) = match restart.resume {
+    let (started, resumed_at) = match restart.resume {
         Some(file) => {
             let (simulation, t) = resume_simulation(model, settings, file)?;
             (Ok(simulation), Some((file, t)))
@@ -480,9 +480,19 @@ pub fn record_run(
     let mut simulation = None;
     // Global error control runs again from the start, into new files, a run whose estimate is beyond
     // the tolerance (not a run resumed or paused: their estimate covers part of the run).
-    let (mut settings, mut earlier) = (*settings, Vec::new());
     let controlled = restart.resume.is_none() && restart.pause_at.is_none();
-    let result = loop {
+    let mut first = Some(started);
+    let (result, settings, earlier) = run_under_global_error_control(settings, |settings| {
+        let started = match first.take() {
+            Some(started) => started,
+            None => match create_csv() {
+                Ok(new) => {
+                    csv = new;
+                    Simulation::new(Arc::clone(model), *settings)
+                }
+                Err(e) => return (Err(e), None),
+            },
+        };
         let result = started.and_then(|mut s| {
             let sink = &mut |frame: &OutputFrame| {
                 if write_error.is_none() {
@@ -501,15 +511,13 @@ pub fn record_run(
                 Err(cause) => Err(SimulationError { cause, report: Box::new(report) }),
             }
         });
-        let rerun = match &result {
-            Ok(report) if controlled && write_error.is_none() => global_error_rerun(&settings, report, earlier.len()),
+        let completed = match &result {
+            Ok(report) if controlled && write_error.is_none() => Some(report.clone()),
             _ => None,
         };
-        let Some((finer, this)) = rerun else { break result };
-        (settings, csv) = (finer, create_csv()?);
-        earlier.push(this);
-        started = Simulation::new(Arc::clone(model), settings);
-    };
+        (Ok(result), completed)
+    });
+    let result = result?;
     if let Some(e) = write_error {
         return Err(ResultFileError(format!("cannot write {}: {e}", csv_path.display())));
     }

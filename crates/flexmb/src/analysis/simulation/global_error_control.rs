@@ -77,3 +77,25 @@ pub fn global_error_rerun(
     let tolerances = Tolerances { rtol: rtol / n, atol: atol / n, ..settings.tolerances };
     Some((SimulationSettings { tolerances, ..*settings }, run))
 }
+
+/// Runs `run` with `settings`, then again from the start at the finer settings [`global_error_rerun`]
+/// asks for, as long as it asks: the one loop of global error control, whatever a run writes to (the
+/// engine's [`simulate_interruptible`](super::simulate_interruptible), the result files, the Python
+/// package's tables). `run` returns its outcome and, where the run completed and may be made again, its
+/// report. Returns the last run's outcome, its settings and the runs made again before it.
+pub fn run_under_global_error_control<T>(
+    settings: &SimulationSettings,
+    mut run: impl FnMut(&SimulationSettings) -> (T, Option<SimulationReport>),
+) -> (T, SimulationSettings, Vec<ControlledRun>) {
+    let (mut settings, mut earlier) = (*settings, Vec::new());
+    loop {
+        let (outcome, completed) = run(&settings);
+        match completed.and_then(|report| global_error_rerun(&settings, &report, earlier.len())) {
+            Some((finer, this)) => {
+                settings = finer;
+                earlier.push(this);
+            }
+            None => return (outcome, settings, earlier),
+        }
+    }
+}

@@ -21,7 +21,7 @@ use std::time::Instant;
 
 pub use checkpoint::{SimulationCheckpoint, CHECKPOINT_VERSION};
 pub use global_error::{GlobalErrorEstimate, GlobalErrorNorm};
-pub use global_error_control::{global_error_rerun, ControlledRun, GlobalErrorControl, MAX_RERUNS};
+pub use global_error_control::{global_error_rerun, run_under_global_error_control, ControlledRun, GlobalErrorControl, MAX_RERUNS};
 pub use output::{OutputFrame, OutputSink, OutputTable};
 pub use report::{Interruption, SimulationError, SimulationFailure, SimulationReport, WorkAtStep};
 pub use set_state::StateProjection;
@@ -857,27 +857,26 @@ pub fn simulate_interruptible(
     interrupt: &dyn Fn() -> Option<String>,
 ) -> Result<SimulationReport, SimulationError> {
     let model = Arc::new(model.clone());
-    let (mut settings, mut earlier) = (*settings, Vec::new());
-    loop {
-        let mut simulation = Simulation::new(Arc::clone(&model), settings).map_err(|mut e| {
-            e.report.global_error_control = std::mem::take(&mut earlier);
-            e
-        })?;
-        let run = simulation.run(&mut |frame: &OutputFrame| observer(frame), interrupt);
-        let mut report = simulation.into_report();
-        let rerun = run.is_ok().then(|| global_error_rerun(&settings, &report, earlier.len())).flatten();
-        match (run, rerun) {
-            (Ok(()), Some((finer, this))) => {
-                settings = finer;
-                earlier.push(this);
+    let (result, _, earlier) = run_under_global_error_control(settings, |settings| {
+        let result = Simulation::new(Arc::clone(&model), *settings).and_then(|mut simulation| {
+            let run = simulation.run(&mut |frame: &OutputFrame| observer(frame), interrupt);
+            let report = simulation.into_report();
+            match run {
+                Ok(()) => Ok(report),
+                Err(cause) => Err(SimulationError { cause, report: Box::new(report) }),
             }
-            (run, _) => {
-                report.global_error_control = earlier;
-                return match run {
-                    Ok(()) => Ok(report),
-                    Err(cause) => Err(SimulationError { cause, report: Box::new(report) }),
-                };
-            }
+        });
+        let completed = result.as_ref().ok().cloned();
+        (result, completed)
+    });
+    match result {
+        Ok(mut report) => {
+            report.global_error_control = earlier;
+            Ok(report)
+        }
+        Err(mut e) => {
+            e.report.global_error_control = earlier;
+            Err(e)
         }
     }
 }

@@ -44,7 +44,6 @@ use crate::stage::position_rates;
 use super::method::{AdamsStepper, AttemptFailure, EvaluationFailure, OdeSystem, StepControl, StepFailure};
 use super::partitioning::{PartitionReport, PartitionedMechanism};
 use super::projection::{ProjectedMechanism, ProjectionDrift};
-use super::rounding_projection::near_singular_position;
 use super::{AdamsConfig, ConstraintHandling};
 
 /// The mechanism as an ODE, either way.
@@ -125,7 +124,7 @@ impl OdeSystem for Guarded<'_> {
     }
     fn accept(&mut self, t: f64, y: &mut [f64], dy: &mut [f64]) -> Result<(), EvaluationFailure> {
         if let System::Projection(s) = &mut *self.system {
-            s.near_singular_position = near_singular_position(self.singular);
+            s.near_singular_position = self.singular.near();
         }
         self.system.accept(t, y, dy)
     }

@@ -11,7 +11,7 @@
 //! per unit step) at rtol = atol = 1e-3 to 1e-8 the runs left the parallelogram branch at the first or
 //! second singular position (B0 2 m off at 10 s), stalled or stopped there.
 //!
-//! Near a singular position ([`SingularPassage::near`]: one is predicted ahead, or one was passed and `κ`
+//! Near a singular position ([`SingularPassage::near`](crate::integrate::singular_position::SingularPassage::near): one is predicted ahead, or one was passed and `κ`
 //! has not yet fallen back to the watch) the projection therefore goes on to [`ROUNDING_RESIDUAL`], as long
 //! as each iteration still halves the residual; where it stops falling (the rounding of `Φ` and of the
 //! corrections, amplified by `κ`) the state is taken as projected once the ordinary test is met. Away
@@ -23,14 +23,6 @@
 //! position*). The 3-D slider-crank's dip to κ ≈ 25 counts as near: over the run its error rose from
 //! 0.13 to 1.15 tolerances at 1e-6, within the promise.
 
-use crate::integrate::singular_position::SingularPassage;
-
 /// The largest position residual `|Φ|` the projection iterates to near a singular position: a hundred
 /// units of rounding of constraints whose lengths are about 1 (the four-bar's links are 1 m).
 pub(super) const ROUNDING_RESIDUAL: f64 = 100.0 * f64::EPSILON;
-
-/// Whether the projection after an accepted step goes on to [`ROUNDING_RESIDUAL`]: the step ends are
-/// near a singular position ([`SingularPassage::near`]).
-pub(super) fn near_singular_position(singular: &SingularPassage) -> bool {
-    singular.near()
-}
