@@ -63,7 +63,11 @@ pub fn run_equilibrium(path: &Path, options: &EquilibriumOptions) -> Result<Equi
     std::fs::write(&json_path, text).map_err(|e| CliError(format!("cannot write {}: {e}", json_path.display())))?;
     let values = equilibrium_outputs(model, &mut data, &state, &report.multipliers).map_err(|e| fail(e.to_string()))?;
     let csv_path = options.out_dir.join("equilibrium.csv");
-    let write_csv = || -> std::io::Result<()> { CsvWriter::create(&csv_path, &output_columns(model))?.write_row(state.t, &values) };
+    let write_csv = || -> std::io::Result<()> {
+        let mut csv = CsvWriter::create(&csv_path, &output_columns(model))?;
+        csv.write_row(state.t, &values)?;
+        csv.flush()
+    };
     write_csv().map_err(|e| CliError(format!("cannot write {}: {e}", csv_path.display())))?;
     let pvd = if options.vtk {
         let times = SeriesTimes { step: None, output_step: 1.0, t_end: 1.0 };

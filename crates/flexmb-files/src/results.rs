@@ -4,6 +4,7 @@
 use std::fs::File;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 use flexmb::analysis::{
     output_columns, run_under_global_error_control, OutputColumn, OutputFrame, OutputSink, PhysicsLimits, PhysicsMeasures, Simulation, SimulationError, SimulationFailure, SimulationReport,
@@ -23,26 +24,51 @@ use crate::vtk::{RunSeries, SeriesTimes, SeriesWritten};
 pub struct ResultFileError(pub String);
 
 /// Streams output frames into a CSV file with a header `t,<column>,…`, a row per frame, every value
-/// written with the fewest digits that read back to the same double (Rust's shortest round-trip
-/// formatting: `0.1`, `1.2345678901234567`, `1e-7`, `-3.5e20`), each row flushed as it is written.
+/// written with the fewest digits that read back to the same double (the shortest round-trip
+/// formatting of `ryu`: `0.1`, `1.2345678901234567`, `1e-7`, `-3.5e20`; `NaN`, `inf`). Rows reach the
+/// file at least every [`FLUSH_INTERVAL`] of wall-clock time, so a long run's file grows as it runs,
+/// and at once when the writer is dropped: a run that fails, is interrupted or panics keeps every row.
+/// (A flush per row cost a system call per output time: on a run of 0.01 s with 501 rows, about a
+/// tenth of the process.)
 pub struct CsvWriter {
     path: PathBuf,
     out: csv::Writer<File>,
     rows: usize,
+    /// The number being formatted (no allocation per value).
+    number: ryu::Buffer,
+    last_flush: Instant,
 }
+
+/// The longest a written row waits in the writer's buffer before it is flushed to the file.
+pub const FLUSH_INTERVAL: Duration = Duration::from_millis(200);
 
 impl CsvWriter {
     /// Creates the file at `path` and writes the header: `t` and the columns' names.
     pub fn create(path: &Path, columns: &[OutputColumn]) -> std::io::Result<Self> {
         let mut out = csv::Writer::from_writer(File::create(path)?);
         out.write_record(std::iter::once("t").chain(columns.iter().map(|c| c.name.as_str())))?;
-        Ok(Self { path: path.to_path_buf(), out, rows: 0 })
+        out.flush()?;
+        Ok(Self { path: path.to_path_buf(), out, rows: 0, number: ryu::Buffer::new(), last_flush: Instant::now() })
     }
 
-    /// Appends one row and flushes it to the file.
+    /// Appends one row; flushes the rows written so far to the file when the last flush is
+    /// [`FLUSH_INTERVAL`] ago.
     pub fn write_row(&mut self, t: f64, values: &[f64]) -> std::io::Result<()> {
-        self.out.write_record(std::iter::once(&t).chain(values).map(|v| format!("{v:?}")))?;
+        for &v in std::iter::once(&t).chain(values) {
+            self.out.write_field(self.number.format(v))?;
+        }
+        self.out.write_record(None::<&[u8]>)?;
         self.rows += 1;
+        if self.last_flush.elapsed() >= FLUSH_INTERVAL {
+            self.last_flush = Instant::now();
+            self.out.flush()?;
+        }
+        Ok(())
+    }
+
+    /// Writes every row so far to the file.
+    pub fn flush(&mut self) -> std::io::Result<()> {
+        self.last_flush = Instant::now();
         self.out.flush()
     }
 
@@ -518,6 +544,9 @@ pub fn record_run(
         (Ok(result), completed)
     });
     let result = result?;
+    if write_error.is_none() {
+        write_error = csv.flush().err();
+    }
     if let Some(e) = write_error {
         return Err(ResultFileError(format!("cannot write {}: {e}", csv_path.display())));
     }
@@ -592,6 +621,7 @@ mod round_trip_tests {
         for row in &written {
             writer.write_row(row[0], &row[1..]).unwrap();
         }
+        writer.flush().unwrap();
         let read = ResultTable::read(&path).unwrap();
         std::fs::remove_file(&path).unwrap();
         assert_eq!(read.rows(), written.len());
