@@ -190,9 +190,13 @@ pub fn run_model(path: &Path, options: &RunOptions) -> Result<RunFiles, CliError
         .transpose()
         .map_err(|e| CliError(format!("cannot catch SIGINT and SIGTERM: {e}")))?;
     let received = || stop.as_ref().and_then(StopSignal::received);
+    // Formatting the time costs more than writing the row: only for a bar that is drawn.
+    let drawn = !bar.is_hidden();
     let observe = &mut |frame: &flexmb::analysis::OutputFrame| {
-        bar.set_position((frame.t / t_end * 1000.0) as u64);
-        bar.set_message(format!("{:.4}", frame.t));
+        if drawn {
+            bar.set_position((frame.t / t_end * 1000.0) as u64);
+            bar.set_message(format!("{:.4}", frame.t));
+        }
     };
     let pause_at = options.pause_at.map(|t| positive("--pause-at", t)).transpose()?;
     let restart = Restart { resume: options.resume.as_deref(), save_state: options.save_state.as_deref(), pause_at };
