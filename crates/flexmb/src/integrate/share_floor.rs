@@ -22,8 +22,10 @@
 //! last step's share; the second by the resolution of the equations themselves.
 //!
 //! Under both lies a fixed floor, what one step resolves relative to the solution: `1e-12 / rtol` for the
-//! Adams method ([`Tolerances::step_share`]), [`FINE_STEP_FLOOR`]` / rtol` for the BDF, whose Newton floor
-//! is lower too, [`BDF_NEWTON_FLOOR`] (`Bdf::newton_tolerance` says where), and for the generalized-α
+//! Adams method ([`Tolerances::step_share`]), [`FINE_STEP_FLOOR`]` / rtol` for the BDF near a singular
+//! position and `1.5e-14 / rtol` elsewhere, where its corrector is polished
+//! (`polished_corrector::POLISHED_STEP_FLOOR`), whose Newton floor is lower too, [`BDF_NEWTON_FLOOR`]
+//! (`Bdf::newton_tolerance` says where), and for the generalized-α
 //! method, whose many second-order steps add up to the floor times their number
 //! (`generalized_alpha::SHARE_FLOOR`). With error per
 //! unit step below rtol 1e-8 a step's share `h / span` is below the floor, and the floor holds each local
@@ -36,7 +38,9 @@
 use crate::integrate::tolerances::STEP_FLOOR;
 use crate::integrate::{Stats, Tolerances};
 
-/// The floor under a step's local error, relative to the solution, of the BDF and the generalized-α
+/// The floor under a step's local error, relative to the solution, of the BDF near a singular position
+/// (elsewhere its corrector is polished and the floor is lower, `polished_corrector::POLISHED_STEP_FLOOR`;
+/// the measurements below are of this floor everywhere) and of the generalized-α
 /// method (`generalized_alpha::SHARE_FLOOR` says why there): a tenth of the Adams method's
 /// [`STEP_FLOOR`]. For the BDF: Its estimate, the corrector's difference from an extrapolation of the history, is
 /// resolved to about ten units of rounding of the solution times the predictor's gain, `2^(k+1)/(k + 1)`
@@ -88,7 +92,7 @@ pub(crate) fn floor_warning(held_before: usize, stats: &Stats, rtol: f64, span: 
         let at_end = held as f64 * (t_end / t).max(1.0);
         format!(
             "tolerance finer than the BDF keeps over this run: {held} steps up to t = {t:.4} s were each held to what one \
-             step resolves, {floor:.0e} of the solution (the floor under a step's share of the tolerance), and their local \
+             step resolves, {floor:e} of the solution (the floor under a step's share of the tolerance), and their local \
              errors, each up to that floor, can add up over the run (the BDF's dissipate energy) to {sum:.1e} of the \
              solution, more than rtol {allowed:e} (at this rate about {at_end:.0} such steps and {sum_end:.1e} by t = \
              {t_end} s): the error can reach several tolerances; for a finer tolerance use the Adams method (integrator = \"adams\"), which keeps \
