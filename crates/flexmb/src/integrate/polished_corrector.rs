@@ -73,7 +73,7 @@ mod tests {
     fn the_corrector_is_polished_and_the_floor_lowered_only_away_from_singular_positions() {
         assert_eq!(step_floor(1.0), POLISHED_STEP_FLOOR);
         assert_eq!(step_floor(25.0), FINE_STEP_FLOOR);
-        assert!(POLISHED_STEP_FLOOR < FINE_STEP_FLOOR / 5.0);
+        const { assert!(POLISHED_STEP_FLOOR < FINE_STEP_FLOOR / 5.0) };
         assert!(polishes(1.0, true));
         assert!(!polishes(1.0, false), "a Newton tolerance above its floor leaves a rest far below the share");
         assert!(!polishes(191.0, true), "near a singular position the estimate is the amplified rounding");
