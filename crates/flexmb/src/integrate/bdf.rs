@@ -738,7 +738,13 @@ impl Bdf {
     /// a singular position, [`FINE_STEP_FLOOR`](super::share_floor::FINE_STEP_FLOOR) near one
     /// ([`polished_corrector::step_floor`]).
     fn step_floor(&self) -> f64 {
-        polished_corrector::step_floor(self.amplification)
+        polished_corrector::step_floor(self.away_from_singular_positions())
+    }
+
+    /// Whether the attempt is away from singular positions, where its corrector is polished and its floor
+    /// lower ([`polished_corrector::away_from_singular_positions`]).
+    fn away_from_singular_positions(&self) -> bool {
+        polished_corrector::away_from_singular_positions(self.amplification, self.singular.near())
     }
 
     /// The Newton tolerance of the attempt at the current step's share, the one its iteration is tested
@@ -788,7 +794,7 @@ impl Bdf {
         let increment_scale = 2.0 / (1.0 + c_f / c);
         // Where the Newton tolerance is held by its rounding floor the iteration's rest is the local error
         // estimate's noise: a converged iteration is polished (`polished_corrector`).
-        let polish = polished_corrector::polishes(self.amplification, self.newton_tolerance() > self.tolerances.newton_tolerance());
+        let polish = polished_corrector::polishes(self.away_from_singular_positions(), self.newton_tolerance() > self.tolerances.newton_tolerance());
         let mut corrector = Corrector { bdf: self, t_new, c, c_f, increment_scale };
         let mut outcome = newton::iterate(&mut corrector, &mut test, NEWTON_MAXITER);
         if outcome.converged && polish {

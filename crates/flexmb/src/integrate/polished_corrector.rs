@@ -22,7 +22,7 @@
 //! With the estimate resolved to about 4e-15, the floor under a step's share can be
 //! [`POLISHED_STEP_FLOOR`], 1.5e-14 of the solution, instead of
 //! [`FINE_STEP_FLOOR`] (1e-13), where the corrector is polished. Near a singular position (the guard's
-//! amplification above 1) the Newton floor is the other methods' 100 units and the estimate is the
+//! amplification above 1, or an approach watched: [`away_from_singular_positions`]) the estimate is the
 //! amplified rounding: neither the polish nor the lower floor applies there (Andrews' squeezer, κ ≈ 191
 //! at every step, went from 12.8 to 356 tolerances at rtol 1e-10 with the lower floor applied there too).
 //! Measured over the run (`docs/accuracy/work_precision.py --integrators bdf --tolerance-span run`,
@@ -44,22 +44,34 @@ pub(crate) const POLISHED_STEP_FLOOR: f64 = 1.5e-14;
 /// 3.7e-15 on the slider-crank at rtol 1e-10; a second only to 2.6e-15).
 pub(crate) const POLISH_ITERATIONS: usize = 1;
 
-/// Whether a converged corrector is polished: away from a singular position (`amplification` 1) and where
-/// the attempt's Newton tolerance is held by its rounding floor (`newton_floor_holds`), the only place its
-/// rest is as large as the local errors the steps are held to. Elsewhere the Newton tolerance is a small
-/// fraction of the share, and the cost (one residual and one solve per step) buys nothing.
-pub(crate) fn polishes(amplification: f64, newton_floor_holds: bool) -> bool {
-    amplification <= 1.0 && newton_floor_holds
+/// Whether a step is away from singular positions: the guard neither amplifies the rounding
+/// (`amplification` 1) nor watches an approach or a passage (`near`, `SingularPassage::near`: `κ` above
+/// 20 and falling towards a predicted position, or not yet back below 20 after one). The guard's
+/// amplification is 1 until the rounding `10 ε κ` matters against a share of the Adams method's floor
+/// (1e-12), but it exceeds 1.5e-14 from `κ` = 7 on: with the amplification alone the double four-bar over
+/// its run at rtol 1e-10 stopped at t = 6.513 s (step 2.1e-14 s, the Newton iteration not converging) on
+/// its approach to the seventh position.
+pub(crate) fn away_from_singular_positions(amplification: f64, near: bool) -> bool {
+    amplification <= 1.0 && !near
 }
 
-/// The floor under a BDF step's local error, relative to the solution, at the rounding `amplification` of
-/// the singular-position guard: [`POLISHED_STEP_FLOOR`] away from a singular position, [`FINE_STEP_FLOOR`]
-/// where the guard amplifies the rounding (the estimate is not resolved below it there).
-pub(crate) fn step_floor(amplification: f64) -> f64 {
-    if amplification > 1.0 {
-        FINE_STEP_FLOOR
-    } else {
+/// Whether a converged corrector is polished: away from singular positions
+/// ([`away_from_singular_positions`]) and where the attempt's Newton tolerance is held by its rounding
+/// floor (`newton_floor_holds`), the only place its rest is as large as the local errors the steps are
+/// held to. Elsewhere the Newton tolerance is a small fraction of the share, and the cost (one residual
+/// and one solve per step) buys nothing.
+pub(crate) fn polishes(away: bool, newton_floor_holds: bool) -> bool {
+    away && newton_floor_holds
+}
+
+/// The floor under a BDF step's local error, relative to the solution: [`POLISHED_STEP_FLOOR`] away from
+/// singular positions (`away`, [`away_from_singular_positions`]), [`FINE_STEP_FLOOR`] near one (the
+/// estimate is not resolved below it there).
+pub(crate) fn step_floor(away: bool) -> f64 {
+    if away {
         POLISHED_STEP_FLOOR
+    } else {
+        FINE_STEP_FLOOR
     }
 }
 
@@ -71,11 +83,14 @@ mod tests {
     /// where the Newton floor holds.
     #[test]
     fn the_corrector_is_polished_and_the_floor_lowered_only_away_from_singular_positions() {
-        assert_eq!(step_floor(1.0), POLISHED_STEP_FLOOR);
-        assert_eq!(step_floor(25.0), FINE_STEP_FLOOR);
+        assert!(away_from_singular_positions(1.0, false));
+        assert!(!away_from_singular_positions(1.0, true), "an approach watched");
+        assert!(!away_from_singular_positions(191.0, false), "the rounding amplified");
+        assert_eq!(step_floor(true), POLISHED_STEP_FLOOR);
+        assert_eq!(step_floor(false), FINE_STEP_FLOOR);
         const { assert!(POLISHED_STEP_FLOOR < FINE_STEP_FLOOR / 5.0) };
-        assert!(polishes(1.0, true));
-        assert!(!polishes(1.0, false), "a Newton tolerance above its floor leaves a rest far below the share");
-        assert!(!polishes(191.0, true), "near a singular position the estimate is the amplified rounding");
+        assert!(polishes(true, true));
+        assert!(!polishes(true, false), "a Newton tolerance above its floor leaves a rest far below the share");
+        assert!(!polishes(false, true), "near a singular position the estimate is the amplified rounding");
     }
 }
