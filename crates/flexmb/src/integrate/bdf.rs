@@ -544,8 +544,9 @@ impl Bdf {
             }
             let floor = self.step_floor();
             if self.tolerances.floor_holds(h, floor) {
+                // The mean floor of the held steps, so that their number times it is what they add up to.
                 self.stats.share_floor_steps += 1;
-                self.stats.share_floor = self.stats.share_floor.max(floor);
+                self.stats.share_floor += (floor - self.stats.share_floor) / self.stats.share_floor_steps as f64;
             }
             if test.at_floor {
                 self.stats.rounding_floor_steps += 1;

@@ -27,9 +27,11 @@
 //! at every step, went from 12.8 to 356 tolerances at rtol 1e-10 with the lower floor applied there too).
 //! Measured over the run (`docs/accuracy/work_precision.py --integrators bdf --tolerance-span run`,
 //! reference Adams at 1e-12; docs/accuracy.md, *The BDF's floor over a long run*): the slider-crank at
-//! 1e-10 from 61 to 10.7 tolerances in 31,771 steps (23,416), at 1e-9 from 6.2 to 4.6; floors of 1.2e-14
-//! and 1e-14 gave the slider-crank 8.4 and 6.8 at 1e-10 but Andrews' squeezer 60 at 1e-9 and 44 at
-//! 1e-10 (25 and 12.8 before; 21 and 9.7 with 1.5e-14).
+//! 1e-10 from 61 to 21.9 tolerances in 30,049 steps (23,416), at 1e-9 from 6.2 to 4.9, Andrews' squeezer
+//! 21 and 9.7 at 1e-9 and 1e-10 (25 and 12.8); with the floor lowered wherever the guard does not amplify
+//! the rounding (also on the slider-crank's dips to κ ≈ 25) 10.7 at 1e-10, but the double four-bar stopped
+//! (below). Floors of 1.2e-14 and 1e-14 gave the slider-crank 8.4 and 6.8 at 1e-10 but Andrews' squeezer
+//! 60 at 1e-9 and 44 at 1e-10.
 
 use crate::integrate::share_floor::FINE_STEP_FLOOR;
 #[cfg(doc)]
