@@ -301,9 +301,9 @@ impl SingularPassage {
     /// window of half a step never moves, and the run stopped 5.7e-6 s before it (`κ` 1.38e5, step
     /// 9.3e-15 s). Crossing from up to three steps before the position, where `κ` is still 500 to 4,000 at
     /// the start, every tolerance completes (docs/accuracy.md, *The BDF crosses a position in one step*).
-    /// Where the share is 1e-2 or more (rtol 1e-11 over the run; per step) the crossing passed truncation
-    /// errors of 2,380 shares within the rounding at its ends (rtol 1e-11: E from 3.4e-8 to 2.8e-7 m), and the
-    /// steps there are placed as before.
+    /// Where the share is [`CROSSING_SHARE`] or more (0.1 at rtol 1e-11 over the run, 1 per step) the
+    /// crossing passed truncation errors of up to 2,380 shares within the rounding at its ends (rtol 1e-11:
+    /// E from 3.4e-8 to 2.8e-7 m), and the steps there are placed as before (the same results).
     pub fn crossing_where_conditioned_badly(mut self) -> Self {
         self.crossing_early = true;
         self
