@@ -191,7 +191,7 @@ impl Bdf {
         let references = state_angle_references(&model, &mut data, state);
         data.angle_reference.copy_from_slice(&references);
         let jac = IterationMatrix::new(&model, &yl);
-        let singular = SingularPassage::new(&model, &state.active, tolerances.rtol);
+        let singular = SingularPassage::new(&model, &state.active, tolerances.rtol).crossing_where_conditioned_badly();
         let mut bdf = Self {
             model,
             yl,
