@@ -28,8 +28,7 @@ use crate::integrate::newton::{self, ConvergenceTest, NewtonSystem};
 use crate::integrate::newton_rounding::{RoundingFloor, CHANGE_RATIO, NOISE_CEILING};
 use crate::integrate::passed_rounding;
 use crate::integrate::rounding_level::rounding_residual;
-use crate::integrate::polished_corrector::{self, POLISH_ITERATIONS};
-use crate::integrate::share_floor::{ShareFloor, BDF_NEWTON_FLOOR};
+use crate::integrate::share_floor::{ShareFloor, BDF_NEWTON_FLOOR, FINE_STEP_FLOOR};
 use crate::integrate::singular_position::SingularPassage;
 use crate::integrate::{
     check_len, AttemptFailure, BdfCheckpoint, BdfConfig, CheckpointError, IntegrationError, Integrator, IntegratorCheckpoint, Stats,
@@ -510,7 +509,7 @@ impl Bdf {
                 }
                 self.stats.error_test_failures += 1;
                 error_test_failures += 1;
-                let power = error_power(&self.tolerances, h, order + 1, self.config.max_order == 1, self.step_floor());
+                let power = error_power(&self.tolerances, h, order + 1, self.config.max_order == 1);
                 let factor = MIN_FACTOR.max(safety * error_norm.powf(-1.0 / power));
                 failure = AttemptFailure::ErrorTest { error_norm, t_new, step: c };
                 self.reduce_step(factor);
@@ -542,11 +541,9 @@ impl Bdf {
             if self.amplification > 1.0 {
                 self.stats.held_near_singular_position(self.tolerances.rtol * self.share);
             }
-            let floor = self.step_floor();
-            if self.tolerances.floor_holds(h, floor) {
-                // The mean floor of the held steps, so that their number times it is what they add up to.
+            if self.tolerances.floor_holds(h, FINE_STEP_FLOOR) {
                 self.stats.share_floor_steps += 1;
-                self.stats.share_floor += (floor - self.stats.share_floor) / self.stats.share_floor_steps as f64;
+                self.stats.share_floor = FINE_STEP_FLOOR;
             }
             if test.at_floor {
                 self.stats.rounding_floor_steps += 1;
@@ -607,10 +604,10 @@ impl Bdf {
         let error_p = if order < self.config.max_order { estimate(self, order + 2, order + 1).0 } else { f64::INFINITY };
         let (error, within_rounding) = estimate(self, order + 1, order);
         // An estimate of order h^power allows the step factor e^(−1/p), p the power of h in e / share.
-        let (tolerances, h, first_order_method, floor) = (self.tolerances, self.h, self.config.max_order == 1, self.step_floor());
+        let (tolerances, h, first_order_method) = (self.tolerances, self.h, self.config.max_order == 1);
         let factor_of = |e: f64, power: usize| {
             if e.is_finite() {
-                e.max(1e-300).powf(-1.0 / error_power(&tolerances, h, power, first_order_method, floor))
+                e.max(1e-300).powf(-1.0 / error_power(&tolerances, h, power, first_order_method))
             } else {
                 0.0
             }
@@ -727,25 +724,12 @@ impl Bdf {
     /// with the first-order floor there, the 3-D energy of a free flexible body drifted by 3.6e-5 at rtol
     /// 1e-9 (1e-6 without).
     fn share_at_order(&self, order: usize) -> f64 {
-        let share = self.share_floor.share_above(&self.tolerances, self.h, self.step_floor());
+        let share = self.share_floor.share_above(&self.tolerances, self.h, FINE_STEP_FLOOR);
         if order == 1 && self.config.max_order == 1 {
             share.max(self.tolerances.first_order_share(self.h))
         } else {
             share
         }
-    }
-
-    /// The floor under a step's local error relative to the solution: the polished corrector's away from
-    /// a singular position, [`FINE_STEP_FLOOR`](super::share_floor::FINE_STEP_FLOOR) near one
-    /// ([`polished_corrector::step_floor`]).
-    fn step_floor(&self) -> f64 {
-        polished_corrector::step_floor(self.away_from_singular_positions())
-    }
-
-    /// Whether the attempt is away from singular positions, where its corrector is polished and its floor
-    /// lower ([`polished_corrector::away_from_singular_positions`]).
-    fn away_from_singular_positions(&self) -> bool {
-        polished_corrector::away_from_singular_positions(self.amplification, self.singular.near())
     }
 
     /// The Newton tolerance of the attempt at the current step's share, the one its iteration is tested
@@ -780,8 +764,7 @@ impl Bdf {
     }
 
     /// Simplified Newton iteration on the corrector; returns whether it converged, the iterations begun
-    /// and the test with the rates it measured. A converged iteration is polished where its tolerance is at
-    /// the rounding floor ([`polished_corrector::polishes`]).
+    /// and the test with the rates it measured.
     /// `c_f` is the `c` the factors were made for; rows are scaled by it and the increments by
     /// `2/(1 + c_f/c)`, which makes the iteration exact for the `F_ẏ` part when `c_f ≠ c`.
     fn newton(&mut self, t_new: f64, c: f64, c_f: f64) -> (bool, usize, ConvergenceTest) {
@@ -793,14 +776,8 @@ impl Bdf {
                 .with_rounding_floor(self.rounding.in_share(self.share))
                 .with_rounding_level(self.rounding_level.map(|level| self.bounded_level(level) / self.share));
         let increment_scale = 2.0 / (1.0 + c_f / c);
-        // Where the Newton tolerance is held by its rounding floor the iteration's rest is the local error
-        // estimate's noise: a converged iteration is polished (`polished_corrector`).
-        let polish = polished_corrector::polishes(self.away_from_singular_positions(), self.newton_tolerance() > self.tolerances.newton_tolerance());
         let mut corrector = Corrector { bdf: self, t_new, c, c_f, increment_scale };
-        let mut outcome = newton::iterate(&mut corrector, &mut test, NEWTON_MAXITER);
-        if outcome.converged && polish {
-            outcome.solves += newton::polish(&mut corrector, outcome.iterations, POLISH_ITERATIONS);
-        }
+        let outcome = newton::iterate(&mut corrector, &mut test, NEWTON_MAXITER);
         self.stats.newton_iterations += outcome.solves;
         (outcome.converged, outcome.iterations, test)
     }
@@ -1068,13 +1045,12 @@ fn compute_r(order: usize, factor: f64) -> [[f64; MAX_ORDER + 1]; MAX_ORDER + 1]
 }
 
 /// The power of `h` in the ratio of an estimate of order `h^power` (of the order `power − 1`) to its
-/// share of the tolerance ([`Bdf::share_at_order`]; `first_order_method`: the BDF is held to order 1;
-/// `floor` the step's floor, [`Bdf::step_floor`]).
-fn error_power(tolerances: &Tolerances, h: f64, power: usize, first_order_method: bool, floor: f64) -> f64 {
+/// share of the tolerance ([`Bdf::share_at_order`]; `first_order_method`: the BDF is held to order 1).
+fn error_power(tolerances: &Tolerances, h: f64, power: usize, first_order_method: bool) -> f64 {
     if power == 2 && first_order_method {
         tolerances.first_order_error_power(h)
     } else {
-        tolerances.error_power_above(h, power, floor)
+        tolerances.error_power_above(h, power, FINE_STEP_FLOOR)
     }
 }
 

@@ -36,7 +36,6 @@ mod iteration_matrix;
 mod newton;
 mod newton_rounding;
 pub(crate) mod passed_rounding;
-mod polished_corrector;
 mod rounding_level;
 pub(crate) mod share_floor;
 pub(crate) mod singular_position;

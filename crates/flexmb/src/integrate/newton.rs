@@ -244,22 +244,6 @@ pub(crate) fn iterate(system: &mut impl NewtonSystem, test: &mut ConvergenceTest
     end(false, max_iterations, solves)
 }
 
-/// `iterations` more iterations on a `system` whose iteration has converged after `converged_after`
-/// iterations, each increment applied without a test (a converged iteration contracts; a residual that
-/// is not finite or a failed solve ends them, the iterate as it was): what the iteration left unresolved
-/// falls by its contraction rate per iteration, to the residual's rounding. Returns the solves made.
-pub(crate) fn polish(system: &mut impl NewtonSystem, converged_after: usize, iterations: usize) -> usize {
-    let mut solves = 0;
-    for k in converged_after..converged_after + iterations {
-        if !system.residual(k).iter().all(|x| x.is_finite()) || !system.solve() {
-            break;
-        }
-        solves += 1;
-        system.apply();
-    }
-    solves
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -395,21 +379,6 @@ mod tests {
         assert!((chord.x - 2f64.sqrt()).abs() < 1e-10, "{}", chord.x);
         let rate = (1.0 - 2.0 * 2f64.sqrt() / 3.0).abs();
         assert!((test.slowest - rate).abs() < 0.02, "contraction {} against {rate}", test.slowest);
-    }
-
-    /// A polish iteration after convergence removes all but the contraction rate's fraction of what the
-    /// chord iteration left: on `x² − 2` from 1.5 at the tolerance 1e-6, the error left falls from at
-    /// most 1e-6 by the rate `|1 − 2√2/3|` = 0.057 (to rounding).
-    #[test]
-    fn a_polish_iteration_reduces_the_rest_by_the_contraction_rate() {
-        let mut chord = Chord { x: 1.5, slope: 3.0, residual: [0.0], dx: 0.0 };
-        let outcome = iterate(&mut chord, &mut ConvergenceTest::new(1e-6, 8), 8);
-        let rest = (chord.x - 2f64.sqrt()).abs();
-        assert!(outcome.converged && rest < 1e-6 && rest > 1e-12, "rest {rest:e}");
-        assert_eq!(polish(&mut chord, outcome.iterations, 1), 1);
-        let polished = (chord.x - 2f64.sqrt()).abs();
-        let rate = (1.0 - 2.0 * 2f64.sqrt() / 3.0).abs();
-        assert!(polished <= 1.05 * rate * rest + 4.0 * f64::EPSILON, "{polished:e} against {rest:e} × {rate}");
     }
 
     #[test]

@@ -22,10 +22,8 @@
 //! last step's share; the second by the resolution of the equations themselves.
 //!
 //! Under both lies a fixed floor, what one step resolves relative to the solution: `1e-12 / rtol` for the
-//! Adams method ([`Tolerances::step_share`]), [`FINE_STEP_FLOOR`]` / rtol` for the BDF near a singular
-//! position and `1.5e-14 / rtol` elsewhere, where its corrector is polished
-//! (`polished_corrector::POLISHED_STEP_FLOOR`), whose Newton floor is lower too, [`BDF_NEWTON_FLOOR`]
-//! (`Bdf::newton_tolerance` says where), and for the generalized-α
+//! Adams method ([`Tolerances::step_share`]), [`FINE_STEP_FLOOR`]` / rtol` for the BDF, whose Newton floor
+//! is lower too, [`BDF_NEWTON_FLOOR`] (`Bdf::newton_tolerance` says where), and for the generalized-α
 //! method, whose many second-order steps add up to the floor times their number
 //! (`generalized_alpha::SHARE_FLOOR`). With error per
 //! unit step below rtol 1e-8 a step's share `h / span` is below the floor, and the floor holds each local
@@ -38,9 +36,7 @@
 use crate::integrate::tolerances::STEP_FLOOR;
 use crate::integrate::{Stats, Tolerances};
 
-/// The floor under a step's local error, relative to the solution, of the BDF near a singular position
-/// (elsewhere its corrector is polished and the floor is lower, `polished_corrector::POLISHED_STEP_FLOOR`;
-/// the measurements below are of this floor everywhere) and of the generalized-α
+/// The floor under a step's local error, relative to the solution, of the BDF and the generalized-α
 /// method (`generalized_alpha::SHARE_FLOOR` says why there): a tenth of the Adams method's
 /// [`STEP_FLOOR`]. For the BDF: Its estimate, the corrector's difference from an extrapolation of the history, is
 /// resolved to about ten units of rounding of the solution times the predictor's gain, `2^(k+1)/(k + 1)`
@@ -75,8 +71,8 @@ pub(crate) const FINE_STEP_FLOOR: f64 = STEP_FLOOR / 10.0;
 pub(crate) const BDF_NEWTON_FLOOR: f64 = 20.0 * f64::EPSILON;
 
 /// The warning of the step that makes the steps held to the fixed floor of a run spend more than its
-/// tolerance, `None` at every other step: `held_before` what such steps added up to before the step that
-/// ended at `t` (their number times their mean floor), `stats.share_floor_steps` their number after it, of a run of `t_end` seconds whose tolerance is `rtol` over each
+/// tolerance, `None` at every other step: `held_before` and `stats.share_floor_steps` such steps before
+/// and after the step that ended at `t`, of a run of `t_end` seconds whose tolerance is `rtol` over each
 /// `span` seconds ([`Tolerances::span`], the run's length by default). Each of those steps is held to
 /// [`Stats::share_floor`] of the solution however short it is, and their local errors add up
 /// (coherently for the BDF, whose truncation errors dissipate energy: the 3-D slider-crank at rtol
@@ -84,15 +80,15 @@ pub(crate) const BDF_NEWTON_FLOOR: f64 = 20.0 * f64::EPSILON;
 /// times the floor exceeds the run's tolerance, `rtol` times its number of spans, the tolerance is no
 /// longer kept by the error control, and the run says so, once. The message names the floor, the steps,
 /// what they add up to so far and at this rate by the end, and what to do.
-pub(crate) fn floor_warning(held_before: f64, stats: &Stats, rtol: f64, span: f64, t: f64, t_end: f64) -> Option<String> {
+pub(crate) fn floor_warning(held_before: usize, stats: &Stats, rtol: f64, span: f64, t: f64, t_end: f64) -> Option<String> {
     let (held, floor) = (stats.share_floor_steps, stats.share_floor);
     let allowed = rtol * (t_end / span).max(1.0);
-    let crossed = held_before <= allowed && held as f64 * floor > allowed;
+    let crossed = held_before as f64 * floor <= allowed && held as f64 * floor > allowed;
     crossed.then(|| {
         let at_end = held as f64 * (t_end / t).max(1.0);
         format!(
             "tolerance finer than the BDF keeps over this run: {held} steps up to t = {t:.4} s were each held to what one \
-             step resolves, {floor:.1e} of the solution (the floor under a step's share of the tolerance), and their local \
+             step resolves, {floor:.0e} of the solution (the floor under a step's share of the tolerance), and their local \
              errors, each up to that floor, can add up over the run (the BDF's dissipate energy) to {sum:.1e} of the \
              solution, more than rtol {allowed:e} (at this rate about {at_end:.0} such steps and {sum_end:.1e} by t = \
              {t_end} s): the error can reach several tolerances; for a finer tolerance use the Adams method (integrator = \"adams\"), which keeps \
@@ -196,15 +192,15 @@ mod tests {
     #[test]
     fn the_warning_comes_at_the_step_that_makes_the_floor_spend_more_than_the_tolerance() {
         let held = |steps| Stats { share_floor_steps: steps, share_floor: FINE_STEP_FLOOR, ..Stats::default() };
-        let warning = |before: usize, after| floor_warning(before as f64 * FINE_STEP_FLOOR, &held(after), 1e-10, 5.0, 2.0, 5.0);
+        let warning = |before, after| floor_warning(before, &held(after), 1e-10, 5.0, 2.0, 5.0);
         assert_eq!(warning(999, 1000), None, "1,000 steps at 1e-13 make rtol exactly");
         let message = warning(1000, 1001).expect("1,001 steps exceed it");
-        assert!(message.contains("1001 steps up to t = 2.0000 s") && message.contains("1.0e-13"), "{message}");
+        assert!(message.contains("1001 steps up to t = 2.0000 s") && message.contains("1e-13"), "{message}");
         assert!(message.contains("about 2502 such steps and 2.5e-10 by t = 5 s"), "{message}");
         assert_eq!(warning(1001, 1002), None, "once");
         // Over a span of 1 s, a run of 5 s may spend five tolerances.
-        assert_eq!(floor_warning(4000.0 * FINE_STEP_FLOOR, &held(4001), 1e-10, 1.0, 2.0, 5.0), None);
-        assert!(floor_warning(5000.0 * FINE_STEP_FLOOR, &held(5001), 1e-10, 1.0, 2.0, 5.0).is_some());
+        assert_eq!(floor_warning(4000, &held(4001), 1e-10, 1.0, 2.0, 5.0), None);
+        assert!(floor_warning(5000, &held(5001), 1e-10, 1.0, 2.0, 5.0).is_some());
     }
 
     /// An estimate that falls with the step is never noise; one that stays while the step is cut eight

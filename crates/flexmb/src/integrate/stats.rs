@@ -54,9 +54,7 @@ pub struct Stats {
     /// (the BDF; `integrate/share_floor.rs`).
     #[serde(default)]
     pub share_floor_steps: usize,
-    /// That floor relative to the solution, the mean over those steps (the BDF's: 1e-13 near singular
-    /// positions, 1.5e-14 elsewhere, `integrate/polished_corrector.rs`), so that their number times it is
-    /// what they add up to; 0 when no step was held to it.
+    /// That floor relative to the solution (1e-13 for the BDF); 0 when no step was held to it.
     #[serde(default)]
     pub share_floor: f64,
     /// What the accepted steps let pass as rounding, relative to the solution, added up over the run: the
@@ -95,7 +93,7 @@ impl Stats {
             singular_positions: self.singular_positions + later.singular_positions,
             singular_position_tolerance: finest_nonzero(self.singular_position_tolerance, later.singular_position_tolerance),
             share_floor_steps: self.share_floor_steps + later.share_floor_steps,
-            share_floor: mean_floor(self, later),
+            share_floor: self.share_floor.max(later.share_floor),
             rounding_passed: self.rounding_passed + later.rounding_passed,
         }
     }
@@ -122,15 +120,5 @@ fn finest_nonzero(a: f64, b: f64) -> f64 {
         (true, true) => a.min(b),
         (true, false) => a,
         _ => b,
-    }
-}
-
-/// The mean floor of the steps held to it in `earlier` and `later` ([`Stats::share_floor`]).
-fn mean_floor(earlier: &Stats, later: &Stats) -> f64 {
-    let held = earlier.share_floor_steps + later.share_floor_steps;
-    if held == 0 {
-        earlier.share_floor.max(later.share_floor)
-    } else {
-        (earlier.share_floor_steps as f64 * earlier.share_floor + later.share_floor_steps as f64 * later.share_floor) / held as f64
     }
 }
