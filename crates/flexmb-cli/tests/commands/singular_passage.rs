@@ -490,21 +490,11 @@ fn the_bdf_over_the_run_passes_the_ten_positions_within_ten_tolerances() {
 /// level's ceiling, 1e-9 of the solution, had cut away; near a singular position the level is now kept up
 /// to the rounding of the estimates there (`Bdf::bounded_level`). 9,902 steps, B0 1.61e-8 m off the exact
 /// path (161 tolerances: the share's floor, docs/accuracy.md); since the BDF crosses a position in one step
-/// where `κ` reaches 1,000, 10,167 steps and 1.43e-9 m (14.3); bound 300 tolerances. About 2 s in release.
+/// where `κ` reaches 1,000, 10,167 steps and 1.43e-9 m (14.3); bound 30 tolerances. About 2 s in release.
 #[test]
 fn the_bdf_over_the_run_at_1e_10_passes_the_fifth_position() {
-    let dir = scratch("singular-passage-bdf-1e-10-over-the-run");
-    let model = workspace().join("models/benchmarks/double_four_bar.toml");
-    let out = dir.join("bdf-1e-10");
-    let (model, out_dir) = (model.to_str().unwrap(), out.to_str().unwrap());
-    succeed(&["run", model, "--integrator", "bdf", "--rtol", "1e-10", "--atol", "1e-10", "--quiet", "--out", out_dir]);
-    let statistics = summary_of(&out)["statistics"].clone();
-    assert_eq!(statistics["singular_positions"], 10, "{statistics}");
-    let result = ResultCsv::read(&out.join("double_four_bar.csv"));
-    let (rows, worst) = b0_off_the_exact_path(&result);
-    assert_eq!(rows, 1001, "the run completes");
-    eprintln!("BDF at 1e-10 over the run: B0 off the exact path by {worst:.2e} m; {statistics}");
-    assert!(worst < 300.0 * 1e-10, "B0 within 300 tolerances of the exact path: {worst:e} m");
+    let (out, worst) = bdf_over_the_run_through_ten_positions("1e-10");
+    assert!(worst < 30.0 * 1e-10, "B0 within 30 tolerances of the exact path: {worst:e} m");
     // More than 10 tolerances off (14.3 measured; 161 before the crossing), and not passed as success: the run warns that what its
     // steps let pass as rounding near the positions exceeds rtol, by more than the error (565 tolerances).
     let summary = summary_of(&out);
@@ -527,16 +517,24 @@ fn the_bdf_over_the_run_at_1e_10_passes_the_fifth_position() {
 /// tolerances). About 2 s in release.
 #[test]
 fn the_bdf_over_the_run_at_1e_9_crosses_the_ten_positions_within_ten_tolerances() {
-    let dir = scratch("singular-passage-bdf-1e-9-over-the-run");
+    let (_, worst) = bdf_over_the_run_through_ten_positions("1e-9");
+    assert!(worst <= 10.0 * 1e-9, "B0 within 10 tolerances of the exact path: {worst:e} m");
+}
+
+/// Runs the shipped double four-bar with the BDF over the run's span at rtol = atol = `tol`, asserts that
+/// it passes the ten singular positions and completes its 1,001 rows, and returns its output directory
+/// and B0's largest distance from the exact path (m).
+fn bdf_over_the_run_through_ten_positions(tol: &str) -> (std::path::PathBuf, f64) {
+    let dir = scratch(&format!("singular-passage-bdf-{tol}-over-the-run"));
     let model = workspace().join("models/benchmarks/double_four_bar.toml");
-    let out = dir.join("bdf-1e-9");
+    let out = dir.join(format!("bdf-{tol}"));
     let (model, out_dir) = (model.to_str().unwrap(), out.to_str().unwrap());
-    succeed(&["run", model, "--integrator", "bdf", "--rtol", "1e-9", "--atol", "1e-9", "--quiet", "--out", out_dir]);
+    succeed(&["run", model, "--integrator", "bdf", "--rtol", tol, "--atol", tol, "--quiet", "--out", out_dir]);
     let statistics = summary_of(&out)["statistics"].clone();
     assert_eq!(statistics["singular_positions"], 10, "{statistics}");
     let result = ResultCsv::read(&out.join("double_four_bar.csv"));
     let (rows, worst) = b0_off_the_exact_path(&result);
     assert_eq!(rows, 1001, "the run completes");
-    eprintln!("BDF at 1e-9 over the run: B0 off the exact path by {worst:.2e} m; {statistics}");
-    assert!(worst <= 10.0 * 1e-9, "B0 within 10 tolerances of the exact path: {worst:e} m");
+    eprintln!("BDF at {tol} over the run: B0 off the exact path by {worst:.2e} m; {statistics}");
+    (out, worst)
 }
