@@ -214,6 +214,13 @@ struct Window {
     slope: f64,
 }
 
+impl Window {
+    /// The `κ` predicted at `t`: `1 / (slope |t − centre|)`.
+    fn condition_at(&self, t: f64) -> f64 {
+        1.0 / (self.slope * (t - self.centre).abs())
+    }
+}
+
 /// The guard of one integrator (see the module documentation).
 pub(crate) struct SingularPassage {
     conditioning: Option<Conditioning>,
@@ -324,7 +331,7 @@ impl SingularPassage {
         }
         if self.crossing_early && !retry && d <= CROSSING_REACH * h && share < CROSSING_SHARE {
             let at_start = self.last.map_or(1.0, |(_, s)| 1.0 / s);
-            let condition = at_start.max(1.0 / (w.slope * (t_new - w.centre).abs()));
+            let condition = at_start.max(w.condition_at(t_new));
             if condition >= CROSSING_FROM && self.matters(condition, share) {
                 self.asked = Some(h);
                 self.crossing_from = Some(t);
@@ -336,7 +343,7 @@ impl SingularPassage {
         }
         // Only where the rounding at the end would matter to the tolerance: at ordinary tolerances a dip of
         // the conditioning (the 3-D slider-crank's) leaves the steps alone.
-        let predicted = 1.0 / (w.slope * (t_new - w.centre).abs());
+        let predicted = w.condition_at(t_new);
         if !self.matters(predicted, share) {
             return None;
         }
@@ -365,7 +372,7 @@ impl SingularPassage {
         };
         let measured = if 1.0 / last > WATCH { 1.0 / last } else { 1.0 };
         let amplification = match self.window {
-            Some(w) => measured.max(1.0 / (w.slope * (t_new - w.centre).abs()).max(0.25 * w.slope * (t_new - t))),
+            Some(w) => measured.max(w.condition_at(t_new).max(0.25 * w.slope * (t_new - t))),
             None => measured,
         };
         if self.matters(amplification, share) {

@@ -48,39 +48,33 @@ fn eliminate(mut a: MatMut<'_, f64>, perm: &mut [usize], perm_inv: &mut [usize])
         *p = i;
     }
     for k in 0..n {
-        let (mut left, mut right) = a.as_mut().split_at_col_mut(k + 1);
-        let pivot_column = left.as_mut().col_mut(k).try_as_col_major_mut().expect("contiguous columns").as_slice_mut();
-        let mut pivot_row = k;
-        let mut largest = 0.0;
-        for (i, x) in pivot_column.iter().enumerate().skip(k) {
+        let (mut pivot_row, mut largest) = (k, 0.0);
+        for (i, x) in column_mut(&mut a, k).iter().enumerate().skip(k) {
             if x.abs() > largest {
-                largest = x.abs();
-                pivot_row = i;
+                (pivot_row, largest) = (i, x.abs());
             }
         }
         if pivot_row != k {
             perm.swap(k, pivot_row);
-            for j in 0..=k {
-                left.as_mut().col_mut(j).try_as_col_major_mut().expect("contiguous columns").as_slice_mut().swap(k, pivot_row);
-            }
-            for j in 0..right.ncols() {
-                right.as_mut().col_mut(j).try_as_col_major_mut().expect("contiguous columns").as_slice_mut().swap(k, pivot_row);
+            for j in 0..n {
+                column_mut(&mut a, j).swap(k, pivot_row);
             }
         }
         if largest == 0.0 {
             continue;
         }
-        let pivot_column = left.as_mut().col_mut(k).try_as_col_major_mut().expect("contiguous columns").as_slice_mut();
-        let inverse = pivot_column[k].recip();
-        for l in &mut pivot_column[k + 1..] {
+        let (mut left, mut right) = a.as_mut().split_at_col_mut(k + 1);
+        let multipliers = &mut column_mut(&mut left, k)[k..];
+        let inverse = multipliers[0].recip();
+        for l in &mut multipliers[1..] {
             *l *= inverse;
         }
-        let multipliers = &left.as_ref().col(k).try_as_col_major().expect("contiguous columns").as_slice()[k + 1..];
+        let multipliers = &multipliers[1..];
         for j in 0..right.ncols() {
-            let target = right.as_mut().col_mut(j).try_as_col_major_mut().expect("contiguous columns").as_slice_mut();
-            let u = target[k];
+            let target = &mut column_mut(&mut right, j)[k..];
+            let u = target[0];
             if u != 0.0 {
-                for (x, l) in target[k + 1..].iter_mut().zip(multipliers) {
+                for (x, l) in target[1..].iter_mut().zip(multipliers) {
                     *x -= l * u;
                 }
             }
@@ -89,6 +83,11 @@ fn eliminate(mut a: MatMut<'_, f64>, perm: &mut [usize], perm_inv: &mut [usize])
     for (i, &p) in perm.iter().enumerate() {
         perm_inv[p] = i;
     }
+}
+
+/// Column `j` of a column-major matrix as a slice.
+fn column_mut<'a>(a: &'a mut MatMut<'_, f64>, j: usize) -> &'a mut [f64] {
+    a.as_mut().col_mut(j).try_as_col_major_mut().expect("contiguous columns").as_slice_mut()
 }
 
 /// Solves `A x = b` in place (`rhs` holds `b` on entry) with the factors of [`lu_in_place`]; `work` is
