@@ -1,6 +1,7 @@
 //! Result files: a CSV of the output columns written row by row as the run proceeds (so a run that fails
 //! keeps everything computed so far), and a JSON summary with the solver statistics.
 
+use std::cell::Cell;
 use std::fs::File;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -435,11 +436,11 @@ pub fn record_model_run(
         .transpose()
         .map_err(ResultFileError)?;
     let mut stresses = StressMonitor::new(loaded);
-    let mut last_t = f64::NEG_INFINITY;
+    let run_again = Cell::new(false);
     let mut restart_error = None;
     let observe = &mut |frame: &OutputFrame| {
         // Global error control ran the model again from the start: the series and the stresses begin anew.
-        if frame.t <= last_t {
+        if run_again.replace(false) {
             stresses = StressMonitor::new(loaded);
             if let Some(p) = outputs.paraview.as_ref().filter(|_| series.is_some()) {
                 match RunSeries::create(&p.dir, &p.name, loaded, p.times, p.max_frames) {
@@ -448,14 +449,14 @@ pub fn record_model_run(
                 }
             }
         }
-        last_t = frame.t;
         stresses.observe(&loaded.model, frame);
         if let Some(series) = series.as_mut() {
             series.observe(frame);
         }
         observe(frame);
     };
-    let run = record_run(&loaded.model, settings, model_file, (&outputs.csv, &outputs.summary), restart, observe, interrupt)?;
+    let files = (outputs.csv.as_path(), outputs.summary.as_path());
+    let run = record_run_again_noticed(&loaded.model, settings, model_file, files, restart, observe, &|| run_again.set(true), interrupt)?;
     if let Some(e) = restart_error {
         return Err(ResultFileError(e));
     }
@@ -487,9 +488,25 @@ pub fn record_run(
     model: &Arc<Model>,
     settings: &SimulationSettings,
     model_file: &str,
+    files: (&Path, &Path),
+    restart: Restart,
+    observe: &mut dyn FnMut(&OutputFrame),
+    interrupt: &dyn Fn() -> Option<String>,
+) -> Result<RecordedRun, ResultFileError> {
+    record_run_again_noticed(model, settings, model_file, files, restart, observe, &|| {}, interrupt)
+}
+
+/// [`record_run`] that calls `run_again` when global error control starts the model again from the
+/// start, before the first frame of the new run reaches `observe`.
+#[allow(clippy::too_many_arguments)]
+fn record_run_again_noticed(
+    model: &Arc<Model>,
+    settings: &SimulationSettings,
+    model_file: &str,
     (csv_path, summary_path): (&Path, &Path),
     restart: Restart,
     observe: &mut dyn FnMut(&OutputFrame),
+    run_again: &dyn Fn(),
     interrupt: &dyn Fn() -> Option<String>,
 ) -> Result<RecordedRun, ResultFileError> {
     let (started, resumed_at) = match restart.resume {
@@ -514,6 +531,7 @@ pub fn record_run(
             None => match create_csv() {
                 Ok(new) => {
                     csv = new;
+                    run_again();
                     Simulation::new(Arc::clone(model), *settings)
                 }
                 Err(e) => return (Err(e), None),

@@ -6,6 +6,7 @@
 
 use crate::program;
 
+use crate::vtk_output::read_pvd;
 use program::{scratch, succeed, workspace};
 
 fn summary(dir: &std::path::Path) -> serde_json::Value {
@@ -46,7 +47,9 @@ fn a_run_estimated_beyond_ten_tolerances_is_made_again_and_then_keeps_the_tolera
     let file = out.join("four_bar.toml");
     std::fs::write(&file, text.replace("global_error_control = true", "global_error_control = false")).unwrap();
     let controlled = out.join("controlled");
-    succeed(&["run", file.to_str().unwrap(), "--global-error-control", "--quiet", "--out", controlled.to_str().unwrap()]);
+    let vtk = out.join("vtk");
+    let vtk_args = ["--vtk", vtk.to_str().unwrap(), "--vtk-step", "0.5"];
+    succeed(&[&["run", file.to_str().unwrap(), "--global-error-control", "--quiet", "--out", controlled.to_str().unwrap()], &vtk_args[..]].concat());
     let s = summary(&controlled);
     let control = &s["statistics"]["global_error_control"];
     let earlier = control["earlier_runs"].as_array().unwrap();
@@ -57,6 +60,10 @@ fn a_run_estimated_beyond_ten_tolerances_is_made_again_and_then_keeps_the_tolera
     assert!(s["warnings"].as_array().unwrap().is_empty(), "{}", s["warnings"]);
     let csv = std::fs::read_to_string(controlled.join("four_bar.csv")).unwrap();
     assert_eq!(csv.lines().count(), 502, "a header and the 501 rows of the run made again, not both runs'");
+    // The ParaView series begins anew with the run made again: eleven frames, 0 to 5 s, once.
+    let entries = read_pvd(&vtk.join("four_bar.pvd"));
+    let times: Vec<f64> = entries.iter().filter(|e| e.part == 0).map(|e| e.time).collect();
+    assert_eq!(times, (0..=10).map(|i| 0.5 * i as f64).collect::<Vec<_>>(), "the frames of part 0");
 
     // The same numbers as the run asked for at that rtol directly.
     let direct = out.join("direct");
