@@ -89,10 +89,12 @@ fn the_bdf_warns_when_the_steps_held_to_the_share_floor_add_up_to_more_than_rtol
 /// Andrews' squeezer over the run: every step is near a singular position (κ about 200), where the BDF
 /// passes local error estimates up to `50 · gain · 10 ε κ` of the solution as rounding (2.3e-10 at order
 /// 5), far above the steps' shares at rtol 1e-9 (1e-13 to 3.5e-13): what passed beyond the shares adds up
-/// to 3.9e-8 of the solution (statistic `rounding_passed`) and `E` is 2.5e-8, 25 tolerances. The run says
-/// so at its end: a `tolerance` warning naming the sum, which bounds the global error (`E` at most rtol
-/// plus the sum) and is not far above it (within 4 times `E`). At rtol 1e-6 (the model's own) what passed
-/// is 4e-11, 4e-5 tolerances, `E` 0.11 tolerances, and there is no such warning. About 1 s in release.
+/// to 4.3e-8 of the solution (statistic `rounding_passed`) and `E` is 4.4e-8, 44 tolerances (3.9e-8 and
+/// 2.5e-8 before a lower order whose estimate passed as rounding was no longer chosen on its stand-in).
+/// The run says so at its end: a `tolerance` warning naming the sum, which measures the global error (not
+/// a bound: `E` within a factor of two of rtol plus the sum, either way). At rtol 1e-6 (the model's own)
+/// what passed is 4e-11, 4e-5 tolerances, `E` 0.11 tolerances, and there is no such warning. About 1 s in
+/// release.
 #[test]
 fn the_bdf_on_andrews_squeezer_warns_when_what_passed_as_rounding_exceeds_rtol() {
     let model = workspace().join("models/benchmarks/andrews_squeezer.toml");
@@ -122,13 +124,13 @@ fn the_bdf_on_andrews_squeezer_warns_when_what_passed_as_rounding_exceeds_rtol()
         );
         assert_eq!(warnings.len(), usize::from(warns), "rtol {rtol:e}: {warnings:?}");
         assert_eq!(passed > rtol, warns, "rtol {rtol:e}: passed {passed:e}");
-        assert!(error <= rtol + passed, "rtol {rtol:e}: E {error:e} beyond the tolerance and what passed, {passed:e}");
+        assert!(error <= 2.0 * (rtol + passed), "rtol {rtol:e}: E {error:e} beyond twice the tolerance and what passed, {passed:e}");
         if let Some(warning) = warnings.first() {
             let message = warning["message"].as_str().unwrap();
             assert!(message.contains(&format!("{passed:.1e} of the solution")), "{message}");
             assert!(message.contains("singular positions") && message.contains("rounding_passed"), "{message}");
             assert_eq!(warning["t"], 0.03, "at the end of the run");
-            assert!(passed < 4.0 * error, "what passed, {passed:e}, bounds E = {error:e} closely");
+            assert!(passed < 2.0 * error, "what passed, {passed:e}, measures E = {error:e} closely");
             assert!(error > 10.0 * rtol, "the warning is needed: E = {error:e}");
         } else {
             assert!(error < 10.0 * rtol, "rtol {rtol:e}: E = {error:e}");
