@@ -222,6 +222,7 @@ pub fn summary_json(
             "shadow_rtol": g.shadow_rtol,
             "t_compared": g.t_compared,
             "shadow_steps": g.shadow_steps,
+            "shadow_floor_steps": g.shadow_floor_steps,
         });
     }
     if let Some(control) = &request.global_error_control {

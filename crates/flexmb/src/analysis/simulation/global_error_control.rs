@@ -51,7 +51,8 @@ pub struct ControlledRun {
 /// The run global error control takes after the run of `settings` that reported `report`, and the record
 /// of that run, if it asks for one: with [`SimulationSettings::global_error_control`] on, after a run that
 /// reached its end time with an estimate over every output time that exceeds 10 of the tolerances asked for
-/// and is to be trusted (the finer run took at least 1.1 times its steps), fewer than [`MAX_RERUNS`] runs
+/// and is to be trusted ([`GlobalErrorEstimate::is_trusted`](super::GlobalErrorEstimate::is_trusted): the finer run took at least 1.1 times its
+/// steps, at most half of them held by the BDF's floor under a step's share), fewer than [`MAX_RERUNS`] runs
 /// again so far (`earlier`), and tolerances `rtol / N`, `atol / N` (`N` the estimate over the tolerance
 /// asked for) not below [`Tolerances::FINEST`]. The settings are `settings` with those tolerances.
 pub fn global_error_rerun(
@@ -64,7 +65,7 @@ pub fn global_error_rerun(
     let t_end = settings.t_end;
     let ended = report.interrupted.is_none() && report.t_reached >= t_end * (1.0 - 1e-12);
     let compared = estimate.t_compared >= t_end * (1.0 - 1e-12);
-    let trusted = estimate.shadow_steps as f64 >= super::global_error::PROPORTIONAL_STEPS * report.stats.steps as f64;
+    let trusted = estimate.is_trusted(report.stats.steps);
     if !(ended && compared && trusted) || estimate.tolerances <= super::global_error::PROMISED_TOLERANCES || earlier >= MAX_RERUNS {
         return None;
     }
