@@ -72,18 +72,18 @@ pub(crate) const BDF_NEWTON_FLOOR: f64 = 20.0 * f64::EPSILON;
 
 /// The warning of the step that makes the steps held to the fixed floor of a run spend more than its
 /// tolerance, `None` at every other step: `held_before` and `stats.share_floor_steps` such steps before
-/// and after the step that ended at `t`, at the mean floors `floor_before` and `stats.share_floor`, of a run of `t_end` seconds whose tolerance is `rtol` over each
+/// and after the step that ended at `t`, of a run of `t_end` seconds whose tolerance is `rtol` over each
 /// `span` seconds ([`Tolerances::span`], the run's length by default). Each of those steps is held to
-/// [`Stats::share_floor`] of the solution (their mean floor) however short it is, and their local errors add up
+/// [`Stats::share_floor`] of the solution however short it is, and their local errors add up
 /// (coherently for the BDF, whose truncation errors dissipate energy: the 3-D slider-crank at rtol
 /// 1e-10, 26,000 steps at 1e-13, lost 5.3e-10 J of 0.77 J and ended 72 tolerances off): once their number
 /// times the floor exceeds the run's tolerance, `rtol` times its number of spans, the tolerance is no
 /// longer kept by the error control, and the run says so, once. The message names the floor, the steps,
 /// what they add up to so far and at this rate by the end, and what to do.
-pub(crate) fn floor_warning(held_before: usize, floor_before: f64, stats: &Stats, rtol: f64, span: f64, t: f64, t_end: f64) -> Option<String> {
+pub(crate) fn floor_warning(held_before: usize, stats: &Stats, rtol: f64, span: f64, t: f64, t_end: f64) -> Option<String> {
     let (held, floor) = (stats.share_floor_steps, stats.share_floor);
     let allowed = rtol * (t_end / span).max(1.0);
-    let crossed = held_before as f64 * floor_before <= allowed && held as f64 * floor > allowed;
+    let crossed = held_before as f64 * floor <= allowed && held as f64 * floor > allowed;
     crossed.then(|| {
         let at_end = held as f64 * (t_end / t).max(1.0);
         format!(
@@ -98,44 +98,6 @@ pub(crate) fn floor_warning(held_before: usize, floor_before: f64, stats: &Stats
             sum_end = at_end * floor,
         )
     })
-}
-
-/// The fixed floor under the BDF's share of the tolerance: [`FINE_STEP_FLOOR`], or where the estimate's
-/// noise was measured (the polishing iteration's increment carried into the estimate), [`NOISE_MARGIN`]
-/// times it, at least [`LOWEST_FLOOR`].
-///
-/// Measured (BDF over the run, medians over rtol × 0.97 … 1.03): the 3-D slider-crank at 1e-10 61.0 →
-/// 25.9 tolerances (23,403 → 29,515 steps), at 1e-9 6.2 → 4.7; the heavy top at 1e-10 1.33 → 0.40; the
-/// peer cases at their own tolerances within 0.2 % of their steps. But the polishing increments do not
-/// tell the double four-bar from the slider-crank (median 1.9e-16 against 2.1e-16 of the solution, 90th
-/// percentile 1.6e-15 against 1.0e-15, rtol 1e-10), so its floor falls too; and two of its 28 runs
-/// (9.7e-10, 1.03e-10) then never ended: the singular-position guard's crossing and the step it places
-/// otherwise alternated (6.86e-6 s, 3.43e-6 s at t = 8.4844 s), each failing its Newton iteration, the
-/// halving of the one undone by the other. Not kept (docs/accuracy.md, *What holds the floor*).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub(crate) struct NoiseFloor {
-    /// The estimate's noise relative to the solution, the largest of the last steps' measurements
-    /// decayed by [`NOISE_LEVEL_DECAY`] per step; `None` since a step that did not measure it.
-    pub level: Option<f64>,
-}
-
-/// The floor as a multiple of the measured noise.
-const NOISE_MARGIN: f64 = 3.0;
-/// The lowest fixed floor.
-const LOWEST_FLOOR: f64 = 1.5e-14;
-/// Factor of the measured noise level per accepted step.
-const NOISE_LEVEL_DECAY: f64 = 0.9;
-
-impl NoiseFloor {
-    /// The fixed floor for the next step, relative to the solution.
-    pub fn floor(&self) -> f64 {
-        self.level.map_or(FINE_STEP_FLOOR, |level| (NOISE_MARGIN * level).clamp(LOWEST_FLOOR, FINE_STEP_FLOOR))
-    }
-
-    /// A step was accepted, its estimate's noise measured as `noise` (relative to the solution), or not.
-    pub fn accepted(&mut self, noise: Option<f64>) {
-        self.level = noise.map(|noise| self.level.map_or(noise, |level| noise.max(NOISE_LEVEL_DECAY * level)));
-    }
 }
 
 /// A step's share of the tolerance is at least this fraction of the last accepted step's.
@@ -230,15 +192,15 @@ mod tests {
     #[test]
     fn the_warning_comes_at_the_step_that_makes_the_floor_spend_more_than_the_tolerance() {
         let held = |steps| Stats { share_floor_steps: steps, share_floor: FINE_STEP_FLOOR, ..Stats::default() };
-        let warning = |before, after| floor_warning(before, FINE_STEP_FLOOR, &held(after), 1e-10, 5.0, 2.0, 5.0);
+        let warning = |before, after| floor_warning(before, &held(after), 1e-10, 5.0, 2.0, 5.0);
         assert_eq!(warning(999, 1000), None, "1,000 steps at 1e-13 make rtol exactly");
         let message = warning(1000, 1001).expect("1,001 steps exceed it");
         assert!(message.contains("1001 steps up to t = 2.0000 s") && message.contains("1e-13"), "{message}");
         assert!(message.contains("about 2502 such steps and 2.5e-10 by t = 5 s"), "{message}");
         assert_eq!(warning(1001, 1002), None, "once");
         // Over a span of 1 s, a run of 5 s may spend five tolerances.
-        assert_eq!(floor_warning(4000, FINE_STEP_FLOOR, &held(4001), 1e-10, 1.0, 2.0, 5.0), None);
-        assert!(floor_warning(5000, FINE_STEP_FLOOR, &held(5001), 1e-10, 1.0, 2.0, 5.0).is_some());
+        assert_eq!(floor_warning(4000, &held(4001), 1e-10, 1.0, 2.0, 5.0), None);
+        assert!(floor_warning(5000, &held(5001), 1e-10, 1.0, 2.0, 5.0).is_some());
     }
 
     /// An estimate that falls with the step is never noise; one that stays while the step is cut eight
