@@ -40,6 +40,14 @@ use crate::model::Model;
 use crate::stage::{normalize_euler_parameters, position_rates, residual, update_angle_references, YLayout};
 
 const MAX_ORDER: usize = 5;
+/// Most attempts at one step. Each failure shortens the step: a Newton failure halves it, an error-test
+/// failure multiplies it by at most 0.9 (the safety factor times the estimate's root, below 1), so from any
+/// step to the smallest the time resolves (1e-14 of it) takes at most about 310 failures, each with at most
+/// three attempts (one with a fresh Jacobian, one at the Newton increments' rounding floor). More means that
+/// something lengthens the attempts again after each failure, as the singular-position guard's crossing
+/// once did without end (`singular_position::FAILED_CROSSINGS`): the run then stops with the reason rather
+/// than looping where no interruption is checked.
+const MAX_ATTEMPTS: usize = 2000;
 /// Most Newton iterations of one attempt (Radau5's 7; DASSL and IDA allow 4). A reused Jacobian contracts
 /// ever more slowly as the bodies turn away from where it was evaluated, and an iteration costs one residual
 /// where a new Jacobian costs one per colour of its columns (20 to 45 on the peer cases) and a
@@ -405,11 +413,17 @@ impl Bdf {
         // Why the last attempt failed; described (which allocates) only if the step size underflows.
         let mut failure = AttemptFailure::None;
         let mut error_test_failures = 0;
+        let mut attempts = 0;
         let (t_new, safety) = loop {
             let mut h = self.h;
             if h < min_step {
                 let reason = self.describe_failure(failure);
                 return Err(IntegrationError::StepSizeTooSmall { t, h, reason });
+            }
+            attempts += 1;
+            if attempts > MAX_ATTEMPTS {
+                let reason = self.describe_failure(failure);
+                return Err(IntegrationError::AttemptsWithoutProgress { t, h, attempts: MAX_ATTEMPTS, reason });
             }
             let mut t_new = t + h;
             // Not at a step end where a singular position leaves the constraints ill-conditioned.

@@ -13,6 +13,19 @@ pub enum IntegrationError {
         /// Why the last attempt failed.
         reason: String,
     },
+    #[error("the step from t = {t:.6} s failed {attempts} attempts without its size falling (last {h:.3e} s): {reason}")]
+    /// The attempts at one step failed more often than a shortening step can (an attempt moved longer
+    /// again after each failure), for `reason`.
+    AttemptsWithoutProgress {
+        /// Time (s).
+        t: f64,
+        /// The last attempt's step size (s).
+        h: f64,
+        /// The attempts made.
+        attempts: usize,
+        /// Why the last attempt failed.
+        reason: String,
+    },
     #[error("more than {max_steps} steps before t = {t:.6} s")]
     /// The step limit was reached.
     TooManySteps {
