@@ -92,7 +92,8 @@ pub(crate) fn floor_warning(held_before: usize, stats: &Stats, rtol: f64, span: 
              errors, each up to that floor, can add up over the run (the BDF's dissipate energy) to {sum:.1e} of the \
              solution, more than rtol {allowed:e} (at this rate about {at_end:.0} such steps and {sum_end:.1e} by t = \
              {t_end} s): the error can reach several tolerances; for a finer tolerance use the Adams method (integrator = \"adams\"), which keeps \
-             rtol 1e-10 on the benchmarks of docs/accuracy.md; the statistics share_floor_steps and share_floor count \
+             rtol 1e-10 on the benchmarks of docs/accuracy.md but the double four-bar through its singular positions (there to \
+             1e-9); the statistics share_floor_steps and share_floor count \
              these steps and give the floor",
             sum = held as f64 * floor,
             sum_end = at_end * floor,
