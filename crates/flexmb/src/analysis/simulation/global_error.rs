@@ -93,9 +93,9 @@ pub struct GlobalErrorEstimate {
 
 impl GlobalErrorEstimate {
     /// Whether the estimate measures the error of a run of `steps` accepted steps: the shadow took at least
-    /// [`PROPORTIONAL_STEPS`] times its steps (else a floor holds the steps of both) and at most
-    /// [`FLOOR_HELD_SHARE`] of the shadow's steps were held by the floor under a step's share (else the
-    /// shadow's errors are the floor's, not a tenth of the run's). Where not, the difference of the two
+    /// 1.1 times its steps (else a floor holds the steps of both) and at most half of the shadow's steps
+    /// were held by the BDF's floor under a step's share (else the shadow's errors are the floor's, not a
+    /// tenth of the run's). Where not, the difference of the two
     /// runs may be far below the run's error, and the run says so.
     pub fn is_trusted(&self, steps: usize) -> bool {
         self.shadow_steps as f64 >= PROPORTIONAL_STEPS * steps as f64 && self.shadow_floor_steps as f64 <= FLOOR_HELD_SHARE * self.shadow_steps as f64
