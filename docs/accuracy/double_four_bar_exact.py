@@ -93,12 +93,23 @@ def over_time(rows, exact, window=0.03):
 
 
 def main(paths):
+    if not paths or any(p in ("-h", "--help") for p in paths):
+        print(__doc__)
+        return 0 if paths else 2
     per_row = "--over-time" in paths
     paths = [p for p in paths if p != "--over-time"]
     exact = {}
     for name in paths:
-        with open(name) as f:
-            rows = list(csv.DictReader(f))
+        try:
+            with open(name) as f:
+                rows = list(csv.DictReader(f))
+        except OSError as e:
+            print(f"{name}: cannot read it: {e.strerror}", file=sys.stderr)
+            return 1
+        if not rows or "b0.position.x" not in rows[0]:
+            print(f"{name}: no rows with b0.position.x (a CSV of models/benchmarks/double_four_bar.toml is expected)",
+                  file=sys.stderr)
+            return 1
         missing = sorted({r["t"] for r in rows} - exact.keys(), key=float)
         exact.update(zip(missing, path([mp.mpf(t) for t in missing])) if not exact else
                      ((t, path([mp.mpf(t)])[0]) for t in missing))
@@ -117,7 +128,8 @@ def main(paths):
         print("  largest per second: " + ", ".join(f"{per_second[s]:.1e}" for s in sorted(per_second)))
         if per_row:
             over_time(rows, exact)
+    return 0
 
 
 if __name__ == "__main__":
-    main(sys.argv[1:])
+    sys.exit(main(sys.argv[1:]))
