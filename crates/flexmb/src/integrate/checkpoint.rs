@@ -104,6 +104,10 @@ pub struct BdfCheckpoint {
     /// converges where the uninterrupted one does.
     #[serde(default)]
     pub newton_rounding_level: Option<f64>,
+    /// The last step accepted away from singular positions, towards which a step near one may grow back
+    /// (0 in checkpoints written before it: none).
+    #[serde(default)]
+    pub smooth_step: f64,
     /// The constraint rows in force.
     pub active: Vec<bool>,
     /// Last accepted relative angle of each joint (for continuing angles past ±π).
