@@ -74,8 +74,10 @@ pub(crate) fn reduced_body(
         .and_then(|()| ReductionLock::acquire(&lock_path, STALE_AFTER, POLL_EVERY))
         .ok();
     let lock_warning = acquired.as_ref().and_then(|a| a.warning.clone());
-    let waited = acquired.as_ref().is_some_and(|a| a.waited);
-    let obtained = match cached(&file, loaded, fe_path, set, basis).filter(|_| waited) {
+    // The cache is read again under the lock whether or not another held it: the one that reduced may
+    // have written the cache and released the lock between the reading above and this acquisition (six
+    // concurrent checks on a loaded machine then reduced the door twice).
+    let obtained = match acquired.as_ref().and_then(|_| cached(&file, loaded, fe_path, set, basis)) {
         Some(obtained) => Ok(obtained),
         None => reduce_now(Some((&dir, &prefix, hash))),
     };
