@@ -632,10 +632,14 @@ impl Bdf {
             } else {
                 bdf.rms_norm(x, error_const(k))
             };
-            // Near a singular position an estimate within the amplified rounding says nothing of the step;
-            // the second value tells whether it was that.
-            let beyond = SingularPassage::estimate_beyond_rounding(norm / share, share, bdf.tolerances.rtol, bdf.amplification, k);
-            (beyond, beyond != norm / share)
+            // Near a singular position an estimate within the amplified rounding passed the error test; the
+            // step is chosen against that rounding itself (the stand-in where it is below 0.3 of it), and
+            // the second value tells that it passed so.
+            let (rtol, amplification) = (bdf.tolerances.rtol, bdf.amplification);
+            if SingularPassage::estimate_beyond_rounding(norm / share, share, rtol, amplification, k) != norm / share {
+                return (SingularPassage::estimate_for_selection(norm, share, rtol, amplification, k), true);
+            }
+            (norm / share, false)
         };
         let (error_m, lower_within_rounding) = if order > 1 { estimate(self, order, order - 1) } else { (f64::INFINITY, false) };
         let error_p = if order < self.config.max_order { estimate(self, order + 2, order + 1).0 } else { f64::INFINITY };
@@ -669,7 +673,8 @@ impl Bdf {
         }
         let (mut best, mut best_factor) =
             factors.iter().enumerate().fold((1, factors[1]), |acc, (i, f)| if *f > acc.1 { (i, *f) } else { acc });
-        // Estimates at orders k and k + 1 that both passed as rounding near a singular position say nothing
+        // Estimates at orders k and k + 1 that both passed as rounding near a singular position, each below
+        // 0.3 of the rounding itself (the stand-in, `SingularPassage::estimate_for_selection`), say nothing
         // of which order is the more accurate, only that both truncation errors are below the rounding, and
         // the higher order's falls the faster with the step. Compared as they are, the lower order's equal
         // estimate allows the larger factor (0.3^(−1/k)): the double four-bar over its run at rtol 1e-6,
