@@ -635,11 +635,10 @@ impl Bdf {
             // Near a singular position an estimate within the amplified rounding passed the error test; the
             // step is chosen against that rounding itself (the stand-in where it is below 0.3 of it), and
             // the second value tells that it passed so.
-            let (rtol, amplification) = (bdf.tolerances.rtol, bdf.amplification);
-            if SingularPassage::estimate_beyond_rounding(norm / share, share, rtol, amplification, k) != norm / share {
-                return (SingularPassage::estimate_for_selection(norm, share, rtol, amplification, k), true);
+            match SingularPassage::estimate_for_selection(norm, share, bdf.tolerances.rtol, bdf.amplification, k) {
+                Some(error) => (error, true),
+                None => (norm / share, false),
             }
-            (norm / share, false)
         };
         let (error_m, lower_within_rounding) = if order > 1 { estimate(self, order, order - 1) } else { (f64::INFINITY, false) };
         let error_p = if order < self.config.max_order { estimate(self, order + 2, order + 1).0 } else { f64::INFINITY };

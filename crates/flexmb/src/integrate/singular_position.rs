@@ -527,9 +527,14 @@ impl SingularPassage {
     /// error, 9 to 75 tolerances at rtol × 0.97 … 1.03; with the selection aimed at the rounding, 0.5 to
     /// 3.4 (2,200–2,850 steps before, 4,570–4,940 now). Aimed at four times the rounding: 1.4 to 5.4
     /// tolerances in 3,570–4,100 steps.
-    pub fn estimate_for_selection(estimate: f64, share: f64, rtol: f64, amplification: f64, order: usize) -> f64 {
+    /// `None` where the estimate did not pass as rounding (the selection takes it as it is).
+    pub fn estimate_for_selection(estimate: f64, share: f64, rtol: f64, amplification: f64, order: usize) -> Option<f64> {
+        let error = estimate / share;
+        if error <= NOISE_ESTIMATE || !Self::error_within_rounding(error * share, rtol, amplification, order) {
+            return None;
+        }
         let rounding = Self::estimate_rounding(amplification, rtol, order) / MARGIN;
-        (estimate / share.max(rounding)).max(NOISE_ESTIMATE)
+        Some((estimate / share.max(rounding)).max(NOISE_ESTIMATE))
     }
 
     /// Whether an estimate of `error` tolerances of a method of order `order` is within the rounding amplified
