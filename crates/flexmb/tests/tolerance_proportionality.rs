@@ -140,8 +140,9 @@ fn a_tolerance_below_double_precision_is_raised_with_a_warning() {
         assert!(warning.message.contains("rtol 1e-15 raised to 1e-12"), "{method:?}: {}", warning.message);
         assert!(warning.message.contains("atol 1e-15 raised to 1e-12"), "{method:?}: {}", warning.message);
         let finest = support::run(&model, &short(Tolerances::FINEST));
-        // Nothing raised; the BDF says that its steps, each held to 1e-13 of the solution, add up to more
-        // than 1e-12 (`share_floor`), from the eleventh step held.
+        // Nothing raised; the BDF says that its steps, each held to the floor (1e-13 of the solution, or
+        // three times its estimate's measured noise down to 1.5e-14), add up to more
+        // than 1e-12 (`share_floor`), once they do.
         let floor_held = |w: &&flexmb::analysis::SimulationWarning| w.message.contains("held to what one step resolves");
         let (floor, others): (Vec<_>, Vec<_>) = finest.report.warnings.iter().partition(floor_held);
         assert!(others.is_empty(), "{method:?}: {others:?}");

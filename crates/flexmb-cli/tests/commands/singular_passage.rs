@@ -517,7 +517,8 @@ fn the_bdf_over_the_run_passes_the_ten_positions_where_it_had_stopped_at_one() {
 /// to the rounding of the estimates there (`Bdf::bounded_level`). Its steps are held by the share's floor
 /// (1e-13 of the solution), the same steps as at 1e-9, and the BDF's truncation errors, each lowering the
 /// energy, add up to a lag of the cranks' phase (docs/accuracy.md, *Where the 1e-8 error comes from*):
-/// 9,158 steps, B0 9.45e-9 m off the exact path (94.5 tolerances; 153 before a step whose estimate passed as
+/// 9,158 steps, B0 9.45e-9 m off the exact path (94.5 tolerances; with the floor made of the measured noise,
+/// `integrate/noise_floor.rs`, 11,733 steps and 7.2e-9 m; 153 before a step whose estimate passed as
 /// rounding near a position could grow back, 14.3 before the repeated attempt near a position kept its
 /// place, by a cancellation of the passages' errors against that drift); bound 300 tolerances, and the run
 /// must say so. About 2 s in release.
@@ -538,7 +539,10 @@ fn the_bdf_over_the_run_at_1e_10_passes_the_ten_positions_and_warns() {
 /// *Where the 1e-8 error comes from*). Bound 30 tolerances. Its global error estimate
 /// (`--global-error-estimate`, the shadow at 1e-10) is not to be trusted, and the run says so: the shadow's
 /// 9,158 steps (1.05 times the run's 8,722) were all held to the BDF's floor under a step's share, its error
-/// 9.45e-9 m against the run's 1.02e-8 m, their difference 0.86 tolerances. About 4 s in release.
+/// 9.45e-9 m against the run's 1.02e-8 m, their difference 0.86 tolerances; with the floor made of the
+/// measured noise (`integrate/noise_floor.rs`) the run is 1.11e-8 m off in 8,331 steps, the shadow 11,733
+/// steps (10,711 held) and their difference 2.0e-8 m: the estimate is off by more than half either way.
+/// About 4 s in release.
 #[test]
 fn the_bdf_over_the_run_at_1e_9_crosses_the_ten_positions_and_warns() {
     let (out, worst) = bdf_over_the_run_through_ten_positions_with_a_warning("1e-9", 30.0, &["--global-error-estimate"]);
@@ -546,7 +550,8 @@ fn the_bdf_over_the_run_at_1e_9_crosses_the_ten_positions_and_warns() {
     let estimate = &summary["statistics"]["global_error_estimate"];
     let (shadow, held) = (estimate["shadow_steps"].as_f64().unwrap(), estimate["shadow_floor_steps"].as_f64().unwrap());
     assert!(held > 0.5 * shadow, "the shadow held by the floor: {estimate}");
-    assert!(estimate["estimate"].as_f64().unwrap() < 0.5 * worst, "the estimate far below the error {worst:e}: {estimate}");
+    let ratio = estimate["estimate"].as_f64().unwrap() / worst;
+    assert!(!(0.67..=1.5).contains(&ratio), "the estimate not the error {worst:e}: {estimate}");
     let untrusted = summary["warnings"].as_array().unwrap().iter().any(|w| {
         let message = w["message"].as_str().unwrap();
         message.starts_with("global error estimate not to be trusted")

@@ -108,6 +108,11 @@ pub struct BdfCheckpoint {
     /// (0 in checkpoints written before it: none).
     #[serde(default)]
     pub smooth_step: f64,
+    /// The estimate's noise measured by the polishing iteration (relative to the solution), of which the
+    /// fixed floor under the share is made (`None`: not measured at the last step, and in checkpoints
+    /// written before it: the floor is then `FINE_STEP_FLOOR`).
+    #[serde(default)]
+    pub noise_level: Option<f64>,
     /// The constraint rows in force.
     pub active: Vec<bool>,
     /// Last accepted relative angle of each joint (for continuing angles past ±π).

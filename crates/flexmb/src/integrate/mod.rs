@@ -35,6 +35,7 @@ mod integrator;
 mod iteration_matrix;
 mod newton;
 mod newton_rounding;
+mod noise_floor;
 pub(crate) mod passed_rounding;
 mod rounding_level;
 pub(crate) mod share_floor;

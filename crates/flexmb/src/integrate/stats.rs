@@ -54,7 +54,9 @@ pub struct Stats {
     /// (the BDF; `integrate/share_floor.rs`).
     #[serde(default)]
     pub share_floor_steps: usize,
-    /// That floor relative to the solution (1e-13 for the BDF); 0 when no step was held to it.
+    /// That floor relative to the solution, the mean over those steps (the BDF's, between 1.5e-14 and
+    /// 1e-13, follows the estimate's measured noise: `integrate/share_floor.rs`, `NoiseFloor`); 0 when no
+    /// step was held to it.
     #[serde(default)]
     pub share_floor: f64,
     /// What the accepted steps let pass as rounding, relative to the solution, added up over the run: the
@@ -93,7 +95,13 @@ impl Stats {
             singular_positions: self.singular_positions + later.singular_positions,
             singular_position_tolerance: finest_nonzero(self.singular_position_tolerance, later.singular_position_tolerance),
             share_floor_steps: self.share_floor_steps + later.share_floor_steps,
-            share_floor: self.share_floor.max(later.share_floor),
+            // The mean floor over both parts' held steps.
+            share_floor: if self.share_floor_steps + later.share_floor_steps > 0 {
+                (self.share_floor_steps as f64 * self.share_floor + later.share_floor_steps as f64 * later.share_floor)
+                    / (self.share_floor_steps + later.share_floor_steps) as f64
+            } else {
+                0.0
+            },
             rounding_passed: self.rounding_passed + later.rounding_passed,
         }
     }
