@@ -26,9 +26,9 @@ use crate::integrate::error_norm::{error_weight, weighted_rms_norm};
 use crate::integrate::iteration_matrix::IterationMatrix;
 use crate::integrate::newton::{self, ConvergenceTest, NewtonSystem};
 use crate::integrate::newton_rounding::{RoundingFloor, CHANGE_RATIO, NOISE_CEILING};
+use crate::integrate::noise_floor::NoiseFloor;
 use crate::integrate::passed_rounding;
 use crate::integrate::rounding_level::rounding_residual;
-use crate::integrate::noise_floor::NoiseFloor;
 use crate::integrate::share_floor::{ShareFloor, BDF_NEWTON_FLOOR, FINE_STEP_FLOOR};
 use crate::integrate::singular_position::SingularPassage;
 use crate::integrate::{

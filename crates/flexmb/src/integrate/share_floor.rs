@@ -72,8 +72,8 @@ pub(crate) const FINE_STEP_FLOOR: f64 = STEP_FLOOR / 10.0;
 pub(crate) const BDF_NEWTON_FLOOR: f64 = 20.0 * f64::EPSILON;
 
 /// The warning of the step that makes the steps held to the fixed floor of a run spend more than its
-/// tolerance, `None` at every other step: `held_before` and `stats.share_floor_steps` such steps before
-/// and after the step that ended at `t`, at the mean floors `floor_before` and `stats.share_floor`, of a run of `t_end` seconds whose tolerance is `rtol` over each
+/// tolerance, `None` at every other step: such steps spent `spent_before` of the solution before the step
+/// that ended at `t` and [`Stats::share_floor_spent`] after it, of a run of `t_end` seconds whose tolerance is `rtol` over each
 /// `span` seconds ([`Tolerances::span`], the run's length by default). Each of those steps is held to
 /// [`Stats::share_floor`] of the solution (their mean floor) however short it is, and their local errors add up
 /// (coherently for the BDF, whose truncation errors dissipate energy: the 3-D slider-crank at rtol
@@ -81,10 +81,10 @@ pub(crate) const BDF_NEWTON_FLOOR: f64 = 20.0 * f64::EPSILON;
 /// times the floor exceeds the run's tolerance, `rtol` times its number of spans, the tolerance is no
 /// longer kept by the error control, and the run says so, once. The message names the floor, the steps,
 /// what they add up to so far and at this rate by the end, and what to do.
-pub(crate) fn floor_warning(held_before: usize, floor_before: f64, stats: &Stats, rtol: f64, span: f64, t: f64, t_end: f64) -> Option<String> {
+pub(crate) fn floor_warning(spent_before: f64, stats: &Stats, rtol: f64, span: f64, t: f64, t_end: f64) -> Option<String> {
     let (held, floor) = (stats.share_floor_steps, stats.share_floor);
     let allowed = rtol * (t_end / span).max(1.0);
-    let crossed = held_before as f64 * floor_before <= allowed && held as f64 * floor > allowed;
+    let crossed = spent_before <= allowed && stats.share_floor_spent() > allowed;
     crossed.then(|| {
         let at_end = held as f64 * (t_end / t).max(1.0);
         format!(
@@ -194,15 +194,15 @@ mod tests {
     #[test]
     fn the_warning_comes_at_the_step_that_makes_the_floor_spend_more_than_the_tolerance() {
         let held = |steps| Stats { share_floor_steps: steps, share_floor: FINE_STEP_FLOOR, ..Stats::default() };
-        let warning = |before, after| floor_warning(before, FINE_STEP_FLOOR, &held(after), 1e-10, 5.0, 2.0, 5.0);
+        let warning = |before: usize, after| floor_warning(before as f64 * FINE_STEP_FLOOR, &held(after), 1e-10, 5.0, 2.0, 5.0);
         assert_eq!(warning(999, 1000), None, "1,000 steps at 1e-13 make rtol exactly");
         let message = warning(1000, 1001).expect("1,001 steps exceed it");
         assert!(message.contains("1001 steps up to t = 2.0000 s") && message.contains("1e-13"), "{message}");
         assert!(message.contains("about 2502 such steps and 2.5e-10 by t = 5 s"), "{message}");
         assert_eq!(warning(1001, 1002), None, "once");
         // Over a span of 1 s, a run of 5 s may spend five tolerances.
-        assert_eq!(floor_warning(4000, FINE_STEP_FLOOR, &held(4001), 1e-10, 1.0, 2.0, 5.0), None);
-        assert!(floor_warning(5000, FINE_STEP_FLOOR, &held(5001), 1e-10, 1.0, 2.0, 5.0).is_some());
+        assert_eq!(floor_warning(4000.0 * FINE_STEP_FLOOR, &held(4001), 1e-10, 1.0, 2.0, 5.0), None);
+        assert!(floor_warning(5000.0 * FINE_STEP_FLOOR, &held(5001), 1e-10, 1.0, 2.0, 5.0).is_some());
     }
 
     /// An estimate that falls with the step is never noise; one that stays while the step is cut eight

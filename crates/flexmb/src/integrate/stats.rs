@@ -55,7 +55,7 @@ pub struct Stats {
     #[serde(default)]
     pub share_floor_steps: usize,
     /// That floor relative to the solution, the mean over those steps (the BDF's, between 1.5e-14 and
-    /// 1e-13, follows the estimate's measured noise: `integrate/share_floor.rs`, `NoiseFloor`); 0 when no
+    /// 1e-13, follows the estimate's measured noise: `integrate/noise_floor.rs`); 0 when no
     /// step was held to it.
     #[serde(default)]
     pub share_floor: f64,
@@ -72,6 +72,12 @@ impl Stats {
     /// Rejected steps of any cause.
     pub fn rejected_steps(&self) -> usize {
         self.error_test_failures + self.newton_failures
+    }
+
+    /// What the steps held to the fixed floor under a step's share may add up to, relative to the
+    /// solution: their number times their mean floor.
+    pub fn share_floor_spent(&self) -> f64 {
+        self.share_floor_steps as f64 * self.share_floor
     }
 
     /// The counters of two integrations one after the other (a run whose integrator was restarted).

@@ -540,10 +540,10 @@ impl Simulation {
         }
         let step = self.integrator.step(self.settings.t_end);
         let (rounding_before, singular_before) = (self.report.stats.rounding_floor_steps, self.report.stats.singular_positions);
-        let floor_held_before = (self.report.stats.share_floor_steps, self.report.stats.share_floor);
+        let floor_spent_before = self.report.stats.share_floor_spent();
         self.report.stats = self.restarted_stats.followed_by(self.integrator.stats());
         let (t, tolerances) = (self.integrator.t(), &self.settings.tolerances);
-        if let Some(message) = floor_warning(floor_held_before.0, floor_held_before.1, &self.report.stats, tolerances.rtol, tolerances.span.seconds(), t, self.settings.t_end) {
+        if let Some(message) = floor_warning(floor_spent_before, &self.report.stats, tolerances.rtol, tolerances.span.seconds(), t, self.settings.t_end) {
             self.report.warnings.push(SimulationWarning { t, kind: WarningKind::Tolerance, message });
         }
         if rounding_before == 0 && self.report.stats.rounding_floor_steps > 0 {
