@@ -78,6 +78,53 @@ fn the_bdf_at_1e_10_over_the_run_holds_its_steps_to_the_measured_noise() {
     }
 }
 
+/// Below 1e-10 over the run the BDF's steps ask nothing finer (they are held to the floor under a step's
+/// share already at 1e-10), and a finer tolerance only lets more estimates pass as rounding where the
+/// constraint Jacobian's condition number dips: before the raise the slider-crank was 2.4e-8 off at 1e-11
+/// and 4.8e-8 at 1e-12, against 2.6e-9 at 1e-10 (docs/accuracy.md, *The finest tolerance*). Now a run at
+/// 1e-12 says at t = 0 that rtol and atol were raised to 1e-10 and names the Adams method, and it is the
+/// run at 1e-10, to the last digit. With a span given explicitly the tolerance is taken as given (the run
+/// differs and does not warn). About 3 s in release.
+#[test]
+fn the_bdf_over_the_run_raises_a_tolerance_below_1e_10_to_it_and_says_so() {
+    let model = workspace().join("models/peer/slider_crank_3d.toml");
+    let dir = scratch("bdf-finest-tolerance");
+    let read = |out: &std::path::Path| -> (ResultCsv, serde_json::Value) {
+        let summary = serde_json::from_str(&std::fs::read_to_string(out.join("slider_crank_3d.json")).unwrap()).unwrap();
+        (ResultCsv::read(&out.join("slider_crank_3d.csv")), summary)
+    };
+    let raised_by = |summary: &serde_json::Value| -> Vec<String> {
+        summary["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|w| w["kind"] == "tolerance" && w["message"].as_str().unwrap().contains("tolerance finer than the BDF keeps over the run:"))
+            .map(|w| {
+                assert_eq!(w["t"].as_f64(), Some(0.0), "{w}");
+                w["message"].as_str().unwrap().to_string()
+            })
+            .collect()
+    };
+    let (at_finest, at_finer, given) = (dir.join("1e-10"), dir.join("1e-12"), dir.join("1e-12-step"));
+    run_at_tolerance(&model, "bdf", "1e-10", &at_finest, &[]);
+    run_at_tolerance(&model, "bdf", "1e-12", &at_finer, &[]);
+    run_at_tolerance(&model, "bdf", "1e-12", &given, &["--tolerance-span", "step", "--t-end", "0.2"]);
+    let ((finest, finest_summary), (finer, finer_summary)) = (read(&at_finest), read(&at_finer));
+    assert!(raised_by(&finest_summary).is_empty());
+    let messages = raised_by(&finer_summary);
+    assert_eq!(messages.len(), 1, "{messages:?}");
+    assert!(
+        messages[0].contains("rtol 1e-12 raised to 1e-10, atol 1e-12 raised to 1e-10") && messages[0].contains("integrator = \"adams\""),
+        "{}",
+        messages[0]
+    );
+    assert_eq!(finer.header, finest.header);
+    assert!(finer.rows == finest.rows, "the raised run is the run at 1e-10");
+    assert_eq!(finer_summary["statistics"]["steps"], finest_summary["statistics"]["steps"]);
+    let (_, given_summary) = read(&given);
+    assert!(raised_by(&given_summary).is_empty(), "a span given explicitly takes the tolerance as given");
+}
+
 /// The warning of a run whose steps the share's floor holds: each BDF step is then held to the floor
 /// (1e-13 of the solution, or three times the estimate's measured noise down to 1.5e-14,
 /// `integrate/noise_floor.rs`) however short it is, and those local errors add up. On the slider-crank

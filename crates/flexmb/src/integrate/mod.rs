@@ -24,6 +24,7 @@
 
 pub mod adams;
 mod bdf;
+mod bdf_finest_tolerance;
 mod checkpoint;
 mod config;
 mod convergence_rate;

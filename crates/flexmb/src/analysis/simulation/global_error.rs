@@ -121,6 +121,9 @@ pub(super) struct Reintegration {
     /// Per group (or coordinate): the largest difference so far and the time of it.
     largest: Vec<(f64, f64)>,
     t_end: f64,
+    /// The finest tolerance the run's method keeps over the run: the BDF's 1e-10, generalized-α's 1e-7, the
+    /// Adams method's [`Tolerances::FINEST`].
+    finest: (f64, &'static str),
     ended: bool,
 }
 
@@ -179,6 +182,14 @@ impl Reintegration {
             scale: vec![0.0; n],
             largest: vec![(0.0, 0.0); n],
             t_end: settings.t_end,
+            finest: match run.settings.method {
+                Method::Bdf(_) => (crate::integrate::Bdf::FINEST_OVER_RUN, "the BDF keeps over the run; the Adams method keeps finer ones"),
+                Method::GeneralizedAlpha(_) => (
+                    crate::integrate::GeneralizedAlpha::FINEST_OVER_RUN,
+                    "generalized-α keeps over the run; the BDF and the Adams method keep finer ones",
+                ),
+                Method::Adams(_) => (Tolerances::FINEST, "double precision allows"),
+            },
             ended: false,
         })
     }
@@ -257,7 +268,7 @@ impl Reintegration {
         let shadow_stats = self.shadow.simulation().stats();
         (estimate.shadow_steps, estimate.shadow_floor_steps) = (shadow_stats.steps, shadow_stats.share_floor_steps);
         if estimate.tolerances > PROMISED_TOLERANCES {
-            let message = warning(estimate, (self.rtol, self.atol), self.asked.0, self.t_end);
+            let message = warning(estimate, (self.rtol, self.atol), self.asked.0, self.t_end, self.finest);
             report.warnings.push(SimulationWarning { t: estimate.t, kind: WarningKind::Tolerance, message });
         }
         // A mechanism without degrees of freedom moves as its drivers say, and one at rest stays where it
@@ -287,7 +298,7 @@ impl Reintegration {
 /// `rtol`, or the one global error control was asked for) from the run's `(rtol, atol)`: under
 /// proportionality the error falls with the tolerances, so `rtol / N` and `atol / N` for an estimate of
 /// `N` tolerances.
-fn warning(estimate: &GlobalErrorEstimate, (rtol, atol): (f64, f64), asked: f64, t_end: f64) -> String {
+fn warning(estimate: &GlobalErrorEstimate, (rtol, atol): (f64, f64), asked: f64, t_end: f64, (finest, keeps): (f64, &str)) -> String {
     let n = estimate.tolerances;
     let (asked_rtol, asked_atol) = (rtol / n, atol / n);
     let norm = match estimate.norm {
@@ -299,11 +310,10 @@ fn warning(estimate: &GlobalErrorEstimate, (rtol, atol): (f64, f64), asked: f64,
     } else {
         String::new()
     };
-    let ask = if asked_rtol < Tolerances::FINEST {
+    let ask = if asked_rtol < finest {
         format!(
-            "about rtol {asked_rtol:.1e} would be needed for an error of {asked:e}, finer than the finest tolerance ({:e}): \
-             no tolerance delivers it",
-            Tolerances::FINEST
+            "about rtol {asked_rtol:.1e} would be needed for an error of {asked:e}, finer than the finest tolerance \
+             {keeps} ({finest:e}): no tolerance of this method delivers it"
         )
     } else {
         format!("ask rtol {asked_rtol:.1e} and atol {asked_atol:.1e} for an error of about {asked:e}")

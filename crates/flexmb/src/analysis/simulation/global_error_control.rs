@@ -54,7 +54,9 @@ pub struct ControlledRun {
 /// and is to be trusted ([`GlobalErrorEstimate::is_trusted`](super::GlobalErrorEstimate::is_trusted): the finer run took at least 1.1 times its
 /// steps, at most half of them held by the BDF's floor under a step's share), fewer than [`MAX_RERUNS`] runs
 /// again so far (`earlier`), and tolerances `rtol / N`, `atol / N` (`N` the estimate over the tolerance
-/// asked for) not below [`Tolerances::FINEST`]. The settings are `settings` with those tolerances.
+/// asked for) not below [`Tolerances::FINEST`], and finer than this run's once the method has raised them to
+/// the finest it keeps over the run (the BDF's 1e-10, generalized-α's 1e-7). The settings are `settings`
+/// with those tolerances.
 pub fn global_error_rerun(
     settings: &SimulationSettings,
     report: &SimulationReport,
@@ -74,8 +76,14 @@ pub fn global_error_rerun(
     if rtol / n < Tolerances::FINEST || atol / n < Tolerances::FINEST {
         return None;
     }
-    let run = ControlledRun { rtol, atol, estimate: estimate.estimate, tolerances: n, steps: report.stats.steps, shadow_steps: estimate.shadow_steps };
     let tolerances = Tolerances { rtol: rtol / n, atol: atol / n, ..settings.tolerances };
+    // Where the method raises the finer tolerance to its finest over the run and that is no finer than
+    // this run's, running again gives the same run.
+    let (attainable, _) = super::attainable_by_method(&tolerances, &settings.method);
+    if attainable.rtol > 0.5 * rtol && attainable.atol > 0.5 * atol {
+        return None;
+    }
+    let run = ControlledRun { rtol, atol, estimate: estimate.estimate, tolerances: n, steps: report.stats.steps, shadow_steps: estimate.shadow_steps };
     Some((SimulationSettings { tolerances, ..*settings }, run))
 }
 

@@ -792,7 +792,8 @@ fn singular_position_warning(condition: f64, rtol: f64, held: f64, near: usize) 
 }
 
 /// `settings` with tolerances finer than the arithmetic allows raised to the finest attainable (for the
-/// generalized-α method over the run's span, to the finest it keeps, [`GeneralizedAlpha::attainable`]), and a
+/// BDF and the generalized-α method over the run's span, to the finest each keeps, [`Bdf::attainable`],
+/// [`GeneralizedAlpha::attainable`]), and a
 /// warning at the start saying so, and the span of the tolerance
 /// [`ToleranceSpan::Run`](crate::integrate::ToleranceSpan::Run) made the run's length, `t_end`.
 fn attainable_tolerances(settings: SimulationSettings, warnings: &mut Vec<SimulationWarning>) -> SimulationSettings {
@@ -800,17 +801,26 @@ fn attainable_tolerances(settings: SimulationSettings, warnings: &mut Vec<Simula
     if let Some(message) = raised {
         warnings.push(SimulationWarning { t: 0.0, kind: WarningKind::Tolerance, message });
     }
-    // Generalized-α keeps no tolerance below its finest over the run's span (before the span is made
-    // seconds: an explicit span takes the tolerance as given).
-    if let Method::GeneralizedAlpha(config) = &settings.method {
-        let raised;
-        (tolerances, raised) = GeneralizedAlpha::attainable(&tolerances, config);
-        if let Some(message) = raised {
-            warnings.push(SimulationWarning { t: 0.0, kind: WarningKind::Tolerance, message });
-        }
+    // The BDF and generalized-α keep no tolerance below their finest over the run's span (before the span
+    // is made seconds: an explicit span takes the tolerance as given).
+    let raised;
+    (tolerances, raised) = attainable_by_method(&tolerances, &settings.method);
+    if let Some(message) = raised {
+        warnings.push(SimulationWarning { t: 0.0, kind: WarningKind::Tolerance, message });
     }
     tolerances.span = tolerances.span.over_run(settings.t_end);
     SimulationSettings { tolerances, ..settings }
+}
+
+/// `tolerances` with an `rtol` or `atol` below the finest `method` keeps raised to it, and what was raised
+/// and why: over the run's span the BDF's [`Bdf::attainable`] and generalized-α's
+/// [`GeneralizedAlpha::attainable`]; the Adams method keeps every tolerance down to [`Tolerances::FINEST`](crate::integrate::Tolerances::FINEST).
+pub(crate) fn attainable_by_method(tolerances: &crate::integrate::Tolerances, method: &Method) -> (crate::integrate::Tolerances, Option<String>) {
+    match method {
+        Method::Bdf(_) => Bdf::attainable(tolerances),
+        Method::GeneralizedAlpha(config) => GeneralizedAlpha::attainable(tolerances, config),
+        Method::Adams(_) => (*tolerances, None),
+    }
 }
 
 /// The integrator of `settings.method`, started at a consistent state and its accelerations.
