@@ -69,7 +69,7 @@ fn a_fixed_step_needs_the_generalized_alpha_method() {
 
 /// `--spectral-radius` alone selects the generalized-α method with that radius (the same run as with
 /// `--integrator gen-alpha`, and another run than with another radius); beside another `--integrator` it
-/// is refused, as is a radius outside 0 to 1.
+/// is refused, as is a radius outside 0 to 1; a radius of 1 under error control runs with a warning.
 #[test]
 fn a_spectral_radius_selects_the_generalized_alpha_method() {
     let out = scratch("spectral-radius");
@@ -88,6 +88,16 @@ fn a_spectral_radius_selects_the_generalized_alpha_method() {
     let other = run("other", &["--spectral-radius", "1"]);
     assert_eq!(alone, named, "--spectral-radius alone is the generalized-α method with that radius");
     assert_ne!(alone, other, "the radius changes the run");
+    // Near 1 under error control the run warns at its start that the steps can collapse
+    // (`GeneralizedAlphaConfig::undamped_warning`); at 0.5, or at a fixed step, it does not.
+    let undamped = |name: &str| -> usize {
+        let text = std::fs::read_to_string(out.join(name).join("pendulum.json")).unwrap();
+        let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+        let warnings = json["warnings"].as_array().unwrap();
+        warnings.iter().filter(|w| w["t"] == 0.0 && w["message"].as_str().unwrap().contains("ρ∞ = 1 of the generalized-α method under error control")).count()
+    };
+    run("fixed", &["--spectral-radius", "1", "--fixed-step", "0.01"]);
+    assert_eq!((undamped("other"), undamped("alone"), undamped("fixed")), (1, 0, 0));
     let e = fail(&["run", "models/pendulum.toml", "--integrator", "bdf", "--spectral-radius", "0.5", "--quiet", "--out", out.to_str().unwrap()]);
     assert!(e.contains("--spectral-radius is a setting of the generalized-α method") && e.contains("--integrator bdf"), "{e}");
     let e = fail(&["run", "models/pendulum.toml", "--spectral-radius", "1.5", "--quiet", "--out", out.to_str().unwrap()]);

@@ -794,7 +794,8 @@ fn singular_position_warning(condition: f64, rtol: f64, held: f64, near: usize) 
 /// `settings` with tolerances finer than the arithmetic allows raised to the finest attainable (for the
 /// BDF and the generalized-α method over the run's span, to the finest each keeps, [`Bdf::attainable`],
 /// [`GeneralizedAlpha::attainable`]), and a
-/// warning at the start saying so, and the span of the tolerance
+/// warning at the start saying so (and one for generalized-α's spectral radius near 1 under error control,
+/// [`GeneralizedAlphaConfig::undamped_warning`](crate::integrate::GeneralizedAlphaConfig::undamped_warning)), and the span of the tolerance
 /// [`ToleranceSpan::Run`](crate::integrate::ToleranceSpan::Run) made the run's length, `t_end`.
 fn attainable_tolerances(settings: SimulationSettings, warnings: &mut Vec<SimulationWarning>) -> SimulationSettings {
     let (mut tolerances, raised) = settings.tolerances.attainable();
@@ -807,6 +808,11 @@ fn attainable_tolerances(settings: SimulationSettings, warnings: &mut Vec<Simula
     (tolerances, raised) = attainable_by_method(&tolerances, &settings.method);
     if let Some(message) = raised {
         warnings.push(SimulationWarning { t: 0.0, kind: WarningKind::Tolerance, message });
+    }
+    if let Method::GeneralizedAlpha(config) = &settings.method {
+        if let Some(message) = config.undamped_warning() {
+            warnings.push(SimulationWarning { t: 0.0, kind: WarningKind::Tolerance, message });
+        }
     }
     tolerances.span = tolerances.span.over_run(settings.t_end);
     SimulationSettings { tolerances, ..settings }
