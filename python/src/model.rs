@@ -181,7 +181,7 @@ impl Model {
 
     /// Simulates the model from its initial state to `t_end` and returns the outputs as `Results`.
     /// Each argument left `None` takes the model file's `[simulation]` value; `integrator` is `"bdf"`,
-    /// `"adams"` or `"gen-alpha"` (with `spectral_radius`, default 0.9). The native work runs without the
+    /// `"adams"` or `"gen-alpha"` (with `spectral_radius`, default 0.8). The native work runs without the
     /// GIL; Ctrl-C stops it after the current step and raises `KeyboardInterrupt`, whose `results`
     /// attribute holds the rows computed until then. A failure raises `SimulationError` (the rows before
     /// it in its `results`).

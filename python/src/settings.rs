@@ -19,7 +19,7 @@ pub struct RunArguments {
     pub atol: Option<f64>,
     /// `bdf`, `adams` or `gen-alpha`.
     pub integrator: Option<String>,
-    /// ρ∞ of the generalized-α method (default 0.9).
+    /// ρ∞ of the generalized-α method (default 0.8).
     pub spectral_radius: Option<f64>,
 }
 
@@ -42,7 +42,7 @@ impl RunArguments {
         d.atol = positive_or("atol", self.atol, d.atol)?;
         check_output_rows(d.t_end, d.output_step, d.max_output_rows, false).map_err(|e| model_error(format!("{file}: {e}")))?;
         if let Some(name) = &self.integrator {
-            d.method = parse_method(name, self.spectral_radius.unwrap_or(0.9)).map_err(|e| model_error(format!("integrator: {e}")))?;
+            d.method = parse_method(name, self.spectral_radius.unwrap_or(flexmb::integrate::GeneralizedAlphaConfig::DEFAULT_SPECTRAL_RADIUS)).map_err(|e| model_error(format!("integrator: {e}")))?;
         }
         Ok(d.settings(&loaded.model, d.assembly()))
     }

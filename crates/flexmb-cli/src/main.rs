@@ -274,7 +274,7 @@ enum Command {
         #[arg(long)]
         atol: Option<f64>,
         /// Spectral radius at infinity of the generalized-α method (0 to 1).
-        #[arg(long, default_value_t = 0.9)]
+        #[arg(long, default_value_t = flexmb::integrate::GeneralizedAlphaConfig::DEFAULT_SPECTRAL_RADIUS)]
         spectral_radius: f64,
     },
     /// Run the performance benchmarks and report cost per step, per Newton iteration and per simulated

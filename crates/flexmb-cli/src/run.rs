@@ -114,7 +114,7 @@ fn chosen_method(method: Method, integrator: Option<&str>, spectral_radius: Opti
             "--spectral-radius is a setting of the generalized-α method, which --integrator {name} is not: give --integrator gen-alpha, or leave --spectral-radius out"
         ))),
         (Some(name), rho) => {
-            parse_method(name, rho.or(file_radius).unwrap_or(0.9)).map_err(|e| CliError(format!("--integrator: {e}")))
+            parse_method(name, rho.or(file_radius).unwrap_or(GeneralizedAlphaConfig::DEFAULT_SPECTRAL_RADIUS)).map_err(|e| CliError(format!("--integrator: {e}")))
         }
         (None, Some(rho)) => {
             // Checks the range.

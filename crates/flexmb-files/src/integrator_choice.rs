@@ -1,6 +1,6 @@
 //! Integrators by name, as the command line and model files write them.
 
-use flexmb::integrate::{AdamsConfig, Method};
+use flexmb::integrate::{AdamsConfig, GeneralizedAlphaConfig, Method};
 
 /// The method named `name` (`spectral_radius` is the generalized-α method's ρ∞).
 pub fn parse_method(name: &str, spectral_radius: f64) -> Result<Method, String> {
@@ -30,6 +30,6 @@ pub fn parse_study_integrator(name: &str) -> Result<(Method, Option<usize>), Str
             _ => Err(format!("`{name}`: the BDF's highest order after `bdf:` must be 1 to 5")),
         },
         Some(_) => Err(format!("`{name}`: only the BDF takes an order limit (`bdf:2`)")),
-        None => parse_method(name, 0.9).map(|m| (m, None)),
+        None => parse_method(name, GeneralizedAlphaConfig::DEFAULT_SPECTRAL_RADIUS).map(|m| (m, None)),
     }
 }

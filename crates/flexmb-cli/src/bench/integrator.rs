@@ -5,9 +5,9 @@ use flexmb::integrate::{AdamsConfig, Method};
 use flexmb::Model;
 use flexmb_files::SimulationDefaults;
 
-/// The generalized-α method's spectral radius at infinity in the benchmarks: the peer's (Exudyn's
-/// default) and `flexmb run`'s.
-pub const SPECTRAL_RADIUS: f64 = 0.9;
+/// The generalized-α method's spectral radius at infinity in the benchmarks: `flexmb run`'s default (0.8;
+/// the peer's, Exudyn's default, is 0.9).
+pub const SPECTRAL_RADIUS: f64 = flexmb::integrate::GeneralizedAlphaConfig::DEFAULT_SPECTRAL_RADIUS;
 
 /// An integration method of the engine, as a benchmark names it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, clap::ValueEnum)]
@@ -16,7 +16,7 @@ pub enum BenchIntegrator {
     Bdf,
     /// The Adams method (variable order 1–12).
     Adams,
-    /// The generalized-α method with ρ∞ = 0.9.
+    /// The generalized-α method with `flexmb run`'s default ρ∞ (0.8).
     GenAlpha,
     /// The Adams method with generalized coordinate partitioning (the DADS way, a library option that
     /// `flexmb run` does not offer), at the Adams method's tolerances: how the partition's cost grows.

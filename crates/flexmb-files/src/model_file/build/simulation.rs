@@ -71,7 +71,7 @@ pub(crate) fn simulation_defaults(
             _ => Ok(x),
         }
     };
-    let spectral_radius = ctx.number_or(&s.spectral_radius, &table.key("spectral_radius"), 0.9)?;
+    let spectral_radius = ctx.number_or(&s.spectral_radius, &table.key("spectral_radius"), flexmb::integrate::GeneralizedAlphaConfig::DEFAULT_SPECTRAL_RADIUS)?;
     if let Some(v) = &s.spectral_radius {
         if !(0.0..=1.0).contains(&spectral_radius) {
             return Err(ctx.invalid(
