@@ -172,6 +172,14 @@ pub struct GeneralizedAlphaCheckpoint {
     pub v_old: Vec<f64>,
     /// See [`t_old`](Self::t_old).
     pub vdot_old: Vec<f64>,
+    /// The size of the step before the last and the velocities at its start, of which the error estimate
+    /// takes the curvature of the accelerations (0 and empty in a checkpoint written before they were
+    /// kept: the accelerations' curvature then serves the first step).
+    #[serde(default)]
+    pub h_before_last: f64,
+    /// See [`h_before_last`](Self::h_before_last).
+    #[serde(default)]
+    pub v_before_last: Vec<f64>,
     /// The multipliers at the start of the last step (empty in a checkpoint written before they were
     /// kept: the predictor then holds the multipliers for the first step).
     #[serde(default)]

@@ -109,25 +109,23 @@ impl GeneralizedAlphaConfig {
     ///
     /// Near `ρ∞ = 1` little damps the step-to-step oscillation of the constraint forces (the multipliers,
     /// and with them the accelerations, alternate about their smooth values, as with the trapezoidal rule on
-    /// a constrained system). The positions and velocities hardly feel it, but the local error estimate's
-    /// third-order velocity, made of three consecutive accelerations, reads it as an error that does not
-    /// shrink with the step, so the steps shrink until the oscillation has decayed, by about `ρ∞` a step.
-    /// Measured at rtol 1e-4, steps at ρ∞ = 0.9 / 0.999 / 0.9999: the peer's 3-D pendulum (spherical
-    /// joint) 2,104 / 10,271 / 88,417, the 3-D slider-crank 25,356 / 60,866 / 372,010, Andrews' squeezer
-    /// 4,268 / 18,683 / more than 91,227 by t = 0.016 s of 0.03 s. At ρ∞ = 1 they stall: at rtol 1e-3 and
-    /// 1e-5 the pendulum reached t = 0.08 and 0.011 s of 5 s in 5.5 and 5.2 million steps (down to 1e-9 s),
-    /// the slider-crank 0.007 and 0.009 s in 1.4 million, Andrews' squeezer at 1e-3 1.1 ms in 1.9 million.
-    /// The planar pendulum of `models/pendulum.toml` (rtol 1e-6), where nothing excites the oscillation,
-    /// takes 9,507 steps at 0.9 and 9,169 at 1. With a fixed step there is no estimate.
+    /// a constrained system). The error estimate takes the curvature of the accelerations from the
+    /// velocities, which average it out (`GeneralizedAlpha::error_norm`), so the steps no longer collapse
+    /// (at rtol 1e-4 and ρ∞ = 1 the peer's 3-D pendulum 1,998 steps, 1.04 tolerances off, the slider-crank
+    /// 25,121 and 0.90, Bricard 2,346 and 1.44, the flyball governor 5,428 and 0.93, the heavy top 116,939
+    /// and 0.04). But the oscillation feeds energy into some motions, which no estimate of one step sees:
+    /// Andrews' squeezer at rtol 1e-4 is 21 tolerances off at ρ∞ = 1 (0.33 at 0.8), at 1e-3 21.7 at 0.99
+    /// and 10.1 at 0.9 (0.67 at 0.8); and the double four-bar's first singular position stops the run at
+    /// ρ∞ = 1 (t = 0.675 s, rtol 1e-4 and 1e-6). With a fixed step there is no estimate.
     pub fn undamped_warning(&self) -> Option<String> {
         let rho = self.spectral_radius;
         (self.fixed_step.is_none() && rho > Self::NEARLY_UNDAMPED).then(|| {
             format!(
                 "spectral radius ρ∞ = {rho} of the generalized-α method under error control: so near 1 little damps the \
-                 step-to-step oscillation of the constraint forces, which the error estimate reads as error, and the \
-                 steps can shrink by orders of magnitude (the peer's 3-D pendulum and slider-crank stall at ρ∞ = 1, and \
-                 take 5 and 2.4 times the steps of ρ∞ = 0.9 at 0.999); give ρ∞ of at most {limit} ({default} by default), \
-                 or a fixed step (fixed_step, --fixed-step), at which ρ∞ = 1 is the trapezoidal rule",
+                 step-to-step oscillation of the constraint forces, which can feed energy into the motion where no \
+                 error estimate sees it (Andrews' squeezer at ρ∞ = 1 and rtol 1e-4: 21 tolerances off, 0.33 at 0.8) and \
+                 stops the double four-bar at its first singular position; give ρ∞ of at most {limit} ({default} by \
+                 default), or a fixed step (fixed_step, --fixed-step), at which ρ∞ = 1 is the trapezoidal rule",
                 limit = Self::NEARLY_UNDAMPED,
                 default = Self::DEFAULT_SPECTRAL_RADIUS
             )
