@@ -217,7 +217,9 @@ fn the_bdf_on_andrews_squeezer_keeps_ten_tolerances_at_1e_9_and_says_what_passed
         if let Some(warning) = warnings.first() {
             let message = warning["message"].as_str().unwrap();
             assert!(message.contains(&format!("{passed:.1e} of the solution")), "{message}");
-            assert!(message.contains("singular positions") && message.contains("rounding_passed"), "{message}");
+            // Its condition number, about 200 at every step, names the amplification; the run passes no
+            // singular position (`singular_positions` 0), so the message does not say it is near one.
+            assert!(message.contains("condition number (up to") && message.contains("rounding_passed"), "{message}");
             assert_eq!(warning["t"], 0.03, "at the end of the run");
         }
         assert!(error < 10.0 * rtol, "rtol {rtol:e}: E = {error:e}");
