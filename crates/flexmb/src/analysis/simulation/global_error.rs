@@ -121,9 +121,8 @@ pub(super) struct Reintegration {
     /// Per group (or coordinate): the largest difference so far and the time of it.
     largest: Vec<(f64, f64)>,
     t_end: f64,
-    /// The finest tolerance the run's method keeps over the run: the BDF's 1e-10, generalized-α's 1e-7, the
-    /// Adams method's [`Tolerances::FINEST`].
-    finest: (f64, &'static str),
+    /// The finest tolerance the run's method keeps over the run ([`super::finest_over_run`]).
+    finest: f64,
     ended: bool,
 }
 
@@ -182,14 +181,7 @@ impl Reintegration {
             scale: vec![0.0; n],
             largest: vec![(0.0, 0.0); n],
             t_end: settings.t_end,
-            finest: match run.settings.method {
-                Method::Bdf(_) => (crate::integrate::Bdf::FINEST_OVER_RUN, "the BDF keeps over the run; the Adams method keeps finer ones"),
-                Method::GeneralizedAlpha(_) => (
-                    crate::integrate::GeneralizedAlpha::FINEST_OVER_RUN,
-                    "generalized-α keeps over the run; the BDF and the Adams method keep finer ones",
-                ),
-                Method::Adams(_) => (Tolerances::FINEST, "double precision allows"),
-            },
+            finest: super::finest_over_run(&run.settings.method),
             ended: false,
         })
     }
@@ -298,7 +290,7 @@ impl Reintegration {
 /// `rtol`, or the one global error control was asked for) from the run's `(rtol, atol)`: under
 /// proportionality the error falls with the tolerances, so `rtol / N` and `atol / N` for an estimate of
 /// `N` tolerances.
-fn warning(estimate: &GlobalErrorEstimate, (rtol, atol): (f64, f64), asked: f64, t_end: f64, (finest, keeps): (f64, &str)) -> String {
+fn warning(estimate: &GlobalErrorEstimate, (rtol, atol): (f64, f64), asked: f64, t_end: f64, finest: f64) -> String {
     let n = estimate.tolerances;
     let (asked_rtol, asked_atol) = (rtol / n, atol / n);
     let norm = match estimate.norm {
@@ -313,7 +305,9 @@ fn warning(estimate: &GlobalErrorEstimate, (rtol, atol): (f64, f64), asked: f64,
     let ask = if asked_rtol < finest {
         format!(
             "about rtol {asked_rtol:.1e} would be needed for an error of {asked:e}, finer than the finest tolerance \
-             {keeps} ({finest:e}): no tolerance of this method delivers it"
+             this method keeps over the run ({finest:e}; the Adams method keeps {adams:e}): no tolerance of this \
+             method delivers it",
+            adams = Tolerances::FINEST
         )
     } else {
         format!("ask rtol {asked_rtol:.1e} and atol {asked_atol:.1e} for an error of about {asked:e}")

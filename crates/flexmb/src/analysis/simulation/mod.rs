@@ -829,6 +829,13 @@ pub(crate) fn attainable_by_method(tolerances: &crate::integrate::Tolerances, me
     }
 }
 
+/// The finest tolerance `method` keeps over the run's span: what [`attainable_by_method`] raises a vanishing
+/// one to (the BDF's 1e-10, generalized-α's 1e-7), at least [`Tolerances::FINEST`](crate::integrate::Tolerances::FINEST) (the Adams method's).
+pub(crate) fn finest_over_run(method: &Method) -> f64 {
+    let vanishing = crate::integrate::Tolerances::new(f64::MIN_POSITIVE, f64::MIN_POSITIVE);
+    attainable_by_method(&vanishing, method).0.rtol.max(crate::integrate::Tolerances::FINEST)
+}
+
 /// The integrator of `settings.method`, started at a consistent state and its accelerations.
 fn start_integrator(
     model: &Arc<Model>,

@@ -918,7 +918,8 @@ impl GeneralizedAlpha {
         let nv = self.nv;
         self.t_old = self.t;
         self.h_before_last = self.h_last;
-        self.v_before_last.copy_from_slice(&self.v_old);
+        // v_before_last ← v_old ← v (v is overwritten below).
+        std::mem::swap(&mut self.v_before_last, &mut self.v_old);
         self.h_last = h;
         self.t = t_new;
         std::mem::swap(&mut self.q_old, &mut self.q);
