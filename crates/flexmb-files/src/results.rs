@@ -529,14 +529,22 @@ fn record_run_again_noticed(
     let (result, settings, earlier) = run_under_global_error_control(settings, |settings| {
         let started = match first.take() {
             Some(started) => started,
-            None => match create_csv() {
-                Ok(new) => {
-                    csv = new;
-                    run_again();
-                    Simulation::new(Arc::clone(model), *settings)
+            // The last run's buffered rows go to its file before the file is made anew: flushed when its
+            // writer was dropped, after the new one truncated the file, they landed past the new run's
+            // rows (a shorter run's CSV ended in the tail of the longer one's).
+            None => {
+                if let Err(e) = csv.flush() {
+                    return (Err(ResultFileError(format!("cannot write {}: {e}", csv_path.display()))), None);
                 }
-                Err(e) => return (Err(e), None),
-            },
+                match create_csv() {
+                    Ok(new) => {
+                        csv = new;
+                        run_again();
+                        Simulation::new(Arc::clone(model), *settings)
+                    }
+                    Err(e) => return (Err(e), None),
+                }
+            }
         };
         let result = started.and_then(|mut s| {
             let sink = &mut |frame: &OutputFrame| {

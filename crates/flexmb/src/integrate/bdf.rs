@@ -26,6 +26,7 @@ use crate::integrate::error_norm::{error_weight, weighted_rms_norm};
 use crate::integrate::iteration_matrix::IterationMatrix;
 use crate::integrate::newton::{self, ConvergenceTest, NewtonSystem};
 use crate::integrate::newton_rounding::{RoundingFloor, CHANGE_RATIO, NOISE_CEILING};
+use crate::integrate::floor_step_cap::FloorStepCap;
 use crate::integrate::noise_floor::NoiseFloor;
 use crate::integrate::passed_rounding;
 use crate::integrate::rounding_level::rounding_residual;
@@ -135,6 +136,8 @@ pub struct Bdf {
     /// one), which the error control chose on truncation estimates: near a position a step may grow back
     /// to it where the estimates pass as rounding ([`REGROWTH_NEAR_POSITION`]); 0 before the first.
     smooth_step: f64,
+    /// The bound on the steps the floor under the share holds (`integrate/floor_step_cap.rs`).
+    floor_cap: FloorStepCap,
     /// The fixed floor under it, made of the estimate's noise measured by the polishing iteration.
     noise_floor: NoiseFloor,
     /// The level below which the Newton increments are the residual's rounding.
@@ -241,6 +244,7 @@ impl Bdf {
             share: 1.0,
             share_floor: ShareFloor::default(),
             smooth_step: 0.0,
+            floor_cap: FloorStepCap::default(),
             noise_floor: NoiseFloor::default(),
             rounding: RoundingFloor::default(),
             singular,
@@ -316,6 +320,7 @@ impl Bdf {
             newton_rounding: self.rounding.stored(),
             newton_rounding_level: self.rounding_level,
             smooth_step: self.smooth_step,
+            floor_step_cap: self.floor_cap.stored(),
             noise_level: self.noise_floor.level,
             active: self.active.clone(),
             angle_reference: self.data.angle_reference.clone(),
@@ -350,6 +355,7 @@ impl Bdf {
         self.reuse.factored_c = c.factored_c.filter(|&cf| self.jac.factor(cf).is_ok());
         self.rounding_level = c.newton_rounding_level.filter(|_| self.reuse.factored_c.is_some());
         self.smooth_step = c.smooth_step;
+        self.floor_cap = FloorStepCap::restored(c.floor_step_cap);
         self.reuse.at_attempt = c.jacobian_at_attempt;
         self.reuse.rate = c.newton_rate;
         self.filter_steps = c.filter_steps;
@@ -711,6 +717,12 @@ impl Bdf {
             let regrowth = REGROWTH_NEAR_POSITION.min(self.smooth_step / self.h).min(self.stability.h_limit[self.order] / self.h);
             factor = factor.max(regrowth);
         }
+        // Where the floor under the share holds the step, no longer than the recent mean of the steps the
+        // estimates chose there (`integrate/floor_step_cap.rs`), away from the rounding that the
+        // conditioning amplifies.
+        let h_chosen = self.h * factor;
+        let held = self.tolerances.floor_holds(h_chosen, self.noise_floor.floor()) && self.amplification == 1.0;
+        factor = self.floor_cap.step(h_chosen, self.order, held) / self.h;
         self.h *= factor;
         let new_order = self.order;
         self.change_differences(new_order, factor);

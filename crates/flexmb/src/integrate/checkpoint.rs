@@ -108,6 +108,10 @@ pub struct BdfCheckpoint {
     /// (0 in checkpoints written before it: none).
     #[serde(default)]
     pub smooth_step: f64,
+    /// The mean of the steps chosen where the floor under the share held them and the number of those
+    /// selections, which bound the next such steps (zeros in checkpoints written before the bound).
+    #[serde(default)]
+    pub floor_step_cap: [f64; 2],
     /// The estimate's noise measured by the polishing iteration (relative to the solution), of which the
     /// fixed floor under the share is made (`None`: not measured at the last step, and in checkpoints
     /// written before it: the floor is then `FINE_STEP_FLOOR`).

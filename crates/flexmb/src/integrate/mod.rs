@@ -31,6 +31,7 @@ mod convergence_rate;
 mod diagnosis;
 mod error;
 mod error_norm;
+mod floor_step_cap;
 pub mod generalized_alpha;
 mod integrator;
 mod iteration_matrix;
