@@ -41,7 +41,7 @@ impl FloorStepCap {
     /// The step after a selection that chose `h_chosen` at order `order`; `held`: the floor holds the
     /// chosen step and the conditioning does not amplify the rounding.
     pub fn step(&mut self, h_chosen: f64, order: usize, held: bool) -> f64 {
-        if !held || order < LOWEST_ORDER || h_chosen.is_nan() || h_chosen <= 0.0 {
+        if !held || order < LOWEST_ORDER {
             return h_chosen;
         }
         self.selections += 1.0;
