@@ -200,6 +200,11 @@ pub struct GeneralizedAlphaCheckpoint {
     /// The rounding floor of the Newton increments (see [`BdfCheckpoint::newton_rounding`]).
     #[serde(default)]
     pub newton_rounding: [f64; 2],
+    /// The last error constant and the averaged trend of its logarithm, from which the next step is
+    /// chosen (a checkpoint written before it was kept: none, the first step after it takes the estimate
+    /// as it is).
+    #[serde(default)]
+    pub error_trend: [f64; 2],
     /// The step size the factors in use were made for (`None`: none in use), and the matrix they were
     /// made of, in the order of its sparse pattern (empty when none).
     #[serde(default)]
