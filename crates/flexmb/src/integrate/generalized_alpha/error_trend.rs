@@ -13,8 +13,10 @@
 //! put B0 10.1 tolerances off its exact path, while a fixed step with as many steps (2,326, 4.3e-3 s) was
 //! 1.9 tolerances off; the same fixed step varied by ±30 % with a period of 1 s, correlated with the
 //! motion, 14 tolerances off with any `ρ∞` (0.8 or 1), varied with periods of 0.2 s or 0.05 s not at all.
-//! Extrapolating the estimate two steps ahead along its trend removes most of the lag: B0 4.8 tolerances
-//! off in the same 2,315 steps (docs/accuracy.md, *Generalized-α's steps lagging the motion*).
+//! Extrapolating the estimate two steps ahead along its trend removes most of the lag: B0 6.7 tolerances
+//! off in the same 2,314 steps with the trend paused near the ten singular positions, 4.8 followed through
+//! them (which at rtol 1e-7 ran the steps into the second position: not kept); docs/accuracy.md,
+//! *Generalized-α's steps lagging the motion*.
 //!
 //! The trend is that of the error constant `C = ‖e‖ / h^p` (`p` the power the step selection takes the
 //! root of), its logarithm's step-to-step change averaged exponentially with weight
@@ -25,8 +27,9 @@
 
 /// How many steps ahead the estimate is extrapolated: the lag of its velocity part (the accelerations'
 /// curvature over the step and the two before it). On the double four-bar at rtol 1e-3 (B0 against its
-/// exact path, tolerances): 1 step 7.3, 2 steps 3.3 (raw trend) and 4.8 (averaged), 3 steps (raw) stopped
-/// the run at 5.1 s, the extrapolation amplifying the estimates' noise.
+/// exact path, tolerances): 1 step 7.3, 2 steps 3.3 (raw trend) and 4.8 (averaged; 6.7 paused near the
+/// singular positions, as kept), 3 steps (raw) stopped the run at 5.1 s, the extrapolation amplifying the
+/// estimates' noise.
 const STEPS_AHEAD: f64 = 2.0;
 /// Weight of the latest change of `ln C` in its exponential average.
 const TREND_WEIGHT: f64 = 0.3;
