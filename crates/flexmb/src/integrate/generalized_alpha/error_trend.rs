@@ -13,8 +13,8 @@
 //! put B0 10.1 tolerances off its exact path, while a fixed step with as many steps (2,326, 4.3e-3 s) was
 //! 1.9 tolerances off; the same fixed step varied by ±30 % with a period of 1 s, correlated with the
 //! motion, 14 tolerances off with any `ρ∞` (0.8 or 1), varied with periods of 0.2 s or 0.05 s not at all.
-//! Extrapolating the estimate two steps ahead along its trend removes most of the lag: B0 6.7 tolerances
-//! off in the same 2,314 steps with the trend paused near the ten singular positions, 4.8 followed through
+//! Extrapolating the estimate two steps ahead along its trend removes most of the lag: B0 6.6 tolerances
+//! off in 2,316 steps with the trend forgotten near the ten singular positions, 4.8 followed through
 //! them (which at rtol 1e-7 ran the steps into the second position: not kept); docs/accuracy.md,
 //! *Generalized-α's steps lagging the motion*.
 //!
@@ -22,12 +22,12 @@
 //! root of), its logarithm's step-to-step change averaged exponentially with weight
 //! [`TREND_WEIGHT`]: the raw change, extrapolated, doubled the estimates' noise and the rejections (the
 //! slider-crank at rtol 1e-5: 25,982 rejected steps in 93,322 against 8 in 82,404). The trend is forgotten
-//! where an estimate did not measure the truncation error (within the rounding near a singular position),
-//! and after a rejected step it is not used to grow the step.
+//! near singular positions, where an estimate may not measure the truncation error (within the rounding)
+//! and the steps follow the conditioning; after a rejected step it is not used to grow the step.
 
 /// How many steps ahead the estimate is extrapolated: the lag of its velocity part (the accelerations'
 /// curvature over the step and the two before it). On the double four-bar at rtol 1e-3 (B0 against its
-/// exact path, tolerances): 1 step 7.3, 2 steps 3.3 (raw trend) and 4.8 (averaged; 6.7 paused near the
+/// exact path, tolerances): 1 step 7.3, 2 steps 3.3 (raw trend) and 4.8 (averaged; 6.6 forgotten near the
 /// singular positions, as kept), 3 steps (raw) stopped the run at 5.1 s, the extrapolation amplifying the
 /// estimates' noise.
 const STEPS_AHEAD: f64 = 2.0;
@@ -59,15 +59,10 @@ impl ErrorTrend {
         error_norm * (STEPS_AHEAD * self.slope).exp()
     }
 
-    /// Forgets the trend: the last estimate did not measure the truncation error.
+    /// Forgets the trend: the last estimate did not measure the truncation error, or the steps followed a
+    /// singular position's conditioning rather than the motion.
     pub fn forget(&mut self) {
         *self = Self::default();
-    }
-
-    /// Holds the trend without the last constant: the next estimate joins the trend from there on
-    /// without a change measured across the steps not followed (a singular position's passage).
-    pub fn pause(&mut self) {
-        self.constant = 0.0;
     }
 
     /// The state for a checkpoint.

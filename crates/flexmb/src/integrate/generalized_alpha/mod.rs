@@ -81,7 +81,7 @@
 //! parts) is retried with `h/2`. Away from singular positions the next step is chosen from the estimate
 //! extrapolated two steps ahead along the trend of its error constant (`error_trend.rs`): steps that follow
 //! the motion late pump energy into a conservative mechanism (the double four-bar at rtol 1e-3 was 10.1
-//! tolerances off, now 6.7, in the same steps). On a change of step size `ã_n` is moved to the new size (see
+//! tolerances off, now 6.6, in as many steps). On a change of step size `ã_n` is moved to the new size (see
 //! `predict`); without that, 15 % of the steps of a slider-crank at tolerance 1e-8 were
 //! rejected, with it 0.1 %. Near a singular position an estimate within the rounding that the
 //! conditioning amplifies there (`SingularPassage::estimate_beyond_rounding`) passes, and the next step is
@@ -695,7 +695,7 @@ impl GeneralizedAlpha {
                         // For where the motion will be (`error_trend.rs`); not near a singular position, where the
                         // steps follow the passage's conditioning rather than the motion.
                         let error_norm = if self.singular.near() {
-                            self.error_trend.pause();
+                            self.error_trend.forget();
                             error_norm
                         } else {
                             self.error_trend.predicted(error_norm, h_step, power)
