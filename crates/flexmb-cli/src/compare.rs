@@ -1,6 +1,7 @@
 //! `flexmb compare`: one model run with several integrators, and a table with the seed's columns
 //! (T_end, CPU time, RMS step size) plus steps, rejected steps, right-hand-side evaluations and the
-//! error against a tight-tolerance reference run.
+//! error against a tight-tolerance reference run. With `--tolerances` the command draws a work-precision
+//! diagram instead ([`crate::work_precision`]).
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -26,19 +27,24 @@ pub struct CompareOptions {
 }
 
 /// One run's outcome.
-struct Run {
-    name: String,
-    t_reached: f64,
-    cpu: f64,
-    rms_step: f64,
-    steps: usize,
-    rejected: usize,
-    evaluations: usize,
-    frames: Vec<Vec<f64>>,
-    failure: Option<String>,
+pub(crate) struct Run {
+    pub(crate) name: String,
+    pub(crate) t_reached: f64,
+    pub(crate) cpu: f64,
+    pub(crate) rms_step: f64,
+    pub(crate) steps: usize,
+    pub(crate) rejected: usize,
+    pub(crate) evaluations: usize,
+    pub(crate) factorizations: usize,
+    /// The warnings the run reported.
+    pub(crate) warnings: usize,
+    /// The output rows, one per output time.
+    pub(crate) frames: Vec<Vec<f64>>,
+    pub(crate) failure: Option<String>,
 }
 
-fn run_with(model: &flexmb::Model, settings: &SimulationSettings, name: &str) -> Run {
+/// Runs the model with `settings`, keeping every output row.
+pub(crate) fn run_with(model: &flexmb::Model, settings: &SimulationSettings, name: &str) -> Run {
     let mut frames = Vec::new();
     let result = simulate(model, settings, &mut |f| frames.push(f.values.to_vec()));
     let (report, failure) = match result {
@@ -53,6 +59,8 @@ fn run_with(model: &flexmb::Model, settings: &SimulationSettings, name: &str) ->
         steps: report.stats.steps,
         rejected: report.stats.rejected_steps(),
         evaluations: report.stats.residual_evaluations,
+        factorizations: report.stats.factorizations,
+        warnings: report.warnings.len(),
         frames,
         failure,
     }

@@ -16,4 +16,5 @@ pub mod plot;
 pub mod run;
 pub mod spectrum;
 pub mod study;
+pub mod work_precision;
 

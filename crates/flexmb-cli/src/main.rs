@@ -10,10 +10,11 @@ use clap::{Args, Parser, Subcommand};
 use flexmb_cli::bench::{run_benchmarks, BenchCase, BenchIntegrator, BenchOptions};
 use flexmb_cli::check::{check_model, describe, describe_columns, describe_flexible_bodies};
 use flexmb_cli::compare::{compare_model, CompareOptions};
+use flexmb_cli::work_precision::{work_precision, WorkPrecisionOptions};
 use flexmb_cli::equilibrium::{run_equilibrium, EquilibriumOptions};
 use flexmb_cli::modes::{run_modes, ModesOptions};
 use flexmb_cli::parameters::parse_parameter;
-use flexmb_cli::plot::{plot_run_outputs, run_plot, PlotOptions, TimeWindow, YScale, DEFAULT_SIZE};
+use flexmb_cli::plot::{plot_run_outputs, run_plot, PlotOptions, TimeWindow, Scale, DEFAULT_SIZE};
 use flexmb_cli::run::{run_model, RunFiles, RunOptions};
 use flexmb_cli::spectrum::estimator::FrequencyBand;
 use flexmb_cli::spectrum::{run_spectrum, SpectrumOptions};
@@ -257,7 +258,8 @@ enum Command {
         #[arg(long)]
         stresses: bool,
     },
-    /// Run a model with several integrators and compare cost and accuracy against a tight reference.
+    /// Run a model with several integrators and compare cost and accuracy against a tight reference; with
+    /// --tolerances, a work-precision diagram (global error against steps) over a range of tolerances.
     Compare {
         /// Model file (TOML).
         model: PathBuf,
@@ -268,11 +270,23 @@ enum Command {
         #[arg(long)]
         t_end: Option<f64>,
         /// Relative error tolerance of every integrator.
-        #[arg(long)]
+        #[arg(long, conflicts_with = "tolerances")]
         rtol: Option<f64>,
         /// Absolute error tolerance of every integrator.
-        #[arg(long)]
+        #[arg(long, conflicts_with = "tolerances")]
         atol: Option<f64>,
+        /// Work-precision diagram: run every integrator at each of these tolerances (rtol = atol, comma-separated,
+        /// e.g. 1e-3,1e-4,1e-5,1e-6), measure each run's global error against the reference in the norm of
+        /// docs/accuracy.md (position outputs) and write OUT/MODEL_work_precision.svg (error against steps) and
+        /// OUT/MODEL_work_precision.csv
+        #[arg(long, value_delimiter = ',')]
+        tolerances: Vec<f64>,
+        /// The reference of --tolerances, METHOD:TOL
+        #[arg(long, default_value = flexmb_cli::work_precision::DEFAULT_REFERENCE, requires = "tolerances", value_parser = flexmb_cli::work_precision::parse_reference)]
+        reference: (String, f64),
+        /// Directory for the diagram and table of --tolerances
+        #[arg(long, default_value = "out", requires = "tolerances")]
+        out: PathBuf,
         /// Spectral radius at infinity of the generalized-α method (0 to 1).
         #[arg(long, default_value_t = flexmb::integrate::GeneralizedAlphaConfig::DEFAULT_SPECTRAL_RADIUS)]
         spectral_radius: f64,
@@ -517,9 +531,14 @@ fn main() -> ExitCode {
             };
             run_modes(&fe_model, &options).map(|report| print!("{report}"))
         }
-        Command::Compare { model, integrators, t_end, rtol, atol, spectral_radius } => {
-            let options = CompareOptions { integrators, t_end, rtol, atol, spectral_radius };
-            compare_model(&model, &options).map(|table| print!("{table}"))
+        Command::Compare { model, integrators, t_end, rtol, atol, spectral_radius, tolerances, reference, out } => {
+            if tolerances.is_empty() {
+                let options = CompareOptions { integrators, t_end, rtol, atol, spectral_radius };
+                compare_model(&model, &options).map(|table| print!("{table}"))
+            } else {
+                let options = WorkPrecisionOptions { integrators, tolerances, reference, t_end, spectral_radius, out };
+                work_precision(&model, &options).map(|table| print!("{table}"))
+            }
         }
         Command::Bench { case, integrator, repeat, json, max_links, links } => {
             let links = links.map(|n| n as usize);
@@ -533,8 +552,8 @@ fn main() -> ExitCode {
         }
         Command::Spectrum { results, y, from, to, peaks, min_frequency, max_frequency, out, scale, width, height } => {
             let y_scale = match scale {
-                ScaleArg::Log => YScale::Log,
-                ScaleArg::Linear => YScale::Linear,
+                ScaleArg::Log => Scale::Log,
+                ScaleArg::Linear => Scale::Linear,
             };
             let band = FrequencyBand { min: min_frequency, max: max_frequency };
             let options = SpectrumOptions { file: results, y, from, to, peaks, band, out, y_scale, size: (width, height) };

@@ -7,7 +7,7 @@
 
 use std::path::Path;
 
-use super::figure::{render, Annotation, Figure, Series, SeriesStyle, YScale};
+use super::figure::{render, Annotation, Figure, Series, SeriesStyle, Scale};
 use super::DEFAULT_SIZE;
 
 /// Where a mode's frequency curve crosses the 1× line.
@@ -83,7 +83,8 @@ pub fn campbell_figure(
         y_quantity: ("frequency".into(), Some("Hz".into())),
         series,
         annotations,
-        y_scale: YScale::Linear,
+        y_scale: Scale::Linear,
+        x_scale: Scale::Linear,
         x_range: Some(if last > first { (first, last) } else { (first - 0.5, first + 0.5) }),
         y_range: Some((0.0, top)),
     })

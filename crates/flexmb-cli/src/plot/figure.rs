@@ -42,9 +42,9 @@ pub struct Annotation {
     pub text: String,
 }
 
-/// Whether the y axis is linear or logarithmic (for spectra spanning decades).
+/// Whether an axis is linear or logarithmic (for spectra, errors or costs spanning decades).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum YScale {
+pub enum Scale {
     Linear,
     Log,
 }
@@ -58,7 +58,10 @@ pub struct Figure {
     pub y_quantity: (String, Option<String>),
     pub series: Vec<Series>,
     pub annotations: Vec<Annotation>,
-    pub y_scale: YScale,
+    pub y_scale: Scale,
+    /// Whether the x axis is linear (time, a swept parameter) or logarithmic (a cost spanning decades,
+    /// as a work-precision diagram's steps).
+    pub x_scale: Scale,
     /// The x range to show; by default that of the data and the annotations.
     pub x_range: Option<(f64, f64)>,
     /// The y range to show; by default that of the data and the annotations, with room (see
@@ -216,12 +219,15 @@ fn draw_figure<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, figure: &Figur
     let legend = legend_layout(root, figure, &metrics);
     let (chart_area, legend_area) = root.split_vertically(height.saturating_sub(legend.height));
     let (x_range, y_range) = axis_ranges(figure)?;
-    match figure.y_scale {
-        YScale::Linear => {
-            draw_axes(&chart_area, figure, &metrics, (x_range, y_range), linear_axis(y_range, Y_TICKS), y_range.0..y_range.1)?;
-        }
-        YScale::Log => {
-            draw_axes(&chart_area, figure, &metrics, (x_range, y_range), log_axis(), (y_range.0..y_range.1).log_scale())?;
+    let ranges = (x_range, y_range);
+    let (x_lin, y_lin) = (linear_axis(x_range, X_TICKS), linear_axis(y_range, Y_TICKS));
+    let (x_span, y_span) = (x_range.0..x_range.1, y_range.0..y_range.1);
+    match (figure.x_scale, figure.y_scale) {
+        (Scale::Linear, Scale::Linear) => draw_axes(&chart_area, figure, &metrics, ranges, (x_lin, y_lin), (x_span, y_span))?,
+        (Scale::Linear, Scale::Log) => draw_axes(&chart_area, figure, &metrics, ranges, (x_lin, log_axis()), (x_span, y_span.log_scale()))?,
+        (Scale::Log, Scale::Linear) => draw_axes(&chart_area, figure, &metrics, ranges, (log_axis(), y_lin), (x_span.log_scale(), y_span))?,
+        (Scale::Log, Scale::Log) => {
+            draw_axes(&chart_area, figure, &metrics, ranges, (log_axis(), log_axis()), (x_span.log_scale(), y_span.log_scale()))?
         }
     }
     draw_legend(&legend_area, figure, &metrics, &legend)
@@ -234,12 +240,17 @@ fn draw_figure<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, figure: &Figur
 pub fn axis_ranges(figure: &Figure) -> Result<(AxisRange, AxisRange), String> {
     let points = || figure.series.iter().flat_map(|s| &s.points).copied();
     let annotated = || figure.annotations.iter().map(|a| (a.x, a.y));
-    let x_range = figure.x_range.unwrap_or_else(|| data_range(points().chain(annotated()).map(|p| p.0)));
+    let x_values = || points().chain(annotated()).map(|p| p.0);
+    let x_range = match (figure.x_range, figure.x_scale) {
+        (Some(range), _) => range,
+        (None, Scale::Linear) => data_range(x_values()),
+        (None, Scale::Log) => log_padded(data_range(x_values().filter(|v| *v > 0.0))),
+    };
     let y_values = || points().chain(annotated()).map(|p| p.1).filter(|v| v.is_finite());
     let y_range = match (figure.y_range, figure.y_scale) {
         (Some(range), _) => range,
-        (None, YScale::Linear) => padded(data_range(y_values())),
-        (None, YScale::Log) => {
+        (None, Scale::Linear) => padded(data_range(y_values())),
+        (None, Scale::Log) => {
             let (lo, hi) = log_range(y_values());
             let smallest_annotation = annotated().map(|p| p.1).filter(|y| *y > 0.0).fold(f64::INFINITY, f64::min);
             (lo.min(smallest_annotation / 10.0), hi)
@@ -270,22 +281,23 @@ pub(super) fn drawable((lo, hi): (f64, f64)) -> bool {
     lo.is_finite() && hi.is_finite() && (hi - lo).is_finite()
 }
 
-/// The axes, grid, lines and annotations over the x and y ranges, on a y axis of type `Y` (linear or
-/// logarithmic).
-fn draw_axes<DB, Y>(
+/// The axes, grid, lines and annotations over the x and y ranges, on x and y axes of types `X` and `Y`
+/// (linear or logarithmic) whose numbers `x_axis` and `y_axis` write.
+fn draw_axes<DB, X, Y>(
     area: &DrawingArea<DB, Shift>,
     figure: &Figure,
     metrics: &Metrics,
-    ((x0, x1), (y0, y1)): (AxisRange, AxisRange),
-    y_axis: AxisScale,
-    y_spec: Y,
+    (_, (y0, y1)): (AxisRange, AxisRange),
+    (x_axis, y_axis): (AxisScale, AxisScale),
+    (x_spec, y_spec): (X, Y),
 ) -> Result<(), String>
 where
     DB: DrawingBackend,
+    X: AsRangedCoord<Value = f64>,
+    X::CoordDescType: Ranged<ValueType = f64> + ValueFormatter<f64>,
     Y: AsRangedCoord<Value = f64>,
     Y::CoordDescType: Ranged<ValueType = f64> + ValueFormatter<f64>,
 {
-    let x_axis = linear_axis((x0, x1), X_TICKS);
     let tick_font = (FAMILY, metrics.tick_label).into_font();
     let y_label_width = y_axis_width(area, &y_axis, &tick_font, metrics);
     let mut chart = ChartBuilder::on(area)
@@ -295,7 +307,7 @@ where
         .margin_left((metrics.tick_label * 0.6) as u32)
         .x_label_area_size((metrics.tick_label * 1.5 + metrics.axis_label * 1.7) as u32)
         .y_label_area_size(y_label_width)
-        .build_cartesian_2d(x0..x1, y_spec)
+        .build_cartesian_2d(x_spec, y_spec)
         .map_err(|e| e.to_string())?;
     let x_format = |v: &f64| x_axis.tick(*v);
     let y_format = |v: &f64| y_axis.tick(*v);
@@ -366,13 +378,14 @@ fn y_axis_width<DB: DrawingBackend>(
     widest + (metrics.axis_label * 2.0) as u32 + (metrics.tick_label * 0.8) as u32
 }
 
-fn draw_annotations<DB, Y>(
-    chart: &mut ChartContext<DB, Cartesian2d<plotters::coord::types::RangedCoordf64, Y>>,
+fn draw_annotations<DB, X, Y>(
+    chart: &mut ChartContext<DB, Cartesian2d<X, Y>>,
     figure: &Figure,
     metrics: &Metrics,
 ) -> Result<(), String>
 where
     DB: DrawingBackend,
+    X: Ranged<ValueType = f64> + ValueFormatter<f64>,
     Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
 {
     let radius = (metrics.legend * 0.3) as i32;
@@ -412,6 +425,11 @@ pub(super) fn padded((lo, hi): (f64, f64)) -> (f64, f64) {
     (lo - room, hi + room)
 }
 
+/// A range of positive values widened by a fifth of a decade at each end, for a logarithmic axis.
+fn log_padded((lo, hi): (f64, f64)) -> (f64, f64) {
+    (lo / 1.6, hi * 1.6)
+}
+
 /// The range of a logarithmic axis: the positive values, 2 to 7 decades below the largest, with
 /// room above it for annotations.
 fn log_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
@@ -437,7 +455,8 @@ mod tests {
                 })
                 .collect(),
             annotations: Vec::new(),
-            y_scale: YScale::Linear,
+            y_scale: Scale::Linear,
+            x_scale: Scale::Linear,
             x_range: None,
             y_range: None,
         }
@@ -451,6 +470,22 @@ mod tests {
         assert!(count(WHITE) > 640 * 400 / 2, "mostly background");
         assert!(count(PALETTE[0]) > 200, "the first line is drawn: {} pixels", count(PALETTE[0]));
         assert!(count(PALETTE[1]) > 200, "the second line is drawn: {} pixels", count(PALETTE[1]));
+    }
+
+    /// A work-precision diagram's axes: both logarithmic, the x axis over the positive values with a fifth of a
+    /// decade of room at each end; its points drawn.
+    #[test]
+    fn draws_on_two_logarithmic_axes() {
+        let mut figure = sine_figure(1);
+        figure.series[0].points = vec![(100.0, 1e-3), (1_000.0, 1e-5), (10_000.0, 1e-7)];
+        figure.series[0].style = SeriesStyle::LineAndPoints;
+        (figure.x_scale, figure.y_scale) = (Scale::Log, Scale::Log);
+        let ((x0, x1), (y0, y1)) = axis_ranges(&figure).unwrap();
+        assert_eq!((x0, x1), (100.0 / 1.6, 10_000.0 * 1.6));
+        assert!(y0 > 0.0 && y0 < 1e-7 && y1 > 1e-3, "({y0}, {y1})");
+        let pixels = render_rgb(&figure, (640, 400)).unwrap();
+        let count = |c: RGBColor| pixels.chunks(3).filter(|p| p == &[c.0, c.1, c.2]).count();
+        assert!(count(PALETTE[0]) > 200, "the line is drawn: {} pixels", count(PALETTE[0]));
     }
 
     #[test]
@@ -472,20 +507,20 @@ mod tests {
         // 1.5e308 with 5 % room still fits; on a log axis 4 times the largest value does not.
         figure.series[0].points = vec![(0.0, 0.0), (1.0, 1.5e308)];
         assert!(render_rgb(&figure, (640, 400)).is_ok());
-        figure.y_scale = YScale::Log;
+        figure.y_scale = Scale::Log;
         assert!(render_rgb(&figure, (640, 400)).unwrap_err().to_string().starts_with("cannot draw the y axis (x)"));
     }
 
     #[test]
     fn the_axes_hold_every_annotated_point() {
         let mut figure = sine_figure(1);
-        figure.y_scale = YScale::Log;
+        figure.y_scale = Scale::Log;
         figure.series[0].points = (0..100).map(|i| (i as f64, 10f64.powi(9 - i % 10))).collect();
         figure.annotations = vec![Annotation { x: 120.0, y: 0.1, text: "small".into() }];
         let ((x0, x1), (y0, y1)) = axis_ranges(&figure).unwrap();
         assert_eq!((x0, x1), (0.0, 120.0));
         assert!(y0 <= 0.01 && y1 >= 4e9, "{y0} to {y1}: a decade below the annotation, room above the data");
-        figure.y_scale = YScale::Linear;
+        figure.y_scale = Scale::Linear;
         figure.annotations[0].y = -5.0;
         assert!(axis_ranges(&figure).unwrap().1 .0 < -5.0);
     }

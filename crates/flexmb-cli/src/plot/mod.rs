@@ -17,7 +17,7 @@ mod run_outputs;
 use std::path::{Path, PathBuf};
 
 pub use flexmb_files::ResultTable;
-pub use figure::{axis_ranges, render, render_rgb, Annotation, Figure, ImageFormat, Series, SeriesStyle, YScale};
+pub use figure::{axis_ranges, render, render_rgb, Annotation, Figure, ImageFormat, Series, SeriesStyle, Scale};
 pub use run_outputs::plot_run_outputs;
 
 use crate::run::CliError;
@@ -166,7 +166,8 @@ pub fn compose(tables: &[ResultTable], x: &str, y: &[String], window: TimeWindow
         y_quantity,
         series,
         annotations: Vec::new(),
-        y_scale: YScale::Linear,
+        y_scale: Scale::Linear,
+        x_scale: Scale::Linear,
         x_range: if x == "t" { window.axis_range(times.into_iter()) } else { None },
         y_range: None,
     })

@@ -12,7 +12,7 @@ use std::path::PathBuf;
 use estimator::{dominant_peaks, AmplitudeSpectrum, FrequencyBand, Peak, WindowedRecord};
 use samples::UniformSamples;
 
-use crate::plot::{render, Annotation, Figure, ImageFormat, ResultTable, Series, SeriesStyle, YScale};
+use crate::plot::{render, Annotation, Figure, ImageFormat, ResultTable, Series, SeriesStyle, Scale};
 use crate::run::CliError;
 
 /// What `flexmb spectrum` analyses.
@@ -30,7 +30,7 @@ pub struct SpectrumOptions {
     pub band: FrequencyBand,
     /// Image of the amplitude spectrum (.png or .svg), if wanted.
     pub out: Option<PathBuf>,
-    pub y_scale: YScale,
+    pub y_scale: Scale,
     pub size: (u32, u32),
 }
 
@@ -154,7 +154,7 @@ pub fn spectrum_figure(
     column: &str,
     unit: Option<String>,
     report: &SpectrumReport,
-    y_scale: YScale,
+    y_scale: Scale,
 ) -> Figure {
     let highest = report.peaks.iter().map(|p| p.frequency).fold(0.0, f64::max);
     let f_max = (2.0 * highest).max(20.0 * report.resolution()).min(report.nyquist());
@@ -176,6 +176,7 @@ pub fn spectrum_figure(
             .map(|p| Annotation { x: p.frequency, y: p.amplitude, text: format!("{:.decimals$} Hz", p.frequency) })
             .collect(),
         y_scale,
+        x_scale: Scale::Linear,
         x_range: Some((0.0, f_max)),
         y_range: None,
     }
@@ -188,7 +189,7 @@ const LINEAR_VISIBLE: f64 = 0.01;
 /// A note for the report if some peaks are too small to see on the figure's linear amplitude axis.
 fn hidden_peaks_note(figure: &Figure, report: &SpectrumReport) -> Option<String> {
     let (_, (lo, hi)) = crate::plot::axis_ranges(figure).ok()?;
-    if figure.y_scale != YScale::Linear {
+    if figure.y_scale != Scale::Linear {
         return None;
     }
     let small: Vec<String> = report

@@ -40,3 +40,4 @@ mod study_file;
 mod tight_tolerances;
 mod untrusted_input;
 mod vtk_output;
+mod work_precision_diagram;

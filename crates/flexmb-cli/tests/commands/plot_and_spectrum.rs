@@ -221,7 +221,7 @@ fn errors_say_what_is_wrong() {
 fn every_reported_peak_lies_inside_the_spectrum_plot_and_above_its_floor() {
     // A large 2 Hz swing and a small 112 Hz vibration, a thousandth of it: on a linear amplitude axis
     // the small peak is a flat line under a pixel high, which is how a user's 112 Hz peak was hidden.
-    use flexmb_cli::plot::{axis_ranges, ResultTable, YScale};
+    use flexmb_cli::plot::{axis_ranges, ResultTable, Scale};
     use flexmb_cli::spectrum::{analyse, spectrum_figure, SpectrumOptions};
     let dir = scratch("spectrum-small-peak");
     let csv = dir.join("arm.csv");
@@ -236,14 +236,14 @@ fn every_reported_peak_lies_inside_the_spectrum_plot_and_above_its_floor() {
         peaks: 5,
         band: Default::default(),
         out: None,
-        y_scale: YScale::Log,
+        y_scale: Scale::Log,
         size: (1200, 750),
     };
     let report = analyse(table.column("t").unwrap(), table.column("tip.x").unwrap(), &options).unwrap();
     let frequencies: Vec<f64> = report.peaks.iter().map(|p| p.frequency).collect();
     assert_eq!(frequencies.len(), 2, "{frequencies:?}");
     assert!((frequencies[0] - 2.0).abs() < 1e-4 && (frequencies[1] - 112.0).abs() < 1e-3, "{frequencies:?}");
-    for scale in [YScale::Log, YScale::Linear] {
+    for scale in [Scale::Log, Scale::Linear] {
         let figure = spectrum_figure(&table, "tip.x", Some("m".into()), &report, scale);
         let ((f0, f1), (a0, a1)) = axis_ranges(&figure).unwrap();
         assert!(f0 <= 0.0 && f1 >= 1.5 * 112.0, "{scale:?}: the frequency axis {f0} to {f1} Hz");
@@ -251,8 +251,8 @@ fn every_reported_peak_lies_inside_the_spectrum_plot_and_above_its_floor() {
         for peak in &report.peaks {
             assert!(peak.amplitude < a1, "{scale:?}: {peak:?} under the top {a1}");
             match scale {
-                YScale::Log => assert!(peak.amplitude >= 10.0 * a0, "a decade above the floor {a0}: {peak:?}"),
-                YScale::Linear => assert!(peak.amplitude > a0, "above the floor {a0}: {peak:?}"),
+                Scale::Log => assert!(peak.amplitude >= 10.0 * a0, "a decade above the floor {a0}: {peak:?}"),
+                Scale::Linear => assert!(peak.amplitude > a0, "above the floor {a0}: {peak:?}"),
             }
         }
     }

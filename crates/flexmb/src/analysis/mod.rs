@@ -51,7 +51,7 @@ pub use redundancy::redundant_rows;
 #[doc(hidden)]
 pub use redundancy_reference::gram_schmidt_redundant_rows;
 pub use simulation::{
-    global_error_rerun, run_under_global_error_control, simulate, simulate_interruptible, ControlledRun, GlobalErrorControl, GlobalErrorEstimate, GlobalErrorNorm, Interruption, MAX_RERUNS, OutputFrame, OutputSink, OutputTable, Simulation, SimulationCheckpoint,
+    attainable_by_method, global_error_rerun, run_under_global_error_control, simulate, simulate_interruptible, ControlledRun, GlobalErrorControl, GlobalErrorEstimate, GlobalErrorNorm, Interruption, MAX_RERUNS, OutputFrame, OutputSink, OutputTable, Simulation, SimulationCheckpoint,
     SimulationError, SimulationFailure, SimulationReport, SimulationSettings, Start, StateProjection, WorkAtStep, CHECKPOINT_VERSION,
 };
 pub use state::State;

@@ -821,7 +821,9 @@ fn attainable_tolerances(settings: SimulationSettings, warnings: &mut Vec<Simula
 /// `tolerances` with an `rtol` or `atol` below the finest `method` keeps raised to it, and what was raised
 /// and why: over the run's span the BDF's [`Bdf::attainable`] and generalized-α's
 /// [`GeneralizedAlpha::attainable`]; the Adams method keeps every tolerance down to [`Tolerances::FINEST`](crate::integrate::Tolerances::FINEST).
-pub(crate) fn attainable_by_method(tolerances: &crate::integrate::Tolerances, method: &Method) -> (crate::integrate::Tolerances, Option<String>) {
+/// A [`Simulation`] applies it at its start (with a warning where it raised one); `flexmb compare
+/// --tolerances` leaves out a tolerance it would raise.
+pub fn attainable_by_method(tolerances: &crate::integrate::Tolerances, method: &Method) -> (crate::integrate::Tolerances, Option<String>) {
     match method {
         Method::Bdf(_) => Bdf::attainable(tolerances),
         Method::GeneralizedAlpha(config) => GeneralizedAlpha::attainable(tolerances, config),

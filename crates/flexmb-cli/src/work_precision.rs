@@ -1,0 +1,300 @@
+//! `flexmb compare --tolerances`: a work-precision diagram, the global error of a model's runs against
+//! their cost, for each integration method over a range of tolerances.
+//!
+//! Each method runs at `rtol = atol = tol` for every tolerance asked (error per unit step over the
+//! model's tolerance span, the default over the run's), a reference at a tight tolerance (the Adams
+//! method at 1e-12 unless told otherwise), and each run's **global error** is measured in the norm of
+//! docs/accuracy.md:
+//!
+//! ```text
+//! E = max over position outputs G of  max_{t, i ∈ G} |y_i(t) − r_i(t)|  /  max_{t, i ∈ G} |r_i(t)|
+//! ```
+//!
+//! `G` runs over the `marker_position` and `node_position` outputs, `i` over their x, y, z, `t` over
+//! the output times. The promise of docs/accuracy.md is `E ≤ 10 tol`, falling in proportion to `tol`:
+//! the table gives `E / tol` beside the steps, rejected steps, right-hand-side evaluations,
+//! factorizations and time of each run, and the diagram (SVG or PNG) `E` against the steps, one line per
+//! method, both axes logarithmic. The table is also written as CSV next to the diagram. A tolerance finer
+//! than a method keeps over the run (the BDF's 1e-10, generalized-α's 1e-7: `attainable_by_method`) is
+//! left out for that method, and the table says so: the run would raise it to that finest one.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use flexmb::analysis::{attainable_by_method, output_columns, OutputColumn};
+use flexmb::integrate::Method;
+use flexmb_files::integrator_choice::parse_method;
+use flexmb_files::model_file::load_model_with;
+use flexmb_files::SimulationDefaults;
+
+use crate::compare::{run_with, Run};
+use crate::plot::{render, Figure, Scale, Series, SeriesStyle, DEFAULT_SIZE};
+use crate::run::CliError;
+
+/// What `flexmb compare --tolerances` was asked to do.
+#[derive(Clone, Debug)]
+pub struct WorkPrecisionOptions {
+    /// The methods, by name (`bdf`, `adams`, `gen-alpha`).
+    pub integrators: Vec<String>,
+    /// The tolerances each method runs at (`rtol = atol`).
+    pub tolerances: Vec<f64>,
+    /// The reference run's method (by name) and tolerance.
+    pub reference: (String, f64),
+    pub t_end: Option<f64>,
+    /// Spectral radius ρ∞ of the generalized-α method.
+    pub spectral_radius: f64,
+    /// Directory for the diagram and the table (`MODEL_work_precision.svg`, `.csv`).
+    pub out: PathBuf,
+}
+
+/// The reference `flexmb compare --tolerances` measures against unless told otherwise: the Adams method
+/// at rtol = atol = 1e-12, as docs/accuracy.md's tables.
+pub const DEFAULT_REFERENCE: &str = "adams:1e-12";
+
+/// `METHOD:TOL`, e.g. `adams:1e-12`: the reference run's method and tolerance.
+pub fn parse_reference(text: &str) -> Result<(String, f64), String> {
+    let (method, tolerance) =
+        text.split_once(':').ok_or_else(|| format!("'{text}': expected METHOD:TOL, e.g. {DEFAULT_REFERENCE}"))?;
+    let tolerance: f64 = tolerance.trim().parse().map_err(|_| format!("'{text}': the tolerance '{tolerance}' is not a number"))?;
+    if !(tolerance > 0.0 && tolerance.is_finite()) {
+        return Err(format!("'{text}': the tolerance must be positive"));
+    }
+    Ok((method.trim().to_string(), tolerance))
+}
+
+/// The position outputs' columns, three at a time (x, y, z of each `….position`).
+pub fn position_groups(columns: &[OutputColumn]) -> Vec<[usize; 3]> {
+    let index = |name: &str| columns.iter().position(|c| c.name == name);
+    columns
+        .iter()
+        .filter_map(|c| c.name.strip_suffix(".position.x"))
+        .filter_map(|stem| Some([index(&format!("{stem}.position.x"))?, index(&format!("{stem}.position.y"))?, index(&format!("{stem}.position.z"))?]))
+        .collect()
+}
+
+/// The global error of `frames` against `reference` (rows of output values at the same output times; the
+/// shorter of the two is compared) in the norm of docs/accuracy.md: over the position groups `groups`,
+/// the largest of each group's largest difference over its largest reference value (a group whose
+/// reference is zero throughout counts its largest difference).
+pub fn global_error(frames: &[Vec<f64>], reference: &[Vec<f64>], groups: &[[usize; 3]]) -> f64 {
+    groups
+        .iter()
+        .map(|group| {
+            let scale = reference.iter().flat_map(|r| group.iter().map(|&c| r[c].abs())).fold(0.0, f64::max);
+            let difference = frames
+                .iter()
+                .zip(reference)
+                .flat_map(|(a, r)| group.iter().map(move |&c| (a[c] - r[c]).abs()))
+                .fold(0.0, f64::max);
+            if scale > 0.0 {
+                difference / scale
+            } else {
+                difference
+            }
+        })
+        .fold(0.0, f64::max)
+}
+
+/// One method at one tolerance.
+struct Point {
+    method: String,
+    tolerance: f64,
+    error: f64,
+    run: Run,
+}
+
+/// Runs the model at `path` with each method at each tolerance and the reference; writes the diagram and
+/// the table into the output directory and returns the table.
+pub fn work_precision(path: &Path, options: &WorkPrecisionOptions) -> Result<String, CliError> {
+    let loaded = load_model_with(path, &crate::limits::load_options()).map_err(|e| CliError(e.to_string()))?;
+    let model = &loaded.model;
+    let d = loaded.simulation;
+    let t_end = options.t_end.unwrap_or(d.t_end);
+    flexmb_files::output_limits::check_output_rows(t_end, d.output_step, d.max_output_rows, false)
+        .map_err(|e| CliError(format!("{}: {e}", path.display())))?;
+    if options.tolerances.is_empty() || options.tolerances.iter().any(|t| !(*t > 0.0 && t.is_finite())) {
+        return Err(CliError(format!("--tolerances: expected positive numbers, e.g. 1e-3,1e-4,1e-5 (got {:?})", options.tolerances)));
+    }
+    let method = |name: &str| parse_method(name, options.spectral_radius);
+    let methods: Vec<(String, Method)> = options
+        .integrators
+        .iter()
+        .map(|n| method(n).map(|m| (n.clone(), m)).map_err(|e| CliError(format!("--integrators: {e}"))))
+        .collect::<Result<_, _>>()?;
+    let reference_method = method(&options.reference.0).map_err(|e| CliError(format!("--reference: {e}")))?;
+    let columns = output_columns(model);
+    let groups = position_groups(&columns);
+    if groups.is_empty() {
+        return Err(CliError(format!(
+            "{}: the model requests no position output to measure the global error by; add a marker_position or \
+             node_position [[output]]",
+            path.display()
+        )));
+    }
+    let assembly = crate::limits::assembly_settings(&d)?;
+    let settings = |method: Method, tol: f64| SimulationDefaults { t_end, rtol: tol, atol: tol, method, ..d }.settings(model, assembly);
+    let (reference_name, reference_tolerance) = &options.reference;
+    let reference = run_with(model, &settings(reference_method, *reference_tolerance), "reference");
+    if let Some(f) = &reference.failure {
+        return Err(CliError(format!("{}: the reference run failed: {f}", path.display())));
+    }
+    // A tolerance finer than a method keeps over the run is not run: the method would raise it (with a
+    // warning) and the point would repeat the finest one's under another tolerance.
+    let (mut points, mut left_out) = (Vec::new(), Vec::new());
+    for (name, method) in &methods {
+        for &tolerance in &options.tolerances {
+            let asked = settings(*method, tolerance);
+            let (attainable, _) = attainable_by_method(&asked.tolerances, method);
+            if attainable.rtol != tolerance {
+                left_out.push(format!("{name} at {tolerance:e} (it keeps {:e} over the run and raises a finer one to it)", attainable.rtol));
+                continue;
+            }
+            let run = run_with(model, &asked, name);
+            let error = global_error(&run.frames, &reference.frames, &groups);
+            points.push(Point { method: name.clone(), tolerance, error, run });
+        }
+    }
+    if points.is_empty() {
+        return Err(CliError(format!("--tolerances: nothing to run: {}", left_out.join("; "))));
+    }
+    std::fs::create_dir_all(&options.out).map_err(|e| CliError(format!("cannot create {}: {e}", options.out.display())))?;
+    let stem = path.file_stem().map_or_else(|| model.name().to_string(), |s| s.to_string_lossy().into_owned());
+    let diagram_path = options.out.join(format!("{stem}_work_precision.svg"));
+    let table_path = options.out.join(format!("{stem}_work_precision.csv"));
+    let reference_label = format!("{reference_name} at {reference_tolerance:e}");
+    render(&diagram(model.name(), &reference_label, &points), &diagram_path, DEFAULT_SIZE)?;
+    std::fs::write(&table_path, csv_table(&points)).map_err(|e| CliError(format!("cannot write {}: {e}", table_path.display())))?;
+
+    let mut s = String::new();
+    let _ = writeln!(s, "model {} ({}), t_end {t_end} s, rtol = atol = tol; global error E in the norm of docs/accuracy.md", model.name(), path.display());
+    let _ = writeln!(
+        s,
+        "{:<10} {:>7} {:>10} {:>8} {:>9} {:>9} {:>10} {:>8} {:>9} {:>8}  status",
+        "method", "tol", "E", "E/tol", "steps", "rejected", "f-evals", "LU", "CPU [s]", "warnings"
+    );
+    for p in &points {
+        let r = &p.run;
+        let status = match &r.failure {
+            Some(f) => format!("stopped at t = {:.6} s: {f}", r.t_reached),
+            None => "completed".to_string(),
+        };
+        let _ = writeln!(
+            s,
+            "{:<10} {:>7.0e} {:>10.3e} {:>8.2} {:>9} {:>9} {:>10} {:>8} {:>9.3} {:>8}  {status}",
+            p.method, p.tolerance, p.error, p.error / p.tolerance, r.steps, r.rejected, r.evaluations, r.factorizations, r.cpu, r.warnings
+        );
+    }
+    let _ = writeln!(
+        s,
+        "reference: {reference_label}: {} steps, {:.3} s; CPU is wall time on this machine; the warnings are the runs' own \
+         (flexmb run at that tolerance prints them)",
+        reference.steps, reference.cpu
+    );
+    if !left_out.is_empty() {
+        let _ = writeln!(s, "not run: {}", left_out.join("; "));
+    }
+    let _ = writeln!(s, "written: {}, {}", diagram_path.display(), table_path.display());
+    Ok(s)
+}
+
+/// The diagram: each method's completed runs, global error against steps, both axes logarithmic.
+fn diagram(model: &str, reference: &str, points: &[Point]) -> Figure {
+    let mut methods: Vec<&str> = Vec::new();
+    for p in points {
+        if !methods.contains(&p.method.as_str()) {
+            methods.push(&p.method);
+        }
+    }
+    let series = methods
+        .iter()
+        .map(|&m| {
+            let mut line: Vec<(f64, f64)> = points
+                .iter()
+                .filter(|p| p.method == m && p.run.failure.is_none() && p.error > 0.0)
+                .map(|p| (p.run.steps as f64, p.error))
+                .collect();
+            line.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let tolerances = points.iter().filter(|p| p.method == m).map(|p| p.tolerance);
+            let (finest, loosest) = tolerances.fold((f64::INFINITY, 0.0_f64), |(lo, hi), t| (lo.min(t), hi.max(t)));
+            Series { label: format!("{m}, tol {loosest:e} … {finest:e}"), points: line, style: SeriesStyle::LineAndPoints }
+        })
+        .collect();
+    Figure {
+        title: format!("{model}: global error against steps (reference {reference})"),
+        x_quantity: ("steps".into(), None),
+        y_quantity: ("global error E".into(), None),
+        series,
+        annotations: Vec::new(),
+        y_scale: Scale::Log,
+        x_scale: Scale::Log,
+        x_range: None,
+        y_range: None,
+    }
+}
+
+/// The table as CSV: one row per method and tolerance.
+fn csv_table(points: &[Point]) -> String {
+    let mut s = String::from("method,tol,error,error_over_tol,steps,rejected,evaluations,factorizations,cpu_s,warnings,t_reached,completed\n");
+    for p in points {
+        let r = &p.run;
+        let _ = writeln!(
+            s,
+            "{},{:e},{:e},{:e},{},{},{},{},{:e},{},{:e},{}",
+            p.method,
+            p.tolerance,
+            p.error,
+            p.error / p.tolerance,
+            r.steps,
+            r.rejected,
+            r.evaluations,
+            r.factorizations,
+            r.cpu,
+            r.warnings,
+            r.t_reached,
+            r.failure.is_none()
+        );
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn column(name: &str, unit: &str) -> OutputColumn {
+        OutputColumn { name: name.into(), unit: unit.into() }
+    }
+
+    /// The norm of docs/accuracy.md: per position output, the largest difference over its largest
+    /// reference value; the largest over the outputs. Velocities and other columns do not count.
+    #[test]
+    fn the_global_error_is_each_position_outputs_largest_difference_over_its_largest_value() {
+        let columns = [
+            column("a.position.x", "m"),
+            column("a.position.y", "m"),
+            column("a.position.z", "m"),
+            column("a.velocity.x", "m/s"),
+            column("b.position.x", "m"),
+            column("b.position.y", "m"),
+            column("b.position.z", "m"),
+        ];
+        let groups = position_groups(&columns);
+        assert_eq!(groups, vec![[0, 1, 2], [4, 5, 6]]);
+        // a: largest |r| 2 (its y at the second time), largest difference 1e-3 → 5e-4;
+        // b: largest |r| 0.1, largest difference 1e-4 → 1e-3; the velocity's 1.0 does not count.
+        let reference = vec![vec![1.0, 0.5, 0.0, 0.0, 0.1, 0.0, 0.0], vec![0.0, -2.0, 0.0, 0.0, 0.0, 0.05, 0.0]];
+        let run = vec![vec![1.001, 0.5, 0.0, 1.0, 0.1, 0.0, 0.0], vec![0.0, -2.0, 0.0, 0.0, 0.0, 0.0501, -0.00005]];
+        let e = global_error(&run, &reference, &groups);
+        assert!((e - 1e-3).abs() < 1e-12, "{e}");
+        assert_eq!(global_error(&reference, &reference, &groups), 0.0);
+    }
+
+    #[test]
+    fn a_reference_is_a_method_and_a_tolerance() {
+        assert_eq!(parse_reference("adams:1e-12"), Ok(("adams".to_string(), 1e-12)));
+        assert_eq!(parse_reference(" bdf : 1e-10"), Ok(("bdf".to_string(), 1e-10)));
+        assert!(parse_reference("adams").unwrap_err().contains("METHOD:TOL"));
+        assert!(parse_reference("adams:x").unwrap_err().contains("not a number"));
+        assert!(parse_reference("adams:-1").unwrap_err().contains("positive"));
+    }
+}
