@@ -10,7 +10,7 @@ use flexmb::analysis::{output_columns, simulate, OutputColumn, SimulationSetting
 use flexmb::integrate::Method;
 
 use flexmb_files::integrator_choice::parse_method;
-use flexmb_files::model_file::load_model_with;
+use flexmb_files::model_file::{load_model_with, LoadedModel};
 use flexmb_files::SimulationDefaults;
 use crate::run::CliError;
 
@@ -81,20 +81,32 @@ fn error_against(run: &Run, reference: &Run, columns: &[OutputColumn]) -> (f64, 
     worst
 }
 
-/// Runs the model at `path` with each integrator and a reference; returns the table.
-pub fn compare_model(path: &Path, options: &CompareOptions) -> Result<String, CliError> {
+/// The model at `path` and the end time of its comparison runs (`t_end`, else the file's), its output
+/// rows checked against the file's limit.
+pub(crate) fn load_for_comparison(path: &Path, t_end: Option<f64>) -> Result<(LoadedModel, f64), CliError> {
     let loaded = load_model_with(path, &crate::limits::load_options()).map_err(|e| CliError(e.to_string()))?;
-    let model = &loaded.model;
-    let d = loaded.simulation;
-    let t_end = options.t_end.unwrap_or(d.t_end);
+    let d = &loaded.simulation;
+    let t_end = t_end.unwrap_or(d.t_end);
     flexmb_files::output_limits::check_output_rows(t_end, d.output_step, d.max_output_rows, false)
         .map_err(|e| CliError(format!("{}: {e}", path.display())))?;
-    let (rtol, atol) = (options.rtol.unwrap_or(d.rtol), options.atol.unwrap_or(d.atol));
-    let methods: Vec<(String, Method)> = options
-        .integrators
+    Ok((loaded, t_end))
+}
+
+/// The methods named in `--integrators`, each with its name.
+pub(crate) fn methods_by_name(names: &[String], spectral_radius: f64) -> Result<Vec<(String, Method)>, CliError> {
+    names
         .iter()
-        .map(|n| parse_method(n, options.spectral_radius).map(|m| (n.clone(), m)).map_err(|e| CliError(format!("--integrators: {e}"))))
-        .collect::<Result<_, _>>()?;
+        .map(|n| parse_method(n, spectral_radius).map(|m| (n.clone(), m)).map_err(|e| CliError(format!("--integrators: {e}"))))
+        .collect()
+}
+
+/// Runs the model at `path` with each integrator and a reference; returns the table.
+pub fn compare_model(path: &Path, options: &CompareOptions) -> Result<String, CliError> {
+    let (loaded, t_end) = load_for_comparison(path, options.t_end)?;
+    let model = &loaded.model;
+    let d = loaded.simulation;
+    let (rtol, atol) = (options.rtol.unwrap_or(d.rtol), options.atol.unwrap_or(d.atol));
+    let methods = methods_by_name(&options.integrators, options.spectral_radius)?;
     let columns = output_columns(model);
     if !columns.iter().any(|c| c.unit == "m") {
         return Err(CliError(format!(

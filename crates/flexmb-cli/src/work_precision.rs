@@ -24,10 +24,9 @@ use std::path::{Path, PathBuf};
 use flexmb::analysis::{attainable_by_method, output_columns, OutputColumn};
 use flexmb::integrate::Method;
 use flexmb_files::integrator_choice::parse_method;
-use flexmb_files::model_file::load_model_with;
 use flexmb_files::SimulationDefaults;
 
-use crate::compare::{run_with, Run};
+use crate::compare::{load_for_comparison, methods_by_name, run_with, Run};
 use crate::plot::{render, Figure, Scale, Series, SeriesStyle, DEFAULT_SIZE};
 use crate::run::CliError;
 
@@ -106,22 +105,15 @@ struct Point {
 /// Runs the model at `path` with each method at each tolerance and the reference; writes the diagram and
 /// the table into the output directory and returns the table.
 pub fn work_precision(path: &Path, options: &WorkPrecisionOptions) -> Result<String, CliError> {
-    let loaded = load_model_with(path, &crate::limits::load_options()).map_err(|e| CliError(e.to_string()))?;
+    let (loaded, t_end) = load_for_comparison(path, options.t_end)?;
     let model = &loaded.model;
     let d = loaded.simulation;
-    let t_end = options.t_end.unwrap_or(d.t_end);
-    flexmb_files::output_limits::check_output_rows(t_end, d.output_step, d.max_output_rows, false)
-        .map_err(|e| CliError(format!("{}: {e}", path.display())))?;
     if options.tolerances.is_empty() || options.tolerances.iter().any(|t| !(*t > 0.0 && t.is_finite())) {
         return Err(CliError(format!("--tolerances: expected positive numbers, e.g. 1e-3,1e-4,1e-5 (got {:?})", options.tolerances)));
     }
-    let method = |name: &str| parse_method(name, options.spectral_radius);
-    let methods: Vec<(String, Method)> = options
-        .integrators
-        .iter()
-        .map(|n| method(n).map(|m| (n.clone(), m)).map_err(|e| CliError(format!("--integrators: {e}"))))
-        .collect::<Result<_, _>>()?;
-    let reference_method = method(&options.reference.0).map_err(|e| CliError(format!("--reference: {e}")))?;
+    let methods = methods_by_name(&options.integrators, options.spectral_radius)?;
+    let reference_method =
+        parse_method(&options.reference.0, options.spectral_radius).map_err(|e| CliError(format!("--reference: {e}")))?;
     let columns = output_columns(model);
     let groups = position_groups(&columns);
     if groups.is_empty() {
