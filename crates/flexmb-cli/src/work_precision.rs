@@ -22,7 +22,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use flexmb::analysis::{attainable_by_method, output_columns, OutputColumn};
-use flexmb::integrate::Method;
+use flexmb::integrate::{Method, ToleranceSpan};
 use flexmb_files::integrator_choice::parse_method;
 use flexmb_files::SimulationDefaults;
 
@@ -158,7 +158,12 @@ pub fn work_precision(path: &Path, options: &WorkPrecisionOptions) -> Result<Str
     std::fs::write(&table_path, csv_table(&points)).map_err(|e| CliError(format!("cannot write {}: {e}", table_path.display())))?;
 
     let mut s = String::new();
-    let _ = writeln!(s, "model {} ({}), t_end {t_end} s, rtol = atol = tol; global error E in the norm of docs/accuracy.md", model.name(), path.display());
+    let span = match d.tolerance_span {
+        ToleranceSpan::Run => "over the run (the promise of docs/accuracy.md: E within about 10 tol)".to_string(),
+        ToleranceSpan::Seconds(seconds) => format!("over each {seconds} s (the model's tolerance_span)"),
+        ToleranceSpan::Step => "each step the whole tolerance (the model's tolerance_span = \"step\": no promise over the run)".to_string(),
+    };
+    let _ = writeln!(s, "model {} ({}), t_end {t_end} s, rtol = atol = tol {span}; global error E in the norm of docs/accuracy.md", model.name(), path.display());
     let _ = writeln!(
         s,
         "{:<10} {:>7} {:>10} {:>8} {:>9} {:>9} {:>10} {:>8} {:>9} {:>8}  status",

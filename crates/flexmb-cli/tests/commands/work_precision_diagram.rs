@@ -71,6 +71,7 @@ fn the_work_precision_diagram_of_the_3d_pendulum_keeps_each_methods_promise() {
         out.to_str().unwrap(),
     ]);
     assert!(stdout.contains("reference: adams at 1e-12"), "{stdout}");
+    assert!(stdout.contains("rtol = atol = tol over the run (the promise of docs/accuracy.md"), "{stdout}");
     let table = rows(&out.join("rigid_pendulum_3d_work_precision.csv"));
     assert_eq!(table.len(), 12, "three methods at four tolerances");
     for method in ["bdf", "adams", "gen-alpha"] {
