@@ -126,7 +126,16 @@ pub fn work_precision(path: &Path, options: &WorkPrecisionOptions) -> Result<Str
     let assembly = crate::limits::assembly_settings(&d)?;
     let settings = |method: Method, tol: f64| SimulationDefaults { t_end, rtol: tol, atol: tol, method, ..d }.settings(model, assembly);
     let (reference_name, reference_tolerance) = &options.reference;
-    let reference = run_with(model, &settings(reference_method, *reference_tolerance), "reference");
+    let reference_settings = settings(reference_method, *reference_tolerance);
+    let (attainable, _) = attainable_by_method(&reference_settings.tolerances, &reference_method);
+    if attainable.rtol != *reference_tolerance {
+        return Err(CliError(format!(
+            "--reference {reference_name}:{reference_tolerance:e}: {reference_name} keeps {:e} over the run and would raise \
+             the reference's tolerance to it; take the Adams method for a reference finer than that ({DEFAULT_REFERENCE})",
+            attainable.rtol
+        )));
+    }
+    let reference = run_with(model, &reference_settings, "reference");
     if let Some(f) = &reference.failure {
         return Err(CliError(format!("{}: the reference run failed: {f}", path.display())));
     }
@@ -141,8 +150,9 @@ pub fn work_precision(path: &Path, options: &WorkPrecisionOptions) -> Result<Str
                 left_out.push(format!("{name} at {tolerance:e} (it keeps {:e} over the run and raises a finer one to it)", attainable.rtol));
                 continue;
             }
-            let run = run_with(model, &asked, name);
+            let mut run = run_with(model, &asked, name);
             let error = global_error(&run.frames, &reference.frames, &groups);
+            run.frames = Vec::new();
             points.push(Point { method: name.clone(), tolerance, error, run });
         }
     }

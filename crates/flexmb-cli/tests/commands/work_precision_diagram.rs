@@ -121,6 +121,8 @@ fn the_work_precision_diagram_refuses_what_it_cannot_run() {
     assert!(e.contains("METHOD:TOL"), "{e}");
     let e = fail(&["compare", model, "--tolerances", "1e-3", "--reference", "rk4:1e-12"]);
     assert!(e.contains("--reference") && e.contains("rk4"), "{e}");
+    let e = fail(&["compare", model, "--tolerances", "1e-3", "--reference", "bdf:1e-12"]);
+    assert!(e.contains("bdf keeps 1e-10 over the run") && e.contains("adams:1e-12"), "{e}");
     let e = fail(&["compare", model, "--tolerances", "1e-3", "--rtol", "1e-5"]);
     assert!(e.contains("cannot be used with"), "{e}");
     // Finer than generalized-α keeps over the run: left out, and with nothing else to run, refused.
