@@ -38,15 +38,19 @@ pub(crate) struct Run {
     pub(crate) factorizations: usize,
     /// The warnings the run reported.
     pub(crate) warnings: usize,
-    /// The output rows, one per output time.
+    /// The output times and the output rows, one per output time.
+    pub(crate) times: Vec<f64>,
     pub(crate) frames: Vec<Vec<f64>>,
     pub(crate) failure: Option<String>,
 }
 
 /// Runs the model with `settings`, keeping every output row.
 pub(crate) fn run_with(model: &flexmb::Model, settings: &SimulationSettings, name: &str) -> Run {
-    let mut frames = Vec::new();
-    let result = simulate(model, settings, &mut |f| frames.push(f.values.to_vec()));
+    let (mut times, mut frames) = (Vec::new(), Vec::new());
+    let result = simulate(model, settings, &mut |f| {
+        times.push(f.t);
+        frames.push(f.values.to_vec());
+    });
     let (report, failure) = match result {
         Ok(r) => (r, None),
         Err(e) => ((*e.report).clone(), Some(e.to_string())),
@@ -61,6 +65,7 @@ pub(crate) fn run_with(model: &flexmb::Model, settings: &SimulationSettings, nam
         evaluations: report.stats.residual_evaluations,
         factorizations: report.stats.factorizations,
         warnings: report.warnings.len(),
+        times,
         frames,
         failure,
     }

@@ -3,8 +3,8 @@
 //!
 //! Each method runs at `rtol = atol = tol` for every tolerance asked (error per unit step over the
 //! model's tolerance span, the default over the run's), a reference at a tight tolerance (the Adams
-//! method at 1e-12 unless told otherwise), and each run's **global error** is measured in the norm of
-//! docs/accuracy.md:
+//! method at 1e-12 unless told otherwise; or a result file read instead, [`Reference::File`]), and each
+//! run's **global error** is measured in the norm of docs/accuracy.md:
 //!
 //! ```text
 //! E = max over position outputs G of  max_{t, i ∈ G} |y_i(t) − r_i(t)|  /  max_{t, i ∈ G} |r_i(t)|
@@ -24,7 +24,7 @@ use std::path::{Path, PathBuf};
 use flexmb::analysis::{attainable_by_method, output_columns, OutputColumn};
 use flexmb::integrate::{Method, ToleranceSpan};
 use flexmb_files::integrator_choice::parse_method;
-use flexmb_files::SimulationDefaults;
+use flexmb_files::{ResultTable, SimulationDefaults};
 
 use crate::compare::{load_for_comparison, methods_by_name, run_with, Run};
 use crate::plot::{render, Figure, Scale, Series, SeriesStyle, DEFAULT_SIZE};
@@ -37,8 +37,8 @@ pub struct WorkPrecisionOptions {
     pub integrators: Vec<String>,
     /// The tolerances each method runs at (`rtol = atol`).
     pub tolerances: Vec<f64>,
-    /// The reference run's method (by name) and tolerance.
-    pub reference: (String, f64),
+    /// What the runs are measured against.
+    pub reference: Reference,
     pub t_end: Option<f64>,
     /// Spectral radius ρ∞ of the generalized-α method.
     pub spectral_radius: f64,
@@ -50,15 +50,64 @@ pub struct WorkPrecisionOptions {
 /// at rtol = atol = 1e-12, as docs/accuracy.md's tables.
 pub const DEFAULT_REFERENCE: &str = "adams:1e-12";
 
-/// `METHOD:TOL`, e.g. `adams:1e-12`: the reference run's method and tolerance.
-pub fn parse_reference(text: &str) -> Result<(String, f64), String> {
+/// What the runs of a work-precision diagram are measured against.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Reference {
+    /// A run of the model by the method named, at rtol = atol = the tolerance.
+    Run { method: String, tolerance: f64 },
+    /// A result CSV with the model's output columns at its output times: a run made before (`flexmb run
+    /// --out DIR` of the model at a tight tolerance) or a published solution written in those columns.
+    File(PathBuf),
+}
+
+/// `METHOD:TOL`, e.g. `adams:1e-12`, a reference run's method and tolerance; or a result file, `FILE.csv`.
+pub fn parse_reference(text: &str) -> Result<Reference, String> {
+    if text.trim().to_ascii_lowercase().ends_with(".csv") {
+        return Ok(Reference::File(PathBuf::from(text.trim())));
+    }
     let (method, tolerance) =
-        text.split_once(':').ok_or_else(|| format!("'{text}': expected METHOD:TOL, e.g. {DEFAULT_REFERENCE}"))?;
+        text.split_once(':').ok_or_else(|| format!("'{text}': expected METHOD:TOL, e.g. {DEFAULT_REFERENCE}, or a result file FILE.csv"))?;
     let tolerance: f64 = tolerance.trim().parse().map_err(|_| format!("'{text}': the tolerance '{tolerance}' is not a number"))?;
     if !(tolerance > 0.0 && tolerance.is_finite()) {
         return Err(format!("'{text}': the tolerance must be positive"));
     }
-    Ok((method.trim().to_string(), tolerance))
+    Ok(Reference::Run { method: method.trim().to_string(), tolerance })
+}
+
+/// The reference's output times and rows, in the model's output columns `columns`, read from the result
+/// CSV at `path`: every column must be there, and its times must be those of the model's outputs up to
+/// `t_end` (checked against the runs' own times by [`check_times`]).
+fn reference_from_file(path: &Path, columns: &[OutputColumn]) -> Result<(Vec<f64>, Vec<Vec<f64>>), CliError> {
+    let failed = |e: String| CliError(format!("--reference {}: {e}", path.display()));
+    let table = ResultTable::read(path).map_err(|e| failed(e.to_string()))?;
+    let times = table.column("t").map_err(|e| failed(e.to_string()))?.to_vec();
+    let values: Vec<&[f64]> = columns
+        .iter()
+        .map(|c| table.column(&c.name).map_err(|_| failed(format!("it has no column {} of the model's outputs", c.name))))
+        .collect::<Result<_, _>>()?;
+    let frames = (0..table.rows()).map(|row| values.iter().map(|v| v[row]).collect()).collect();
+    Ok((times, frames))
+}
+
+/// Whether the reference's output times `reference` hold the run's `run` (the same times, to rounding, as
+/// far as the run went); else what differs.
+fn check_times(run: &[f64], reference: &[f64]) -> Result<(), String> {
+    if reference.len() < run.len() {
+        return Err(format!(
+            "it ends at t = {} s, before the run's last output time {} s",
+            reference.last().copied().unwrap_or(f64::NAN),
+            run.last().copied().unwrap_or(f64::NAN)
+        ));
+    }
+    match run.iter().zip(reference).position(|(a, b)| (a - b).abs() > 1e-9 * a.abs().max(1.0)) {
+        Some(row) => Err(format!(
+            "its output time in row {} is {} s where the run's is {} s: write it with the model's output_step",
+            row + 2,
+            reference[row],
+            run[row]
+        )),
+        None => Ok(()),
+    }
 }
 
 /// The position outputs' columns, three at a time (x, y, z of each `….position`).
@@ -112,8 +161,6 @@ pub fn work_precision(path: &Path, options: &WorkPrecisionOptions) -> Result<Str
         return Err(CliError(format!("--tolerances: expected positive numbers, e.g. 1e-3,1e-4,1e-5 (got {:?})", options.tolerances)));
     }
     let methods = methods_by_name(&options.integrators, options.spectral_radius)?;
-    let reference_method =
-        parse_method(&options.reference.0, options.spectral_radius).map_err(|e| CliError(format!("--reference: {e}")))?;
     let columns = output_columns(model);
     let groups = position_groups(&columns);
     if groups.is_empty() {
@@ -125,20 +172,31 @@ pub fn work_precision(path: &Path, options: &WorkPrecisionOptions) -> Result<Str
     }
     let assembly = crate::limits::assembly_settings(&d)?;
     let settings = |method: Method, tol: f64| SimulationDefaults { t_end, rtol: tol, atol: tol, method, ..d }.settings(model, assembly);
-    let (reference_name, reference_tolerance) = &options.reference;
-    let reference_settings = settings(reference_method, *reference_tolerance);
-    let (attainable, _) = attainable_by_method(&reference_settings.tolerances, &reference_method);
-    if attainable.rtol != *reference_tolerance {
-        return Err(CliError(format!(
-            "--reference {reference_name}:{reference_tolerance:e}: {reference_name} keeps {:e} over the run and would raise \
-             the reference's tolerance to it; take the Adams method for a reference finer than that ({DEFAULT_REFERENCE})",
-            attainable.rtol
-        )));
-    }
-    let reference = run_with(model, &reference_settings, "reference");
-    if let Some(f) = &reference.failure {
-        return Err(CliError(format!("{}: the reference run failed: {f}", path.display())));
-    }
+    let (reference_label, reference_times, reference_frames, reference_cost) = match &options.reference {
+        Reference::Run { method: name, tolerance } => {
+            let method =
+                parse_method(name, options.spectral_radius).map_err(|e| CliError(format!("--reference: {e}")))?;
+            let reference_settings = settings(method, *tolerance);
+            let (attainable, _) = attainable_by_method(&reference_settings.tolerances, &method);
+            if attainable.rtol != *tolerance {
+                return Err(CliError(format!(
+                    "--reference {name}:{tolerance:e}: {name} keeps {:e} over the run and would raise the reference's \
+                     tolerance to it; take the Adams method for a reference finer than that ({DEFAULT_REFERENCE})",
+                    attainable.rtol
+                )));
+            }
+            let reference = run_with(model, &reference_settings, "reference");
+            if let Some(f) = &reference.failure {
+                return Err(CliError(format!("{}: the reference run failed: {f}", path.display())));
+            }
+            let cost = format!(": {} steps, {:.3} s", reference.steps, reference.cpu);
+            (format!("{name} at {tolerance:e}"), reference.times, reference.frames, cost)
+        }
+        Reference::File(file) => {
+            let (times, frames) = reference_from_file(file, &columns)?;
+            (file.display().to_string(), times, frames, String::new())
+        }
+    };
     // A tolerance finer than a method keeps over the run is not run: the method would raise it (with a
     // warning) and the point would repeat the finest one's under another tolerance.
     let (mut points, mut left_out) = (Vec::new(), Vec::new());
@@ -151,7 +209,8 @@ pub fn work_precision(path: &Path, options: &WorkPrecisionOptions) -> Result<Str
                 continue;
             }
             let mut run = run_with(model, &asked, name);
-            let error = global_error(&run.frames, &reference.frames, &groups);
+            check_times(&run.times, &reference_times).map_err(|e| CliError(format!("--reference {reference_label}: {e}")))?;
+            let error = global_error(&run.frames, &reference_frames, &groups);
             run.frames = Vec::new();
             points.push(Point { method: name.clone(), tolerance, error, run });
         }
@@ -163,7 +222,6 @@ pub fn work_precision(path: &Path, options: &WorkPrecisionOptions) -> Result<Str
     let stem = path.file_stem().map_or_else(|| model.name().to_string(), |s| s.to_string_lossy().into_owned());
     let diagram_path = options.out.join(format!("{stem}_work_precision.svg"));
     let table_path = options.out.join(format!("{stem}_work_precision.csv"));
-    let reference_label = format!("{reference_name} at {reference_tolerance:e}");
     render(&diagram(model.name(), &reference_label, &points), &diagram_path, DEFAULT_SIZE)?;
     std::fs::write(&table_path, csv_table(&points)).map_err(|e| CliError(format!("cannot write {}: {e}", table_path.display())))?;
 
@@ -193,9 +251,8 @@ pub fn work_precision(path: &Path, options: &WorkPrecisionOptions) -> Result<Str
     }
     let _ = writeln!(
         s,
-        "reference: {reference_label}: {} steps, {:.3} s; CPU is wall time on this machine; the warnings are the runs' own \
-         (flexmb run at that tolerance prints them)",
-        reference.steps, reference.cpu
+        "reference: {reference_label}{reference_cost}; CPU is wall time on this machine; the warnings are the runs' own \
+         (flexmb run at that tolerance prints them)"
     );
     if !left_out.is_empty() {
         let _ = writeln!(s, "not run: {}", left_out.join("; "));
@@ -296,10 +353,22 @@ mod tests {
         assert_eq!(global_error(&reference, &reference, &groups), 0.0);
     }
 
+    /// A reference file's times must hold the run's: as many, the same to rounding.
     #[test]
-    fn a_reference_is_a_method_and_a_tolerance() {
-        assert_eq!(parse_reference("adams:1e-12"), Ok(("adams".to_string(), 1e-12)));
-        assert_eq!(parse_reference(" bdf : 1e-10"), Ok(("bdf".to_string(), 1e-10)));
+    fn a_reference_file_holds_the_runs_output_times() {
+        assert!(check_times(&[0.0, 0.1, 0.2], &[0.0, 0.1, 0.2, 0.3]).is_ok());
+        assert!(check_times(&[0.0, 0.1, 0.2], &[0.0, 0.1 + 1e-12, 0.2]).is_ok());
+        assert!(check_times(&[0.0, 0.1, 0.2], &[0.0, 0.1]).unwrap_err().contains("ends at t = 0.1 s"));
+        let e = check_times(&[0.0, 0.1, 0.2], &[0.0, 0.2, 0.4]).unwrap_err();
+        assert!(e.contains("row 3 is 0.2 s where the run's is 0.1 s"), "{e}");
+    }
+
+    #[test]
+    fn a_reference_is_a_method_and_a_tolerance_or_a_file() {
+        let run = |method: &str, tolerance| Ok(Reference::Run { method: method.to_string(), tolerance });
+        assert_eq!(parse_reference("adams:1e-12"), run("adams", 1e-12));
+        assert_eq!(parse_reference(" bdf : 1e-10"), run("bdf", 1e-10));
+        assert_eq!(parse_reference("ref/pendulum.CSV"), Ok(Reference::File(PathBuf::from("ref/pendulum.CSV"))));
         assert!(parse_reference("adams").unwrap_err().contains("METHOD:TOL"));
         assert!(parse_reference("adams:x").unwrap_err().contains("not a number"));
         assert!(parse_reference("adams:-1").unwrap_err().contains("positive"));

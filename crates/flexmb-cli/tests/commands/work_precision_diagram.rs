@@ -1,7 +1,8 @@
 //! `flexmb compare --tolerances`: the work-precision diagram of a shipped model. Each method's global
 //! error (docs/accuracy.md's norm, against the Adams method at 1e-12) stays within 10 tolerances and
 //! falls with the tolerance; the table's error is the one a user computes from the two runs' CSV files;
-//! the diagram holds one line per method; bad tolerances and references are refused.
+//! the diagram holds one line per method; a reference run's file serves as the reference; bad tolerances
+//! and references are refused.
 
 use std::path::Path;
 
@@ -103,6 +104,22 @@ fn the_work_precision_diagram_of_the_3d_pendulum_keeps_each_methods_promise() {
     );
     let tabled = table.iter().find(|r| r.method == "bdf" && r.tol == 1e-4).unwrap().error;
     assert!((from_files - tabled).abs() <= 1e-9 * tabled, "from the files {from_files}, in the table {tabled}");
+    // The reference run's file as the reference (`--reference FILE.csv`): the same error, without the run.
+    let again = out.join("again");
+    let reference_file = reference.join("rigid_pendulum_3d.csv");
+    let stdout = succeed(&[
+        "compare",
+        model.to_str().unwrap(),
+        "--tolerances",
+        "1e-4",
+        "--reference",
+        reference_file.to_str().unwrap(),
+        "--out",
+        again.to_str().unwrap(),
+    ]);
+    assert!(stdout.contains(&format!("reference: {}", reference_file.display())), "{stdout}");
+    let from_file = rows(&again.join("rigid_pendulum_3d_work_precision.csv"))[0].error;
+    assert!((from_file - tabled).abs() <= 1e-12 * tabled, "against the file {from_file}, against the run {tabled}");
 
     // The diagram: one line per method, labelled with its tolerances.
     let svg = std::fs::read_to_string(out.join("rigid_pendulum_3d_work_precision.svg")).unwrap();
@@ -123,6 +140,14 @@ fn the_work_precision_diagram_refuses_what_it_cannot_run() {
     assert!(e.contains("--reference") && e.contains("rk4"), "{e}");
     let e = fail(&["compare", model, "--tolerances", "1e-3", "--reference", "bdf:1e-12"]);
     assert!(e.contains("bdf keeps 1e-10 over the run") && e.contains("adams:1e-12"), "{e}");
+    let e = fail(&["compare", model, "--tolerances", "1e-3", "--reference", "models/no_such_reference.csv"]);
+    assert!(e.contains("--reference models/no_such_reference.csv: cannot read"), "{e}");
+    // A result file of another model lacks this model's columns.
+    let other = scratch("work-precision-other-model");
+    run_at_tolerance(&workspace().join("models/pendulum.toml"), "bdf", "1e-6", &other, &["--t-end", "0.1"]);
+    let other_csv = other.join("pendulum.csv");
+    let e = fail(&["compare", model, "--tolerances", "1e-3", "--reference", other_csv.to_str().unwrap()]);
+    assert!(e.contains("it has no column cm.position.x of the model's outputs"), "{e}");
     let e = fail(&["compare", model, "--tolerances", "1e-3", "--rtol", "1e-5"]);
     assert!(e.contains("cannot be used with"), "{e}");
     // Finer than generalized-α keeps over the run: left out, and with nothing else to run, refused.
