@@ -282,7 +282,7 @@ enum Command {
         #[arg(long, value_delimiter = ',')]
         tolerances: Vec<f64>,
         /// The reference of --tolerances: METHOD:TOL, a run of the model, or FILE.csv, a result file with the
-        /// model's output columns at its output times (a tight run made before, or a published solution)
+        /// model's position outputs' columns at its output times (a tight run made before, or a published solution)
         #[arg(long, default_value = flexmb_cli::work_precision::DEFAULT_REFERENCE, requires = "tolerances", value_parser = flexmb_cli::work_precision::parse_reference)]
         reference: flexmb_cli::work_precision::Reference,
         /// Directory for the diagram and table of --tolerances

@@ -55,8 +55,9 @@ pub const DEFAULT_REFERENCE: &str = "adams:1e-12";
 pub enum Reference {
     /// A run of the model by the method named, at rtol = atol = the tolerance.
     Run { method: String, tolerance: f64 },
-    /// A result CSV with the model's output columns at its output times: a run made before (`flexmb run
-    /// --out DIR` of the model at a tight tolerance) or a published solution written in those columns.
+    /// A result CSV with the model's position outputs' columns (`….position.x`, `.y`, `.z`; others may be
+    /// there) at its output times: a run made before (`flexmb run --out DIR` of the model at a tight
+    /// tolerance) or a published solution written in those columns.
     File(PathBuf),
 }
 
@@ -75,17 +76,24 @@ pub fn parse_reference(text: &str) -> Result<Reference, String> {
 }
 
 /// The reference's output times and rows, in the model's output columns `columns`, read from the result
-/// CSV at `path`: every column must be there, and its times must be those of the model's outputs up to
-/// `t_end` (checked against the runs' own times by [`check_times`]).
-fn reference_from_file(path: &Path, columns: &[OutputColumn]) -> Result<(Vec<f64>, Vec<Vec<f64>>), CliError> {
+/// CSV at `path`: the position outputs' columns (`groups`, the ones the error is measured in) must be there,
+/// the others may be missing (NaN: a published solution gives what it gives), and its times must be those
+/// of the model's outputs (checked against the runs' own times by [`check_times`]).
+fn reference_from_file(path: &Path, columns: &[OutputColumn], groups: &[[usize; 3]]) -> Result<(Vec<f64>, Vec<Vec<f64>>), CliError> {
     let failed = |e: String| CliError(format!("--reference {}: {e}", path.display()));
     let table = ResultTable::read(path).map_err(|e| failed(e.to_string()))?;
     let times = table.column("t").map_err(|e| failed(e.to_string()))?.to_vec();
-    let values: Vec<&[f64]> = columns
+    let measured = |k: usize| groups.iter().any(|g| g.contains(&k));
+    let values: Vec<Option<&[f64]>> = columns
         .iter()
-        .map(|c| table.column(&c.name).map_err(|_| failed(format!("it has no column {} of the model's outputs", c.name))))
+        .enumerate()
+        .map(|(k, c)| match table.column(&c.name) {
+            Ok(values) => Ok(Some(values)),
+            Err(_) if !measured(k) => Ok(None),
+            Err(_) => Err(failed(format!("it has no column {} of the model's position outputs", c.name))),
+        })
         .collect::<Result<_, _>>()?;
-    let frames = (0..table.rows()).map(|row| values.iter().map(|v| v[row]).collect()).collect();
+    let frames = (0..table.rows()).map(|row| values.iter().map(|v| v.map_or(f64::NAN, |v| v[row])).collect()).collect();
     Ok((times, frames))
 }
 
@@ -193,7 +201,7 @@ pub fn work_precision(path: &Path, options: &WorkPrecisionOptions) -> Result<Str
             (format!("{name} at {tolerance:e}"), reference.times, reference.frames, cost)
         }
         Reference::File(file) => {
-            let (times, frames) = reference_from_file(file, &columns)?;
+            let (times, frames) = reference_from_file(file, &columns, &groups)?;
             (file.display().to_string(), times, frames, String::new())
         }
     };

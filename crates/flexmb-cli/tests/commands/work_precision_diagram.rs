@@ -120,6 +120,19 @@ fn the_work_precision_diagram_of_the_3d_pendulum_keeps_each_methods_promise() {
     assert!(stdout.contains(&format!("reference: {}", reference_file.display())), "{stdout}");
     let from_file = rows(&again.join("rigid_pendulum_3d_work_precision.csv"))[0].error;
     assert!((from_file - tabled).abs() <= 1e-12 * tabled, "against the file {from_file}, against the run {tabled}");
+    // A solution that gives only the positions (as a published one may) serves as well.
+    let positions_only = out.join("positions_only.csv");
+    let full = ResultCsv::read(&reference_file);
+    let kept: Vec<usize> = (0..full.header.len()).filter(|&k| full.header[k] == "t" || full.header[k].contains(".position.")).collect();
+    let mut text = kept.iter().map(|&k| full.header[k].clone()).collect::<Vec<_>>().join(",") + "\n";
+    for row in &full.rows {
+        text += &(kept.iter().map(|&k| format!("{:?}", row[k])).collect::<Vec<_>>().join(",") + "\n");
+    }
+    std::fs::write(&positions_only, text).unwrap();
+    let third = out.join("third");
+    succeed(&["compare", model.to_str().unwrap(), "--tolerances", "1e-4", "--reference", positions_only.to_str().unwrap(), "--out", third.to_str().unwrap()]);
+    let from_positions = rows(&third.join("rigid_pendulum_3d_work_precision.csv"))[0].error;
+    assert_eq!(from_positions, from_file, "the positions alone give the same error");
 
     // The diagram: one line per method, labelled with its tolerances.
     let svg = std::fs::read_to_string(out.join("rigid_pendulum_3d_work_precision.svg")).unwrap();
@@ -147,7 +160,7 @@ fn the_work_precision_diagram_refuses_what_it_cannot_run() {
     run_at_tolerance(&workspace().join("models/pendulum.toml"), "bdf", "1e-6", &other, &["--t-end", "0.1"]);
     let other_csv = other.join("pendulum.csv");
     let e = fail(&["compare", model, "--tolerances", "1e-3", "--reference", other_csv.to_str().unwrap()]);
-    assert!(e.contains("it has no column cm.position.x of the model's outputs"), "{e}");
+    assert!(e.contains("it has no column cm.position.x of the model's position outputs"), "{e}");
     let e = fail(&["compare", model, "--tolerances", "1e-3", "--rtol", "1e-5"]);
     assert!(e.contains("cannot be used with"), "{e}");
     // Finer than generalized-α keeps over the run: left out, and with nothing else to run, refused.
