@@ -21,7 +21,7 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use flexmb::analysis::{attainable_by_method, output_columns, OutputColumn};
+use flexmb::analysis::{attainable_by_method, output_columns, position_output_columns, OutputColumn, SimulationSettings};
 use flexmb::integrate::{Method, ToleranceSpan};
 use flexmb_files::integrator_choice::parse_method;
 use flexmb_files::{ResultTable, SimulationDefaults};
@@ -118,16 +118,6 @@ fn check_times(run: &[f64], reference: &[f64]) -> Result<(), String> {
     }
 }
 
-/// The position outputs' columns, three at a time (x, y, z of each `….position`).
-pub fn position_groups(columns: &[OutputColumn]) -> Vec<[usize; 3]> {
-    let index = |name: &str| columns.iter().position(|c| c.name == name);
-    columns
-        .iter()
-        .filter_map(|c| c.name.strip_suffix(".position.x"))
-        .filter_map(|stem| Some([index(&format!("{stem}.position.x"))?, index(&format!("{stem}.position.y"))?, index(&format!("{stem}.position.z"))?]))
-        .collect()
-}
-
 /// The global error of `frames` against `reference` (rows of output values at the same output times; the
 /// shorter of the two is compared) in the norm of docs/accuracy.md: over the position groups `groups`,
 /// the largest of each group's largest difference over its largest reference value (a group whose
@@ -151,6 +141,13 @@ pub fn global_error(frames: &[Vec<f64>], reference: &[Vec<f64>], groups: &[[usiz
         .fold(0.0, f64::max)
 }
 
+/// What `method` would raise the relative tolerance of `settings` to ([`attainable_by_method`]), if it
+/// would.
+fn raised_to(settings: &SimulationSettings, method: &Method) -> Option<f64> {
+    let (attainable, _) = attainable_by_method(&settings.tolerances, method);
+    (attainable.rtol != settings.tolerances.rtol).then_some(attainable.rtol)
+}
+
 /// One method at one tolerance.
 struct Point {
     method: String,
@@ -170,7 +167,7 @@ pub fn work_precision(path: &Path, options: &WorkPrecisionOptions) -> Result<Str
     }
     let methods = methods_by_name(&options.integrators, options.spectral_radius)?;
     let columns = output_columns(model);
-    let groups = position_groups(&columns);
+    let groups: Vec<[usize; 3]> = position_output_columns(model).into_iter().map(|c| [c, c + 1, c + 2]).collect();
     if groups.is_empty() {
         return Err(CliError(format!(
             "{}: the model requests no position output to measure the global error by; add a marker_position or \
@@ -185,12 +182,10 @@ pub fn work_precision(path: &Path, options: &WorkPrecisionOptions) -> Result<Str
             let method =
                 parse_method(name, options.spectral_radius).map_err(|e| CliError(format!("--reference: {e}")))?;
             let reference_settings = settings(method, *tolerance);
-            let (attainable, _) = attainable_by_method(&reference_settings.tolerances, &method);
-            if attainable.rtol != *tolerance {
+            if let Some(finest) = raised_to(&reference_settings, &method) {
                 return Err(CliError(format!(
-                    "--reference {name}:{tolerance:e}: {name} keeps {:e} over the run and would raise the reference's \
-                     tolerance to it; take the Adams method for a reference finer than that ({DEFAULT_REFERENCE})",
-                    attainable.rtol
+                    "--reference {name}:{tolerance:e}: {name} keeps {finest:e} over the run and would raise the reference's \
+                     tolerance to it; take the Adams method for a reference finer than that ({DEFAULT_REFERENCE})"
                 )));
             }
             let reference = run_with(model, &reference_settings, "reference");
@@ -211,9 +206,8 @@ pub fn work_precision(path: &Path, options: &WorkPrecisionOptions) -> Result<Str
     for (name, method) in &methods {
         for &tolerance in &options.tolerances {
             let asked = settings(*method, tolerance);
-            let (attainable, _) = attainable_by_method(&asked.tolerances, method);
-            if attainable.rtol != tolerance {
-                left_out.push(format!("{name} at {tolerance:e} (it keeps {:e} over the run and raises a finer one to it)", attainable.rtol));
+            if let Some(finest) = raised_to(&asked, method) {
+                left_out.push(format!("{name} at {tolerance:e} (it keeps {finest:e} over the run and raises a finer one to it)"));
                 continue;
             }
             let mut run = run_with(model, &asked, name);
@@ -333,25 +327,12 @@ fn csv_table(points: &[Point]) -> String {
 mod tests {
     use super::*;
 
-    fn column(name: &str, unit: &str) -> OutputColumn {
-        OutputColumn { name: name.into(), unit: unit.into() }
-    }
-
     /// The norm of docs/accuracy.md: per position output, the largest difference over its largest
     /// reference value; the largest over the outputs. Velocities and other columns do not count.
     #[test]
     fn the_global_error_is_each_position_outputs_largest_difference_over_its_largest_value() {
-        let columns = [
-            column("a.position.x", "m"),
-            column("a.position.y", "m"),
-            column("a.position.z", "m"),
-            column("a.velocity.x", "m/s"),
-            column("b.position.x", "m"),
-            column("b.position.y", "m"),
-            column("b.position.z", "m"),
-        ];
-        let groups = position_groups(&columns);
-        assert_eq!(groups, vec![[0, 1, 2], [4, 5, 6]]);
+        // Columns: a.position.x/y/z, a.velocity.x, b.position.x/y/z.
+        let groups = [[0, 1, 2], [4, 5, 6]];
         // a: largest |r| 2 (its y at the second time), largest difference 1e-3 → 5e-4;
         // b: largest |r| 0.1, largest difference 1e-4 → 1e-3; the velocity's 1.0 does not count.
         let reference = vec![vec![1.0, 0.5, 0.0, 0.0, 0.1, 0.0, 0.0], vec![0.0, -2.0, 0.0, 0.0, 0.0, 0.05, 0.0]];

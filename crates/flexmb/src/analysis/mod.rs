@@ -42,7 +42,7 @@ pub use linearization::{
 pub use mode_tracking::{modal_assurance, track_modes};
 pub use operating_point::{linear_model, operating_point, LinearModel, LinearizationPoint, OperatingPointChoice, OperatingPointError};
 pub(crate) use linearization::linearize_at;
-pub use outputs::{columns_of_output, output_columns, ColumnSources, OutputColumn};
+pub use outputs::{columns_of_output, output_columns, position_output_columns, ColumnSources, OutputColumn};
 pub use memory::{analysis_bytes, format_bytes, MemoryLimit};
 pub(crate) use redundancy::{dependency_of, newly_dependent_rows, violated_rows};
 pub use redundancy::{RedundantConstraint, ViolatedEquation};

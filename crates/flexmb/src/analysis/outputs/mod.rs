@@ -27,6 +27,23 @@ pub fn output_columns(model: &Model) -> Vec<OutputColumn> {
     model.outputs.iter().flat_map(|o| columns_of_output(&ColumnSources::of(model), o)).collect()
 }
 
+/// The first column of each position output (`marker_position`, `node_position`; its x, with y and z
+/// after it), in the columns of [`output_columns`]: the outputs the global error of docs/accuracy.md is
+/// measured in.
+pub fn position_output_columns(model: &Model) -> Vec<usize> {
+    let sources = ColumnSources::of(model);
+    let mut first = Vec::new();
+    let mut column = 0;
+    for output in &model.outputs {
+        let n = columns_of_output(&sources, output).len();
+        if matches!(output.kind, OutputKind::MarkerPosition(_) | OutputKind::NodePosition(..)) && n == 3 {
+            first.push(column);
+        }
+        column += n;
+    }
+    first
+}
+
 /// What the columns of an output depend on besides its request: the elements it reads, of a model or
 /// of a [`ModelBuilder`](crate::ModelBuilder) being filled.
 #[derive(Clone, Copy)]

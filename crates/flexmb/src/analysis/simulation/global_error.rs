@@ -21,7 +21,6 @@ use super::shadow::{ShadowFrame, ShadowRun};
 use super::{Simulation, SimulationReport, SimulationSettings};
 use crate::analysis::watchdog::{SimulationWarning, WarningKind};
 use crate::integrate::{Method, Tolerances};
-use crate::model::OutputKind;
 
 /// The shadow's tolerances are the run's over this: one decade, so that the correction `10/9` is close
 /// to 1 (where the shadow's error is not a tenth of the run's, the estimate is off by less than the
@@ -156,15 +155,7 @@ impl Reintegration {
             ));
         }
         let model = &run.model;
-        let mut groups = Vec::new();
-        let mut column = 0;
-        for output in &model.outputs {
-            let n = crate::analysis::columns_of_output(&crate::analysis::ColumnSources::of(model), output).len();
-            if matches!(output.kind, OutputKind::MarkerPosition(_) | OutputKind::NodePosition(..)) && n == 3 {
-                groups.push(column);
-            }
-            column += n;
-        }
+        let groups = crate::analysis::position_output_columns(model);
         let (norm, n) = if groups.is_empty() {
             (GlobalErrorNorm::State, model.layout.nq + model.layout.nv)
         } else {
